@@ -1,0 +1,54 @@
+#pragma once
+// Bad-pixel replacement over a 3x3 neighbourhood: a pixel marked bad (static mask from the
+// source) or stuck (reads exactly the low or high rail) is replaced by the rounded mean of its
+// good neighbours. Holds three input lines in a ring, so row r leaves when row r+1 arrives.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "bolo/firmware/stage.hpp"
+
+namespace bolo::fw {
+
+struct BadPixelConfig {
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  std::span<const std::uint8_t> mask;  // width * height, non-zero = bad; may be empty
+  bool detect_stuck = true;
+  Pixel stuck_low = 0;
+  Pixel stuck_high = 0x3FFF;  // 14-bit rail by default
+};
+
+struct BadPixelFrameStats {
+  std::uint32_t replaced = 0;
+  std::uint32_t unrepairable = 0;  // bad pixels with no good neighbour: passed through
+};
+
+class BadPixelStage final : public Stage {
+ public:
+  static constexpr std::uint32_t kRadius = 1;
+  // Three input lines, their bad flags (as pixels), and one output line.
+  static constexpr std::size_t storage_pixels(std::uint32_t width) { return std::size_t{width} * 7; }
+  BadPixelStage(const BadPixelConfig& config, std::span<Pixel> storage, LineSink& next);
+
+  void begin_frame(const FrameHeader& header) override;
+  void push_line(std::uint32_t row, LineView line) override;
+  void end_frame() override;
+
+  const BadPixelFrameStats& last_frame() const { return stats_; }
+
+ private:
+  Pixel* ring_line(std::uint32_t row) { return ring_.data() + std::size_t{row % 3} * width_; }
+  Pixel* ring_flags(std::uint32_t row) { return flags_.data() + std::size_t{row % 3} * width_; }
+  void emit(std::uint32_t row);
+
+  BadPixelConfig config_;
+  std::uint32_t width_, height_;
+  std::span<Pixel> ring_, flags_, out_line_;
+  std::uint32_t rows_in_ = 0;
+  bool active_ = false;
+  BadPixelFrameStats stats_{};
+};
+
+}  // namespace bolo::fw

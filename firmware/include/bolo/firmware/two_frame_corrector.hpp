@@ -1,0 +1,112 @@
+#pragma once
+// The two-frame ghosting corrector as a streaming stage. It keeps the previous raw frame in a
+// frame store (caller-provided storage) and emits each corrected line as soon as its input line
+// has arrived. A frame without a trustworthy predecessor gets no carry-over term, and the reason
+// is reported.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "bolo/firmware/corrector_coefficients.hpp"
+#include "bolo/firmware/stage.hpp"
+
+namespace bolo::fw {
+
+// Why a frame was, or was not, corrected against its predecessor.
+enum class CarryOver : std::uint8_t {
+  applied,                   // corrected against the previous frame
+  first_frame,               // nothing before it
+  sequence_gap,              // the source's frame counter skipped: frames were dropped
+  timestamp_gap,             // the interval exceeds 1.5 nominal frame periods
+  timestamp_not_increasing,  // time went backwards or stood still
+  ffc_event,                 // a shutter / FFC event happened since the previous frame
+  format_change,             // width or height changed
+  previous_incomplete,       // the previous frame did not deliver all its lines
+  missing_timing,            // no exposure/readout from the frame nor from the configuration
+  coefficient_error,         // the timing gives no usable coefficients (see CoefficientStatus)
+};
+inline constexpr std::size_t kCarryOverReasons = 10;
+const char* to_string(CarryOver reason);
+
+struct CorrectorConfig {
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  TimeConstants tau;
+  // Used where a frame's header has 0 (unknown) exposure / readout; 0 here too = missing.
+  std::uint32_t default_exposure_ns = 0;
+  std::uint32_t default_readout_ns = 0;
+  // Nominal frame period for gap detection; 0 = learn it from the stream.
+  std::uint32_t nominal_frame_period_ns = 0;
+};
+
+struct CorrectorFrameStats {
+  std::uint64_t sequence = 0;
+  CarryOver carry_over = CarryOver::first_frame;
+  CoefficientStatus coefficient_status = CoefficientStatus::ok;
+  CorrectorCoefficients coefficients;
+  std::uint32_t saturated_low = 0;   // pixels clamped at 0
+  std::uint32_t saturated_high = 0;  // pixels clamped at 65535
+};
+
+struct CorrectorTotals {
+  std::uint64_t frames = 0;
+  std::uint64_t by_reason[kCarryOverReasons] = {};
+  std::uint64_t saturated_low = 0;
+  std::uint64_t saturated_high = 0;
+};
+
+// The per-pixel kernel: out = sat_u16(round((G * cur - A * prev) / 2^24)), ties away from zero.
+// Returns the saturation counts through `low` / `high`.
+void correct_line(const Pixel* current, const Pixel* previous, CorrectorCoefficients c,
+                  Pixel* out, std::size_t width, std::uint32_t& low, std::uint32_t& high);
+// The kernel without a previous frame: out = sat_u16(round(G * cur / 2^24)).
+void scale_line(const Pixel* current, std::uint32_t gain_q24, Pixel* out, std::size_t width,
+                std::uint32_t& high);
+
+class TwoFrameCorrector final : public Stage {
+ public:
+  // Pixels of storage the stage needs: the frame store plus one output line.
+  static constexpr std::size_t storage_pixels(std::uint32_t width, std::uint32_t height) {
+    return std::size_t{width} * height + width;
+  }
+  // `storage` must hold storage_pixels(config.width, config.height) pixels and outlive the stage.
+  TwoFrameCorrector(const CorrectorConfig& config, std::span<Pixel> storage, LineSink& next);
+
+  // Time constants may change between frames (the VO refines them); takes effect next frame.
+  void set_time_constants(TimeConstants tau) { config_.tau = tau; }
+  const CorrectorConfig& config() const { return config_; }
+
+  void begin_frame(const FrameHeader& header) override;
+  void push_line(std::uint32_t row, LineView line) override;
+  void end_frame() override;
+
+  const CorrectorFrameStats& last_frame() const { return frame_stats_; }
+  const CorrectorTotals& totals() const { return totals_; }
+
+ private:
+  CarryOver judge_predecessor(const FrameHeader& header) const;
+  std::uint32_t learned_period_ns() const;
+
+  enum class Mode : std::uint8_t { full, gain_only, pass_through };
+
+  CorrectorConfig config_;
+  std::span<Pixel> store_;     // previous raw frame, row-major
+  std::span<Pixel> out_line_;  // one corrected line
+  FrameHeader header_{};
+  FrameHeader previous_{};
+  bool have_previous_ = false;
+  bool previous_complete_ = false;
+  bool in_frame_ = false;
+  bool frame_ok_ = false;          // header matches the configured size
+  Mode mode_ = Mode::pass_through;
+  std::uint32_t lines_seen_ = 0;
+  std::uint32_t previous_readout_ns_ = 0;
+  static constexpr int kIntervalHistory = 8;
+  std::int64_t intervals_ns_[kIntervalHistory] = {};
+  int interval_count_ = 0;
+  CorrectorFrameStats frame_stats_{};
+  CorrectorTotals totals_{};
+};
+
+}  // namespace bolo::fw

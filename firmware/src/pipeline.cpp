@@ -1,0 +1,39 @@
+#include "bolo/firmware/pipeline.hpp"
+
+namespace bolo::fw {
+
+std::size_t Pipeline::arena_pixels(const PipelineConfig& config) {
+  const std::uint32_t w = config.corrector.width;
+  std::size_t pixels = TwoFrameCorrector::storage_pixels(w, config.corrector.height);
+  if (config.use_bad_pixels) pixels += BadPixelStage::storage_pixels(w);
+  if (config.use_nuc) pixels += NucStage::storage_pixels(w);
+  return pixels;
+}
+
+Pipeline::Pipeline(const PipelineConfig& config, std::span<Pixel> arena, LineSink& output) {
+  const std::uint32_t w = config.corrector.width;
+  const std::uint32_t h = config.corrector.height;
+  std::span<Pixel> rest = arena;
+  auto take = [&rest](std::size_t n) {
+    const std::size_t k = n <= rest.size() ? n : rest.size();
+    std::span<Pixel> part = rest.subspan(0, k);
+    rest = rest.subspan(k);
+    return part;
+  };
+  // Built back to front: each stage needs its successor at construction.
+  corrector_.emplace(config.corrector, take(TwoFrameCorrector::storage_pixels(w, h)), output);
+  input_ = &*corrector_;
+  if (config.use_bad_pixels) {
+    BadPixelConfig bad = config.bad_pixels;
+    bad.width = w;
+    bad.height = h;
+    bad_pixels_.emplace(bad, take(BadPixelStage::storage_pixels(w)), *input_);
+    input_ = &*bad_pixels_;
+  }
+  if (config.use_nuc) {
+    nuc_.emplace(w, h, config.nuc, take(NucStage::storage_pixels(w)), *input_);
+    input_ = &*nuc_;
+  }
+}
+
+}  // namespace bolo::fw

@@ -1,0 +1,162 @@
+#include "bolo/firmware/two_frame_corrector.hpp"
+
+#include <algorithm>
+
+namespace bolo::fw {
+
+const char* to_string(CarryOver reason) {
+  switch (reason) {
+    case CarryOver::applied: return "applied";
+    case CarryOver::first_frame: return "first_frame";
+    case CarryOver::sequence_gap: return "sequence_gap";
+    case CarryOver::timestamp_gap: return "timestamp_gap";
+    case CarryOver::timestamp_not_increasing: return "timestamp_not_increasing";
+    case CarryOver::ffc_event: return "ffc_event";
+    case CarryOver::format_change: return "format_change";
+    case CarryOver::previous_incomplete: return "previous_incomplete";
+    case CarryOver::missing_timing: return "missing_timing";
+    case CarryOver::coefficient_error: return "coefficient_error";
+  }
+  return "unknown";
+}
+
+TwoFrameCorrector::TwoFrameCorrector(const CorrectorConfig& config, std::span<Pixel> storage,
+                                     LineSink& next)
+    : Stage(next), config_(config) {
+  const std::size_t frame = std::size_t{config.width} * config.height;
+  // A short arena is a configuration bug; use what fits so nothing writes past it, and let
+  // every frame fail the size check below.
+  if (storage.size() < storage_pixels(config.width, config.height)) {
+    config_.width = 0;
+    config_.height = 0;
+    return;
+  }
+  store_ = storage.subspan(0, frame);
+  out_line_ = storage.subspan(frame, config.width);
+}
+
+std::uint32_t TwoFrameCorrector::learned_period_ns() const {
+  if (config_.nominal_frame_period_ns != 0) return config_.nominal_frame_period_ns;
+  if (interval_count_ == 0) return 0;
+  // Median of the recent intervals: robust to jitter and to the occasional gap itself.
+  std::int64_t sorted[kIntervalHistory];
+  const int n = std::min(interval_count_, kIntervalHistory);
+  std::copy(intervals_ns_, intervals_ns_ + n, sorted);
+  std::sort(sorted, sorted + n);
+  const std::int64_t median = sorted[n / 2];
+  return median > 0xFFFFFFFF ? 0xFFFFFFFFu : static_cast<std::uint32_t>(median);
+}
+
+CarryOver TwoFrameCorrector::judge_predecessor(const FrameHeader& header) const {
+  if (!frame_ok_) return CarryOver::format_change;
+  if (!have_previous_) return CarryOver::first_frame;
+  if (previous_.width != header.width || previous_.height != header.height)
+    return CarryOver::format_change;
+  if (!previous_complete_) return CarryOver::previous_incomplete;
+  if (header.ffc == FfcState::completed) return CarryOver::ffc_event;
+  if (header.sequence_valid && previous_.sequence_valid &&
+      header.sequence != previous_.sequence + 1)
+    return CarryOver::sequence_gap;
+  if (header.timestamp_valid && previous_.timestamp_valid) {
+    const std::int64_t interval = header.timestamp_ns - previous_.timestamp_ns;
+    if (interval <= 0) return CarryOver::timestamp_not_increasing;
+    const std::uint32_t period = learned_period_ns();
+    // interval > 1.5 * period, in integers
+    if (period != 0 && interval * 2 > std::int64_t{period} * 3) return CarryOver::timestamp_gap;
+  }
+  return CarryOver::applied;
+}
+
+void TwoFrameCorrector::begin_frame(const FrameHeader& header) {
+  header_ = header;
+  in_frame_ = true;
+  lines_seen_ = 0;
+  frame_ok_ = header.width == config_.width && header.height == config_.height &&
+              config_.width != 0;
+
+  frame_stats_ = CorrectorFrameStats{};
+  frame_stats_.sequence = header.sequence;
+  CarryOver reason = judge_predecessor(header);
+
+  const std::uint32_t exposure =
+      header.exposure_ns != 0 ? header.exposure_ns : config_.default_exposure_ns;
+  mode_ = Mode::pass_through;
+  if (frame_ok_) {
+    if (exposure == 0) {
+      reason = CarryOver::missing_timing;
+    } else if (reason == CarryOver::applied && previous_readout_ns_ == 0) {
+      reason = CarryOver::missing_timing;
+      mode_ = Mode::gain_only;
+    } else {
+      mode_ = reason == CarryOver::applied ? Mode::full : Mode::gain_only;
+    }
+    if (mode_ != Mode::pass_through) {
+      const CoefficientStatus status =
+          mode_ == Mode::full
+              ? compute_coefficients(config_.tau, exposure, previous_readout_ns_,
+                                     frame_stats_.coefficients)
+              : compute_gain_only(config_.tau, exposure, frame_stats_.coefficients);
+      frame_stats_.coefficient_status = status;
+      if (status != CoefficientStatus::ok) {
+        reason = CarryOver::coefficient_error;
+        mode_ = Mode::pass_through;
+      }
+    }
+  }
+  frame_stats_.carry_over = reason;
+
+  if (header.timestamp_valid && previous_.timestamp_valid && have_previous_) {
+    const std::int64_t interval = header.timestamp_ns - previous_.timestamp_ns;
+    if (interval > 0) {
+      intervals_ns_[interval_count_ % kIntervalHistory] = interval;
+      ++interval_count_;
+      if (interval_count_ >= 2 * kIntervalHistory) interval_count_ -= kIntervalHistory;
+    }
+  }
+  next().begin_frame(header);
+}
+
+void TwoFrameCorrector::push_line(std::uint32_t row, LineView line) {
+  if (!frame_ok_ || row >= config_.height || line.size() != config_.width) {
+    // Not ours to correct: pass it on unchanged and make sure it never becomes a predecessor.
+    frame_ok_ = false;
+    next().push_line(row, line);
+    return;
+  }
+  Pixel* stored = store_.data() + std::size_t{row} * config_.width;
+  switch (mode_) {
+    case Mode::full:
+      correct_line(line.data(), stored, frame_stats_.coefficients, out_line_.data(), line.size(),
+                   frame_stats_.saturated_low, frame_stats_.saturated_high);
+      break;
+    case Mode::gain_only:
+      scale_line(line.data(), frame_stats_.coefficients.gain_q24, out_line_.data(), line.size(),
+                 frame_stats_.saturated_high);
+      break;
+    case Mode::pass_through:
+      std::copy(line.begin(), line.end(), out_line_.begin());
+      break;
+  }
+  // The raw line becomes the next frame's predecessor: the model ghosts raw values, not outputs.
+  std::copy(line.begin(), line.end(), stored);
+  ++lines_seen_;
+  next().push_line(row, LineView(out_line_.data(), line.size()));
+}
+
+void TwoFrameCorrector::end_frame() {
+  if (in_frame_) {
+    have_previous_ = frame_ok_;
+    previous_complete_ = frame_ok_ && lines_seen_ == config_.height;
+    previous_ = header_;
+    previous_readout_ns_ =
+        header_.readout_ns != 0 ? header_.readout_ns : config_.default_readout_ns;
+    ++totals_.frames;
+    ++totals_.by_reason[static_cast<std::size_t>(frame_stats_.carry_over)];
+    totals_.saturated_low += frame_stats_.saturated_low;
+    totals_.saturated_high += frame_stats_.saturated_high;
+    in_frame_ = false;
+  }
+  next().end_frame();
+}
+
+}  // namespace bolo::fw

@@ -1,0 +1,39 @@
+#pragma once
+// The recording player: a recording in the shared format as a frame source, streamed line by
+// line. Host-side (it reads files and throws bolo::rec::Error on bad input).
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "bolo/hal/frame_source.hpp"
+#include "bolo/recording/recording.hpp"
+
+namespace bolo::hal {
+
+// frames.csv row -> firmware header. Seconds become integer nanoseconds; throws rec::Error
+// naming file, frame and field when a value does not fit (e.g. exposure over 4.29 s).
+fw::FrameHeader header_from_row(const rec::FrameRow& row, std::uint32_t width,
+                                std::uint32_t height, const std::filesystem::path& csv);
+
+class RecordingPlayer final : public FrameSource {
+ public:
+  explicit RecordingPlayer(const std::filesystem::path& dir);
+  SourceFormat format() const override { return format_; }
+  StreamStatus stream_frame(fw::LineSink& sink) override;
+  SourceStats stats() const override { return stats_; }
+
+  std::uint64_t position() const { return next_; }
+  void seek(std::uint64_t frame) { next_ = frame; }
+  const rec::Recording& recording() const { return recording_; }
+
+ private:
+  rec::Recording recording_;
+  SourceFormat format_;
+  std::vector<fw::FrameHeader> headers_;
+  std::vector<fw::Pixel> line_;
+  std::uint64_t next_ = 0;
+  SourceStats stats_;
+};
+
+}  // namespace bolo::hal
