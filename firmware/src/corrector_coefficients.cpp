@@ -10,11 +10,18 @@ constexpr std::uint64_t kOneQ32 = std::uint64_t{1} << 32;
 constexpr unsigned kRatioFractionBits = 24;  // t / tau as Q8.24, the input format of exp_neg_q32
 
 // exp(-t / tau) in Q0.32; ratios of 256 and beyond give 0 (exp(-256) is far below 2^-32).
+// The ratio is split as q / 2^24 + d with d < 2^-24: exp(-q / 2^24) comes from the table, and
+// exp(-d) = 1 - d to within 2^-49. Without the remainder the error of the ratio (up to 2^-24)
+// would be amplified by g in the gain, to ~1e-6 relative for g near 100.
 std::uint64_t decay_q32(std::uint32_t t_ns, std::uint32_t tau_ns) {
-  const std::uint64_t ratio_q24 =
-      fx::divide(std::uint64_t{t_ns} << kRatioFractionBits, std::uint64_t{tau_ns});
+  const std::uint64_t scaled = std::uint64_t{t_ns} << kRatioFractionBits;
+  const std::uint64_t ratio_q24 = scaled / tau_ns;
   if (ratio_q24 > 0xFFFFFFFFu) return 0;
-  return fx::exp_neg_q32(static_cast<std::uint32_t>(ratio_q24));
+  const std::uint64_t remainder = scaled % tau_ns;  // < tau < 2^32
+  const std::uint64_t decay = fx::exp_neg_q32(static_cast<std::uint32_t>(ratio_q24));
+  // d in Q0.56 is remainder * 2^32 / tau < 2^32; decay <= 2^32, so decay * d < 2^64.
+  const std::uint64_t d_q56 = fx::divide(remainder << 32, std::uint64_t{tau_ns});
+  return decay - fx::shift_right(decay * d_q56, 56);
 }
 
 }  // namespace

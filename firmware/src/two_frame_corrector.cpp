@@ -41,8 +41,12 @@ std::uint32_t TwoFrameCorrector::learned_period_ns() const {
   // Median of the recent intervals: robust to jitter and to the occasional gap itself.
   std::int64_t sorted[kIntervalHistory];
   const int n = std::min(interval_count_, kIntervalHistory);
-  std::copy(intervals_ns_, intervals_ns_ + n, sorted);
-  std::sort(sorted, sorted + n);
+  for (int i = 0; i < n; ++i) {  // insertion sort: at most 8 values
+    const std::int64_t v = intervals_ns_[i];
+    int j = i;
+    for (; j > 0 && sorted[j - 1] > v; --j) sorted[j] = sorted[j - 1];
+    sorted[j] = v;
+  }
   const std::int64_t median = sorted[n / 2];
   return median > 0xFFFFFFFF ? 0xFFFFFFFFu : static_cast<std::uint32_t>(median);
 }

@@ -64,7 +64,9 @@ struct Rig {
 
 }  // namespace
 
-TEST_CASE("coefficients follow the paper's formula to 1e-7 relative", "[corrector][coefficients]") {
+// What matters is the error a coefficient puts into an output pixel: |dG| * I + |dA| * I_prev with
+// I up to 65535 / g (above that the output saturates) and I_prev up to 65535.
+TEST_CASE("coefficient errors move no output pixel by more than 0.05 LSB", "[corrector][coefficients]") {
   long double worst_gain = 0, worst_carry = 0;
   for (double tau_h_ms : {1.0, 5.0, 8.0, 12.0, 15.0, 40.0}) {
     for (double tau_c_ms : {1.0, 8.0, 12.0, 15.0, 40.0}) {
@@ -82,18 +84,18 @@ TEST_CASE("coefficients follow the paper's formula to 1e-7 relative", "[correcto
             continue;
           }
           REQUIRE(status == fw::CoefficientStatus::ok);
-          const long double gain_err = std::abs(c.gain_q24 / kQ24 - g) / g;
-          const long double carry_err = std::abs(c.carry_q24 / kQ24 - a * g) / g;
+          const long double gain_err = std::abs(c.gain_q24 / kQ24 - g) * 65535.0L / g;
+          const long double carry_err = std::abs(c.carry_q24 / kQ24 - a * g) * 65535.0L;
           worst_gain = std::max(worst_gain, gain_err);
           worst_carry = std::max(worst_carry, carry_err);
         }
       }
     }
   }
-  INFO("worst relative errors: gain " << static_cast<double>(worst_gain) << ", carry "
-                                      << static_cast<double>(worst_carry));
-  CHECK(worst_gain < 1e-7L);
-  CHECK(worst_carry < 1e-7L);
+  INFO("worst output error from coefficients (LSB): gain " << static_cast<double>(worst_gain)
+                                                            << ", carry " << static_cast<double>(worst_carry));
+  CHECK(worst_gain < 0.05L);
+  CHECK(worst_carry < 0.05L);
 }
 
 TEST_CASE("coefficient refusals", "[corrector][coefficients]") {
@@ -143,7 +145,7 @@ TEST_CASE("the kernel is exactly round-half-away of G*cur - A*prev, clamped", "[
     for (std::size_t i = 0; i < cur.size(); ++i) {
       const std::int64_t d = std::int64_t{cur[i]} * c.gain_q24 - std::int64_t{prev[i]} * c.carry_q24;
       const long double r = std::round(static_cast<long double>(d) / kQ24);
-      want_low += r < 0 ? 1u : 0u;
+      want_low += d < -(std::int64_t{1} << 23) ? 1u : 0u;  // below -0.5: clamping changed it
       want_high += r > 65535 ? 1u : 0u;
       if (out[i] != exact_output(cur[i], prev[i], c)) ++mismatches;
     }

@@ -45,7 +45,7 @@ class FrameHasher final : public fw::LineSink {
 
 TEST_CASE("golden frame hashes over the shared real recordings", "[golden][shared]") {
   const auto golden =
-      bolo::test::read_golden(std::string(BOLO_TEST_DATA) + "/golden/recordings.golden");
+      bolo::test::read_golden(std::string(BOLO_TESTS_DIR) + "/golden/recordings.golden");
   const bool print = std::getenv("BOLO_GOLDEN_PRINT") != nullptr;
   for (const char* name : {"lepton3-possum", "lepton35-trailcam-ffc", "flirone-lepton-telemetry",
                            "flir-t1030-hand"}) {

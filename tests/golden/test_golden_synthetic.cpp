@@ -113,13 +113,13 @@ std::vector<Case> cases() {
 }  // namespace
 
 TEST_CASE("synthetic golden vectors", "[golden]") {
-  const auto golden = bolo::test::read_golden(std::string(BOLO_TEST_DATA) + "/golden/synthetic.golden");
+  const auto golden = bolo::test::read_golden(std::string(BOLO_TESTS_DIR) + "/golden/synthetic.golden");
   const bool print = std::getenv("BOLO_GOLDEN_PRINT") != nullptr;
   for (const Case& c : cases()) {
     const std::string hash = bolo::test::hex64(run_case(c));
     if (print) std::printf("%s %s\n", c.name.c_str(), hash.c_str());
-    INFO("case " << c.name);
-    REQUIRE(golden.count(c.name) == 1);
-    CHECK(golden.at(c.name) == hash);
+    INFO("case " << c.name << ": got " << hash);
+    CHECK(golden.count(c.name) == 1);
+    if (golden.count(c.name) == 1) CHECK(golden.at(c.name) == hash);
   }
 }

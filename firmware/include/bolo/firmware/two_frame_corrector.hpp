@@ -45,7 +45,7 @@ struct CorrectorFrameStats {
   CarryOver carry_over = CarryOver::first_frame;
   CoefficientStatus coefficient_status = CoefficientStatus::ok;
   CorrectorCoefficients coefficients;
-  std::uint32_t saturated_low = 0;   // pixels clamped at 0
+  std::uint32_t saturated_low = 0;   // pixels clamped at 0 (value below -0.5)
   std::uint32_t saturated_high = 0;  // pixels clamped at 65535
 };
 
