@@ -147,3 +147,32 @@ TEST_CASE("write_file_atomically replaces a file and leaves no temporary", "[wri
   CHECK(contains(error_of([&] { rec::write_file_atomically(tmp / "no" / "such.txt", "x"); }),
                  "such.txt: cannot create"));
 }
+
+TEST_CASE("writer: scene.npy round-trips and must match the frame count", "[writer]") {
+  test::TempDir tmp;
+  {
+    rec::RecordingWriter writer(tmp / "sim", test::fixture_info());
+    for (std::uint64_t i = 0; i < 3; ++i) {
+      writer.append(flat(15, static_cast<std::uint16_t>(i)), test::fixture_row(i));
+      std::vector<float> scene(15, 0.5f + static_cast<float>(i));
+      writer.append_scene(scene);
+    }
+    writer.commit();
+  }
+  rec::Recording recording(tmp / "sim");
+  REQUIRE(recording.has_scene());
+  std::vector<float> scene(15);
+  recording.read_scene(2, scene);
+  CHECK(scene[7] == 2.5f);
+
+  {
+    rec::RecordingWriter writer(tmp / "short", test::fixture_info());
+    writer.append(flat(15, 1), test::fixture_row(0));
+    writer.append(flat(15, 1), test::fixture_row(1));
+    writer.append_scene(std::vector<float>(15, 1.0f));
+    CHECK(contains(error_of([&] { writer.append_scene(std::vector<float>(3)); }),
+                   "scene.npy: frame 1: 3 pixels, expected 15"));
+    CHECK(contains(error_of([&] { writer.commit(); }), "scene.npy: 1 scene frames for 2 frames"));
+  }
+  CHECK(!std::filesystem::exists(tmp / "short"));
+}

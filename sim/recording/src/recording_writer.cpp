@@ -120,6 +120,21 @@ void RecordingWriter::append(std::span<const float> frame, const FrameRow& row) 
   rows_.push_back(stored);
 }
 
+void RecordingWriter::append_scene(std::span<const float> scene) {
+  if (committed_) fail(dir_, "append_scene after commit()");
+  const std::uint64_t expected = std::uint64_t{info_.width} * info_.height;
+  const std::uint64_t n = scene_ ? scene_->frames() : 0;
+  if (scene.size() != expected)
+    detail::fail_frame(dir_ / "scene.npy", n, {},
+                       std::to_string(scene.size()) + " pixels, expected " + std::to_string(expected));
+  if (!scene_) {
+    for (const auto& [existing, unused] : extra_files_)
+      if (existing == "scene.npy") fail(dir_ / "scene.npy", "already added as an extra file");
+    scene_.emplace(tmp_ / "scene.npy", DType::f4, info_.height, info_.width);
+  }
+  scene_->append(scene);
+}
+
 void RecordingWriter::set_camera(const nlohmann::json& camera) {
   if (!camera.is_object()) fail(dir_ / "camera.json", "expected a JSON object");
   camera_ = camera;
@@ -135,12 +150,19 @@ void RecordingWriter::add_file(const fs::path& relative, std::string contents) {
     fail(dir_ / relative, "is written by RecordingWriter itself; cannot be added as an extra file");
   for (const auto& [existing, unused] : extra_files_)
     if (existing == clean) fail(dir_ / relative, "added twice");
+  if (scene_ && clean == "scene.npy") fail(dir_ / relative, "written by append_scene already");
   extra_files_.emplace_back(clean, std::move(contents));
 }
 
 void RecordingWriter::commit() {
   if (committed_) fail(dir_, "commit() called twice");
   frames_.finish();
+  if (scene_) {
+    if (scene_->frames() != rows_.size())
+      fail(dir_ / "scene.npy", std::to_string(scene_->frames()) + " scene frames for " +
+                                   std::to_string(rows_.size()) + " frames");
+    scene_->finish();
+  }
   write_frames_csv(tmp_ / "frames.csv", rows_);
   write_recording_json(tmp_ / "recording.json", info_);
   if (camera_) write_file_atomically(tmp_ / "camera.json", camera_->dump(2) + "\n");

@@ -153,6 +153,8 @@ class RecordingWriter {
 
   void append(std::span<const std::uint16_t> frame, const FrameRow& row);
   void append(std::span<const float> frame, const FrameRow& row);
+  // scene.npy (float32, the steady-state input of a simulation): one per appended frame.
+  void append_scene(std::span<const float> scene);
   void set_camera(const nlohmann::json& camera);
   // Any further file in the recording (poses.tum, truth/...), written at commit. Relative path.
   void add_file(const std::filesystem::path& relative, std::string contents);
@@ -164,6 +166,7 @@ class RecordingWriter {
   RecordingInfo info_;
   Options options_;
   NpyStackWriter frames_;
+  std::optional<NpyStackWriter> scene_;
   std::vector<FrameRow> rows_;
   std::optional<nlohmann::json> camera_;
   std::vector<std::pair<std::filesystem::path, std::string>> extra_files_;

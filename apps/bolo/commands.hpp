@@ -1,0 +1,85 @@
+#pragma once
+// The commands of the `bolo` tool as plain functions, so the executable and the tests run the
+// same code. Each run_* function validates its options, does the work, prints a summary to `out`
+// and returns 0; bad input throws (bolo::cli::Error, bolo::rec::Error, ...) and errors.hpp turns
+// that into `bolo: error: <message>` and exit code 2.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace bolo::cli {
+
+// bolo info REC [--json]
+struct InfoOptions {
+  std::filesystem::path input;
+  bool json = false;
+};
+int run_info(const InfoOptions& options, std::ostream& out);
+
+// bolo correct REC OUT --tau-h S --tau-c S [--exposure S] [--readout S] [--float] [--overwrite]
+//              [--bad-pixels] [--stats FILE.csv] [--nominal-fps F]
+struct CorrectOptions {
+  std::filesystem::path input;
+  std::filesystem::path output;
+  double tau_h_s = 0.0;
+  double tau_c_s = 0.0;
+  std::optional<double> exposure_s;  // used for frames whose exposure_s cell is empty
+  std::optional<double> readout_s;   // used for frames whose readout_s cell is empty
+  bool float_output = false;         // float32 frames.npy from the double-precision reference
+  bool overwrite = false;
+  bool bad_pixels = false;
+  std::optional<std::filesystem::path> stats;  // per-frame statistics CSV
+  std::optional<double> nominal_fps;           // frame rate for gap detection; default: learned
+  bool progress = true;                        // progress bar (only ever when stderr is a TTY)
+};
+int run_correct(const CorrectOptions& options, std::ostream& out);
+
+// bolo render REC OUT.png [--frame N | --contact-sheet] [--compare REC2]
+//             [--range LO:HI | --percentile P_LO:P_HI] [--agc] [--colormap gray|iron]
+//             [--scale K] [--columns C] [--count M] [--labels]
+struct RenderOptions {
+  std::filesystem::path input;
+  std::filesystem::path output;
+  std::optional<std::uint64_t> frame;  // default 0 unless contact_sheet
+  bool contact_sheet = false;
+  std::optional<std::filesystem::path> compare;
+  std::optional<std::string> range;       // "LO:HI" in pixel units
+  std::optional<std::string> percentile;  // "P_LO:P_HI", default 1:99
+  bool agc = false;                       // range per shown frame instead of per recording
+  std::string colormap = "gray";
+  std::uint32_t scale = 1;
+  std::uint32_t columns = 4;
+  std::uint32_t count = 16;
+  bool labels = false;  // frame indices on contact-sheet tiles
+};
+int run_render(const RenderOptions& options, std::ostream& out);
+
+// bolo simulate OUT [--frames N] [--size WxH] [--fps F] [--tau-h S] [--tau-c S] [--exposure S]
+//                   [--readout S] [--noise C] [--bits B] [--ffc-every N] [--seed K] [--overwrite]
+struct SimulateOptions {
+  std::filesystem::path output;
+  std::uint64_t frames = 120;
+  std::string size = "160x120";
+  double fps = 30.0;
+  double tau_h_s = 0.012;
+  double tau_c_s = 0.012;
+  std::optional<double> exposure_s;  // default: half the frame period
+  std::optional<double> readout_s;   // default: the rest of the frame period
+  double noise = 2.0;                // counts, standard deviation
+  std::uint32_t bits = 14;
+  std::uint64_t ffc_every = 0;
+  std::uint64_t seed = 1;
+  bool overwrite = false;
+  bool progress = true;
+};
+int run_simulate(const SimulateOptions& options, std::ostream& out);
+
+// The whole command line: parses argv (CLI11), runs the chosen command, and reports errors.
+// Help and --version go to `out`; errors go to `err` as one `bolo: error: ...` line. Returns the
+// process exit code: 0 on success, 2 on bad input or a usage error.
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
+
+}  // namespace bolo::cli

@@ -1,0 +1,64 @@
+// bolo simulate: a recording with known ghosting that `bolo correct` with the same time
+// constants restores to its scene.npy.
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "cli_test_support.hpp"
+
+using namespace bolo;
+using namespace bolo::test;
+
+TEST_CASE("simulate writes a ghosted recording that correct restores", "[cli][simulate]") {
+  TempDir tmp;
+  const auto sim_dir = tmp / "sim";
+  const auto fixed_dir = tmp / "fixed";
+  auto r = run_bolo({"simulate", sim_dir.string(), "--frames", "20", "--size", "40x30", "--fps",
+                     "60", "--noise", "0", "--bits", "16", "--ffc-every", "8"});
+  REQUIRE(r.code == 0);
+  rec::Recording sim(sim_dir);
+  REQUIRE(sim.has_scene());
+  CHECK(sim.frame_count() == 20);
+  CHECK(sim.rows()[8].ffc == std::optional<bool>(true));
+  CHECK(fs::exists(sim_dir / "truth" / "parameters.json"));
+
+  r = run_bolo({"correct", sim_dir.string(), fixed_dir.string(), "--tau-h", "0.012", "--tau-c",
+                "0.012"});
+  REQUIRE(r.code == 0);
+  rec::Recording fixed(fixed_dir);
+  std::vector<float> scene(40 * 30);
+  double worst_raw = 0, worst_fixed = 0;
+  const double heat = 1 - std::exp(-(0.5 / 60) / 0.012);
+  for (std::uint64_t i = 0; i < 20; ++i) {
+    sim.read_scene(i, scene);
+    const auto raw = read_u16_frame(sim, i);
+    const auto out = read_u16_frame(fixed, i);
+    for (std::size_t p = 0; p < scene.size(); ++p) {
+      worst_raw = std::max(worst_raw, std::abs(raw[p] / heat - scene[p]));
+      worst_fixed = std::max(worst_fixed, std::abs(out[p] - double{scene[p]}));
+    }
+  }
+  INFO("worst |raw/heat - scene| " << worst_raw << ", worst |corrected - scene| " << worst_fixed);
+  CHECK(worst_raw > 1000);   // the model did ghost the moving disc
+  CHECK(worst_fixed <= 3.0);  // quantisation of raw counts, amplified by g and a*g
+}
+
+TEST_CASE("simulate refuses bad options", "[cli][simulate][refusal]") {
+  TempDir tmp;
+  for (const auto& [args, needle] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"--size", "40by30"}, "--size"},
+           {{"--fps", "0"}, "--fps"},
+           {{"--tau-h", "-1"}, "--tau-h"},
+           {{"--bits", "20"}, "--bits"},
+           {{"--fps", "30", "--exposure", "0.05"}, "--readout"},
+       }) {
+    std::vector<std::string> argv = {"simulate", (tmp / "x").string()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    const auto r = run_bolo(argv);
+    INFO(r.err);
+    CHECK(r.code == 2);
+    CHECK(r.err.find(needle) != std::string::npos);
+    CHECK(!fs::exists(tmp / "x"));
+  }
+}
