@@ -132,19 +132,30 @@ int run_render(const RenderOptions& o, std::ostream& out) {
   std::vector<FrameStack*> stacks = {&a};
   if (b) stacks.push_back(&*b);
 
-  // One range for everything (unless --agc): percentiles over evenly sampled frames of all inputs.
+  // A display range fixed over the whole recording (unless --agc): percentiles over evenly
+  // sampled frames. Each side of a comparison gets its own (the corrector rescales the signal by
+  // g, so one shared range would hide the difference that matters) unless --same-range.
   std::string range_note;
+  std::vector<DisplayRange> fixed_ranges;
   if (fixed_range) {
     range_note = "--range";
+    fixed_ranges.assign(stacks.size(), *fixed_range);
   } else if (!o.agc) {
     const std::uint64_t sample_frames =
         std::max<std::uint64_t>(1, kRangeSampleBudget / (a.pixels() * stacks.size()));
     const auto sampled = evenly_spaced(a.frames(), sample_frames);
-    std::vector<float> values = gather(stacks, sampled);
-    fixed_range = percentile_range(values, p_lo, p_hi);
+    if (o.same_range || stacks.size() == 1) {
+      std::vector<float> values = gather(stacks, sampled);
+      fixed_ranges.assign(stacks.size(), percentile_range(values, p_lo, p_hi));
+    } else {
+      for (FrameStack* stack : stacks) {
+        std::vector<float> values = gather({stack}, sampled);
+        fixed_ranges.push_back(percentile_range(values, p_lo, p_hi));
+      }
+    }
     range_note = "percentiles " + number_text(p_lo) + ":" + number_text(p_hi) + " over " +
                  std::to_string(sampled.size()) + " of " + std::to_string(a.frames()) + " frames" +
-                 (b ? " of both recordings" : "");
+                 (b ? (o.same_range ? ", one range for both recordings" : ", per recording") : "");
   } else {
     range_note = "--agc: percentiles " + number_text(p_lo) + ":" + number_text(p_hi) + " per frame";
   }
@@ -165,23 +176,19 @@ int run_render(const RenderOptions& o, std::ostream& out) {
   Canvas canvas(static_cast<std::uint32_t>(canvas_w), static_cast<std::uint32_t>(canvas_h), {32, 32, 32});
 
   std::vector<std::vector<float>> frames(stacks.size(), std::vector<float>(a.pixels()));
-  DisplayRange last_range{};
   for (std::size_t k = 0; k < shown.size(); ++k) {
     for (std::size_t s = 0; s < stacks.size(); ++s) stacks[s]->read(shown[k], frames[s]);
-    DisplayRange range;
-    if (fixed_range) {
-      range = *fixed_range;
-    } else {  // --agc: this tile's frames (both sides of a comparison together)
+    std::vector<DisplayRange> ranges = fixed_ranges;
+    if (ranges.empty()) {  // --agc: this tile's frames (both sides of a comparison together)
       std::vector<float> values;
       for (const auto& f : frames) values.insert(values.end(), f.begin(), f.end());
-      range = percentile_range(values, p_lo, p_hi);
+      ranges.assign(stacks.size(), percentile_range(values, p_lo, p_hi));
     }
-    last_range = range;
     const auto x0 = static_cast<std::uint32_t>((k % columns) * (tile_w + sheet_gap));
     const auto y0 = static_cast<std::uint32_t>((k / columns) * (panel_h + sheet_gap));
     for (std::size_t s = 0; s < stacks.size(); ++s)
       canvas.draw_frame(static_cast<std::uint32_t>(x0 + s * (panel_w + gap)), y0, frames[s],
-                        a.width(), a.height(), range, colormap, o.scale);
+                        a.width(), a.height(), ranges[s], colormap, o.scale);
     if (o.labels) canvas.draw_number(x0, y0, std::to_string(shown[k]), std::max<std::uint32_t>(1, o.scale));
   }
   rec::write_png_rgb8(o.output, canvas.width(), canvas.height(), canvas.rgb());
@@ -194,8 +201,9 @@ int run_render(const RenderOptions& o, std::ostream& out) {
   out << " of " << o.input.string();
   if (b) out << " | " << o.compare->string();
   out << "; colormap " << o.colormap << "; range ";
-  if (!o.agc) out << number_text(last_range.lo) << " .. " << number_text(last_range.hi) << " ";
-  out << "(" << range_note << ")\n";
+  for (std::size_t s = 0; s < fixed_ranges.size(); ++s)
+    out << (s ? " | " : "") << number_text(fixed_ranges[s].lo) << " .. " << number_text(fixed_ranges[s].hi);
+  out << (fixed_ranges.empty() ? "" : " ") << "(" << range_note << ")\n";
   return kExitOk;
 }
 
@@ -210,7 +218,8 @@ Command add_render_command(CLI::App& parent) {
       "Renders a recording to an 8-bit RGB PNG: one frame (--frame, default 0) or a contact sheet\n"
       "of evenly spaced frames, optionally side by side with a second recording of the same size\n"
       "(--compare, e.g. raw | corrected). The display range is the same for every frame shown:\n"
-      "percentiles 1:99 over the whole recording (and REC2), from evenly sampled frames, unless\n"
+      "percentiles 1:99 over the whole recording (REC2 its own, or both one with --same-range),\n"
+      "from evenly sampled frames, unless\n"
       "--range, --percentile or --agc (a range per frame) say otherwise.\n\n"
       "Examples:\n"
       "  bolo render raw out/compare.png --frame 40 --compare out/corrected --scale 3\n"
@@ -227,6 +236,8 @@ Command add_render_command(CLI::App& parent) {
   CLI::Option* percentile_opt = app->add_option(
       "--percentile", *percentile, "Display range from percentiles P_LO:P_HI (default 1:99)");
   range_opt->excludes(percentile_opt);
+  app->add_flag("--same-range", o->same_range,
+                "With --compare: one display range for both recordings (default: one each)");
   app->add_flag("--agc", o->agc, "Automatic gain per frame: the percentile range of each frame shown");
   app->add_option("--colormap", o->colormap, "gray or iron (default gray)")
       ->check(CLI::IsMember({"gray", "iron"}));

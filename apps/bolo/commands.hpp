@@ -49,6 +49,7 @@ struct RenderOptions {
   std::optional<std::string> range;       // "LO:HI" in pixel units
   std::optional<std::string> percentile;  // "P_LO:P_HI", default 1:99
   bool agc = false;                       // range per shown frame instead of per recording
+  bool same_range = false;                // --compare: one range for both recordings
   std::string colormap = "gray";
   std::uint32_t scale = 1;
   std::uint32_t columns = 4;

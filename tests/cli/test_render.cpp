@@ -112,6 +112,33 @@ TEST_CASE("render --compare --scale: raw | corrected side by side", "[cli][rende
     }
 }
 
+TEST_CASE("render --compare: one fixed range per recording by default, one shared with --same-range", "[cli][render]") {
+  TempDir tmp;
+  SmallRecording::write(tmp / "rec");
+  REQUIRE(run_bolo({"correct", (tmp / "rec").string(), (tmp / "out").string(), "--tau-h", "0.012",
+                    "--tau-c", "0.012"}).code == 0);
+  const CliResult own = run_bolo({"render", (tmp / "rec").string(), (tmp / "a.png").string(), "--frame", "4",
+                                  "--compare", (tmp / "out").string()});
+  REQUIRE(own.code == 0);
+  CHECK(own.out.find("per recording") != std::string::npos);
+  const CliResult shared = run_bolo({"render", (tmp / "rec").string(), (tmp / "b.png").string(), "--frame", "4",
+                                     "--compare", (tmp / "out").string(), "--same-range"});
+  REQUIRE(shared.code == 0);
+  CHECK(shared.out.find("one range for both recordings") != std::string::npos);
+  // "range A .. B | C .. D (...)": one range per side, different ones unless --same-range.
+  auto ranges = [](const std::string& text) {
+    const auto at = text.find("; range ");
+    const auto bar = text.find(" | ", at);
+    const auto end = text.find(" (", bar);
+    return std::make_pair(text.substr(at + 8, bar - at - 8), text.substr(bar + 3, end - bar - 3));
+  };
+  const auto [own_a, own_b] = ranges(own.out);
+  const auto [shared_a, shared_b] = ranges(shared.out);
+  CHECK(own_a != own_b);
+  CHECK(shared_a == shared_b);
+  CHECK(read_text(tmp / "a.png") != read_text(tmp / "b.png"));
+}
+
 TEST_CASE("render --contact-sheet: evenly spaced tiles in columns, iron colormap, labels", "[cli][render]") {
   TempDir tmp;
   SmallRecording::write(tmp / "rec");
