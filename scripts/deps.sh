@@ -6,6 +6,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   catch2 nlohmann-json3-dev libcli11-dev libeigen3-dev libpng-dev
   libusb-1.0-0-dev libgpiod-dev libbenchmark-dev
+  g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user
 )
 
 missing=()

@@ -9,7 +9,8 @@ set(CMAKE_CXX_COMPILER ${BOLO_TRIPLET}-g++)
 # ARMv7-A with NEON, hard-float ABI, Thumb-2: common to Cortex-A7 and Cortex-A9 SoCs used in
 # camera boards (A9 parts without NEON need -mfpu=vfpv3-d16 instead).
 set(CMAKE_C_FLAGS_INIT "-march=armv7-a -mfpu=neon -mfloat-abi=hard -mthumb")
-set(CMAKE_CXX_FLAGS_INIT "-march=armv7-a -mfpu=neon -mfloat-abi=hard -mthumb")
+# -Wno-psabi: GCC notes a 2017 ABI change for passing small structs; nothing here crosses that ABI.
+set(CMAKE_CXX_FLAGS_INIT "-march=armv7-a -mfpu=neon -mfloat-abi=hard -mthumb -Wno-psabi")
 
 set(CMAKE_LIBRARY_ARCHITECTURE ${BOLO_TRIPLET})
 set(CMAKE_FIND_ROOT_PATH /usr/${BOLO_TRIPLET})

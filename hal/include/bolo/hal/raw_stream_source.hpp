@@ -1,0 +1,42 @@
+#pragma once
+// Raw Y16 frames (width x height little-endian uint16, back to back) from a file descriptor: a
+// pipe from a capture tool, a FIFO, a file. Board-safe: no exceptions, one frame buffer sized at
+// construction, POSIX read(2). Timing comes from the configuration (a raw stream carries none).
+
+#include <cstdint>
+#include <vector>
+
+#include "bolo/hal/frame_source.hpp"
+
+namespace bolo::hal {
+
+struct RawStreamConfig {
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  std::uint32_t bits = 16;
+  std::uint32_t frame_period_ns = 0;  // timestamps = index * period; 0 = none
+  std::uint32_t exposure_ns = 0;
+  std::uint32_t readout_ns = 0;
+};
+
+class RawStreamSource final : public FrameSource {
+ public:
+  // Does not own `fd`. Allocates its one frame buffer here, never afterwards.
+  RawStreamSource(int fd, const RawStreamConfig& config);
+  SourceFormat format() const override;
+  // end_of_stream at EOF; a frame cut short by EOF counts as a short transfer and ends the
+  // stream; a read error other than EINTR counts as a fault and ends the stream too.
+  StreamStatus stream_frame(fw::LineSink& sink) override;
+  SourceStats stats() const override { return stats_; }
+
+ private:
+  int fd_;
+  RawStreamConfig config_;
+  std::vector<std::uint8_t> bytes_;
+  std::vector<fw::Pixel> line_;
+  std::uint64_t next_ = 0;
+  bool ended_ = false;
+  SourceStats stats_;
+};
+
+}  // namespace bolo::hal
