@@ -48,6 +48,9 @@ struct Case {
   Pattern pattern;
   bool full_pipeline;
   std::uint64_t frames = 12;
+  // Per-frame timing jitter (ns per frame index): many distinct coefficients, so a change in the
+  // rounding of any coefficient shows up in the hashes.
+  std::uint32_t jitter_ns = 0;
 };
 
 std::uint64_t run_case(const Case& c) {
@@ -83,8 +86,8 @@ std::uint64_t run_case(const Case& c) {
     hd.sequence_valid = true;
     hd.timestamp_ns = t;
     hd.timestamp_valid = true;
-    hd.exposure_ns = c.exposure_ns;
-    hd.readout_ns = c.readout_ns;
+    hd.exposure_ns = c.exposure_ns + static_cast<std::uint32_t>(i) * c.jitter_ns;
+    hd.readout_ns = c.readout_ns + static_cast<std::uint32_t>(i) * c.jitter_ns * 3;
     hd.ffc = i == 7 ? fw::FfcState::completed : fw::FfcState::none;
     bolo::test::push_frame(pipeline.input(), hd, frame);
     seq += i == 4 ? 2 : 1;                                            // a drop after frame 4
@@ -107,6 +110,8 @@ std::vector<Case> cases() {
       {"pipeline_160x120_hotspot", 160, 120, t12, 10'000'000, 6'666'667, Pattern::hot_spot, true},
       {"pipeline_80x60_random", 80, 60, {9'000'000, 14'000'000}, 11'000'000, 5'000'000, Pattern::random, true},
       {"pipeline_31x9_checker", 31, 9, t12, 3'000'000, 1'000'000, Pattern::checker, true},
+      {"corrector_160x120_hotspot_jittered_timing", 160, 120, t12, 7'000'000, 5'000'000, Pattern::hot_spot, false, 48, 1'237},
+      {"corrector_80x60_random_jittered_timing", 80, 60, {10'000'000, 13'000'000}, 9'000'000, 4'000'000, Pattern::random, false, 48, 3'301},
   };
 }
 
