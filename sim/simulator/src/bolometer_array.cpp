@@ -24,18 +24,33 @@ BolometerArray::BolometerArray(std::uint32_t width, std::uint32_t height,
                                std::vector<double> tau_h_s, std::vector<double> tau_c_s)
     : width_(width),
       height_(height),
-      tau_h_(std::move(tau_h_s)),
-      tau_c_(std::move(tau_c_s)),
       residual_(std::size_t{width} * height, 0.0),
       heat_(residual_.size(), 0.0) {
+  set_time_constants(std::move(tau_h_s), std::move(tau_c_s));
+}
+
+void BolometerArray::set_time_constants(std::vector<double> tau_h_s, std::vector<double> tau_c_s) {
   const std::size_t n = residual_.size();
-  if ((tau_h_.size() != 1 && tau_h_.size() != n) || (tau_c_.size() != 1 && tau_c_.size() != n))
+  if ((tau_h_s.size() != 1 && tau_h_s.size() != n) || (tau_c_s.size() != 1 && tau_c_s.size() != n))
     throw std::invalid_argument("BolometerArray: per-pixel time constants need width*height values");
-  check_taus(tau_h_, "tau_h");
-  check_taus(tau_c_, "tau_c");
+  check_taus(tau_h_s, "tau_h");
+  check_taus(tau_c_s, "tau_c");
+  tau_h_ = std::move(tau_h_s);
+  tau_c_ = std::move(tau_c_s);
 }
 
 void BolometerArray::reset() { std::fill(residual_.begin(), residual_.end(), 0.0); }
+
+void BolometerArray::settle(std::span<const float> input, double exposure_s, double readout_s) {
+  if (input.size() != residual_.size())
+    throw std::invalid_argument("BolometerArray::settle: input size differs");
+  for (std::size_t p = 0; p < residual_.size(); ++p) {
+    const double heat = 1.0 - std::exp(-exposure_s / tau_h_[tau_h_.size() == 1 ? 0 : p]);
+    const double carry = std::exp(-readout_s / tau_c_[tau_c_.size() == 1 ? 0 : p]);
+    // Without cooling (t_r = 0) there is no steady state; start from nothing instead.
+    residual_[p] = carry < 1.0 - 1e-12 ? input[p] * heat / (1.0 - carry) * carry : 0.0;
+  }
+}
 
 void BolometerArray::expose(std::span<const std::span<const float>> substeps, double exposure_s,
                             double readout_s, std::span<double> reading) {

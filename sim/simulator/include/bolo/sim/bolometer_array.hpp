@@ -34,6 +34,11 @@ class BolometerArray {
               double readout_s, std::span<double> reading);
   // A shutter event or power-up: nothing of earlier frames is left.
   void reset();
+  // As if the pixels had looked at `input` for ever with this timing: the next frame of the same
+  // input reads the steady state u (1 - e^{-t_e/tau_h}) / (1 - e^{-t_r/tau_c}).
+  void settle(std::span<const float> input, double exposure_s, double readout_s);
+  // New time constants from the next frame on: one value each, or width * height values.
+  void set_time_constants(std::vector<double> tau_h_s, std::vector<double> tau_c_s);
 
  private:
   std::uint32_t width_, height_;

@@ -1,0 +1,65 @@
+#pragma once
+// The host simulator: a scene (any function giving steady-state counts at a time) seen through the
+// continuous-time bolometer array, the selected catalogue effects, temporal noise and quantisation,
+// one frame at a time, with everything known about it for truth/.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <random>
+#include <span>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bolo/recording/recording.hpp"
+#include "bolo/sim/bolometer_array.hpp"
+#include "bolo/sim/effect.hpp"
+
+namespace bolo::sim {
+
+struct SimulatorConfig {
+  SimulationInfo info;           // size, bits, fps, exposure/readout, tau, 300 K level, seed
+  std::uint32_t substeps = 4;    // scene samples per exposure (motion within a frame)
+  double noise_counts = 2.0;     // white temporal noise, standard deviation in counts
+  double noise_1f_counts = 0.0;  // 1/f temporal noise per pixel, standard deviation in counts
+  std::vector<EffectSpec> effects;
+};
+
+// Writes the scene's steady-state counts at time t (row-major width * height).
+using InputSampler = std::function<void(double t_s, std::span<float> counts)>;
+
+struct SimulatedFrame {
+  std::vector<std::uint16_t> counts;  // frames.npy
+  std::vector<float> scene;           // scene.npy: the input averaged over the exposure
+  rec::FrameRow row;                  // frames.csv
+};
+
+class Simulator {
+ public:
+  // Throws std::invalid_argument naming the option or effect that is wrong.
+  Simulator(SimulatorConfig config, InputSampler input);
+  void next(SimulatedFrame& frame);
+  std::uint64_t frames_done() const { return index_; }
+  const SimulatorConfig& config() const { return config_; }
+  // truth/effects.json: the sensor model and every effect's parameters as used.
+  nlohmann::json truth() const;
+  std::vector<std::pair<std::string, std::vector<float>>> truth_maps() const;
+
+ private:
+  void sample_input(double t0);
+
+  SimulatorConfig config_;
+  InputSampler input_;
+  std::vector<std::unique_ptr<Effect>> effects_;
+  BolometerArray array_;
+  std::vector<std::uint32_t> row_shift_;     // sub-steps each row's exposure starts late
+  std::vector<std::vector<float>> grid_;     // scene samples on the sub-step time grid
+  std::vector<std::vector<float>> substeps_; // the per-row assembled input of each sub-step
+  std::vector<double> reading_, previous_, tau_h_, tau_c_;
+  std::vector<double> noise_state_;          // 1/f: octave AR(1) states per pixel
+  std::mt19937_64 noise_rng_;
+  std::uint64_t index_ = 0;
+};
+
+}  // namespace bolo::sim

@@ -1,0 +1,86 @@
+#pragma once
+// Reading an effect's parameters: numbers with ranges and defaults, lists, and a check that no
+// unknown key was given. Every error names the effect and the key.
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bolo/sim/effect.hpp"
+
+namespace bolo::sim::effects {
+
+class Params {
+ public:
+  explicit Params(const EffectSpec& spec) : spec_(spec) {}
+
+  double number(const std::string& key, double fallback, double lo, double hi) {
+    used_.insert(key);
+    const auto it = spec_.params.find(key);
+    if (it == spec_.params.end()) return fallback;
+    return parse(key, it->second, lo, hi);
+  }
+  double required(const std::string& key, double lo, double hi) {
+    used_.insert(key);
+    const auto it = spec_.params.find(key);
+    if (it == spec_.params.end()) fail(key, "required");
+    return parse(key, it->second, lo, hi);
+  }
+  std::vector<double> list(const std::string& key, double lo, double hi) {
+    used_.insert(key);
+    std::vector<double> out;
+    const auto it = spec_.params.find(key);
+    if (it == spec_.params.end()) return out;
+    std::stringstream items(it->second);
+    std::string item;
+    while (std::getline(items, item, '/')) out.push_back(parse(key, item, lo, hi));
+    return out;
+  }
+  bool has(const std::string& key) const { return spec_.params.count(key) != 0; }
+  // Call after reading every key: anything left over is a typo the user should hear about.
+  void finish() const {
+    for (const auto& [key, value] : spec_.params)
+      if (!used_.count(key)) {
+        std::string known;
+        for (const auto& k : used_) known += (known.empty() ? "" : ", ") + k;
+        fail(key, "unknown parameter (" + spec_.id + " takes: " + (known.empty() ? "none" : known) + ")");
+      }
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw std::invalid_argument("--effect " + spec_.id + ": " + key + ": " + what);
+  }
+  double parse(const std::string& key, const std::string& text, double lo, double hi) const {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(text, &used);
+    } catch (const std::exception&) {
+      fail(key, "not a number: '" + text + "'");
+    }
+    if (used != text.size()) fail(key, "not a number: '" + text + "'");
+    if (!std::isfinite(v) || v < lo || v > hi) {
+      std::ostringstream range;
+      range << "must be in [" << lo << ", " << hi << "], got " << text;
+      fail(key, range.str());
+    }
+    return v;
+  }
+  const EffectSpec& spec_;
+  std::set<std::string> used_;
+};
+
+// An effect's own generator: the simulation seed mixed with the effect id.
+inline std::mt19937_64 effect_rng(std::uint64_t seed, const std::string& id) {
+  std::uint64_t h = 0xcbf29ce484222325ull ^ seed;
+  for (char c : id) h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ull;
+  return std::mt19937_64(h);
+}
+
+}  // namespace bolo::sim::effects

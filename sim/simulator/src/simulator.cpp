@@ -1,0 +1,173 @@
+#include "bolo/sim/simulator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace bolo::sim {
+namespace {
+
+constexpr int kNoiseOctaves = 4;
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument(what);
+}
+
+std::vector<std::unique_ptr<Effect>> build_effects(const SimulatorConfig& c) {
+  std::vector<std::unique_ptr<Effect>> out;
+  for (const EffectSpec& spec : c.effects) {
+    for (const auto& e : out)
+      require(spec.id != e->id(), "--effect " + spec.id + ": given twice");
+    out.push_back(make_effect(spec, c.info));
+  }
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a->order < b->order; });
+  return out;
+}
+
+}  // namespace
+
+Simulator::Simulator(SimulatorConfig config, InputSampler input)
+    : config_(std::move(config)),
+      input_(std::move(input)),
+      effects_(build_effects(config_)),
+      array_(std::max(1u, config_.info.width), std::max(1u, config_.info.height),
+             config_.info.tau_h_s > 0 ? config_.info.tau_h_s : 1.0,
+             config_.info.tau_c_s > 0 ? config_.info.tau_c_s : 1.0),
+      noise_rng_(config_.info.seed) {
+  const SimulationInfo& i = config_.info;
+  require(i.width >= 2 && i.height >= 2, "size: at least 2x2");
+  require(i.fps > 0 && std::isfinite(i.fps), "fps: must be > 0");
+  require(i.tau_h_s > 0 && i.tau_c_s > 0, "tau: must be > 0");
+  require(i.exposure_s > 0 && i.readout_s >= 0, "exposure must be > 0 and readout >= 0");
+  require(i.exposure_s + i.readout_s <= 1.0 / i.fps * (1 + 1e-9),
+          "exposure + readout must fit in one frame period (1/fps)");
+  require(i.bits >= 8 && i.bits <= 16, "bits: 8..16");
+  require(config_.substeps >= 1 && config_.substeps <= 64, "substeps: 1..64");
+  require(config_.noise_counts >= 0 && config_.noise_1f_counts >= 0, "noise: must be >= 0");
+
+  const std::size_t n = std::size_t{i.width} * i.height;
+  const double d = i.exposure_s / config_.substeps;
+  row_shift_.assign(i.height, 0);
+  for (const auto& e : effects_)
+    for (std::uint32_t r = 0; r < i.height; ++r)
+      row_shift_[r] += static_cast<std::uint32_t>(std::lround(e->row_delay_s(r) / d));
+  const std::uint32_t grid = config_.substeps + *std::max_element(row_shift_.begin(), row_shift_.end());
+  grid_.assign(grid, std::vector<float>(n));
+  substeps_.assign(config_.substeps, std::vector<float>(n));
+  reading_.assign(n, 0.0);
+  tau_h_.assign(n, i.tau_h_s);
+  tau_c_.assign(n, i.tau_c_s);
+  noise_state_.assign(n * kNoiseOctaves, 0.0);
+}
+
+void Simulator::sample_input(double t0) {
+  const SimulationInfo& i = config_.info;
+  const double d = i.exposure_s / config_.substeps;
+  for (std::size_t j = 0; j < grid_.size(); ++j) input_(t0 + (static_cast<double>(j) + 0.5) * d, grid_[j]);
+  // Row r's k-th sub-step is the grid sample k + shift(r): rows exposed later see later scenes.
+  for (std::uint32_t k = 0; k < config_.substeps; ++k)
+    for (std::uint32_t r = 0; r < i.height; ++r) {
+      const auto& src = grid_[k + row_shift_[r]];
+      std::copy_n(src.begin() + std::ptrdiff_t{r} * i.width, i.width,
+                  substeps_[k].begin() + std::ptrdiff_t{r} * i.width);
+    }
+}
+
+void Simulator::next(SimulatedFrame& out) {
+  const SimulationInfo& i = config_.info;
+  const std::size_t n = reading_.size();
+  FrameState f;
+  f.index = index_;
+  f.period_s = 1.0 / i.fps;
+  f.t_s = static_cast<double>(index_) * f.period_s;
+  for (const auto& e : effects_) e->begin_frame(f);
+
+  sample_input(f.t_s);
+  out.scene.assign(n, 0.0f);
+  for (const auto& s : substeps_)
+    for (std::size_t p = 0; p < n; ++p) out.scene[p] += s[p];
+  for (float& v : out.scene) v /= static_cast<float>(substeps_.size());
+  f.mean_input = out.scene;
+
+  // Time constants: per pixel only when an effect asks for it.
+  std::fill(tau_h_.begin(), tau_h_.end(), i.tau_h_s);
+  std::fill(tau_c_.begin(), tau_c_.end(), i.tau_c_s);
+  for (const auto& e : effects_) e->time_constants(f, previous_, tau_h_, tau_c_);
+  const bool per_pixel = std::any_of(tau_h_.begin(), tau_h_.end(), [&](double t) { return t != i.tau_h_s; }) ||
+                         std::any_of(tau_c_.begin(), tau_c_.end(), [&](double t) { return t != i.tau_c_s; });
+  if (per_pixel)
+    array_.set_time_constants(tau_h_, tau_c_);
+  else
+    array_.set_time_constants({i.tau_h_s}, {i.tau_c_s});
+
+  // The camera has been running before the first frame; a shutter event leaves the pixels
+  // settled on the shutter, which sits at about the scene's mean level.
+  if (index_ == 0) {
+    array_.settle(out.scene, i.exposure_s, i.readout_s);
+  } else if (f.shutter_event) {
+    const double level = std::accumulate(out.scene.begin(), out.scene.end(), 0.0) / static_cast<double>(n);
+    array_.settle(std::vector<float>(n, static_cast<float>(level)), i.exposure_s, i.readout_s);
+  }
+  std::vector<std::span<const float>> steps(substeps_.begin(), substeps_.end());
+  array_.expose(steps, i.exposure_s, i.readout_s, reading_);
+  previous_ = reading_;
+
+  for (const auto& e : effects_) e->on_reading(f, reading_);
+
+  // Temporal noise: white, plus 1/f from AR(1) octaves whose corner frequencies are fps/4^k.
+  std::normal_distribution<double> normal(0.0, 1.0);
+  if (config_.noise_counts > 0 || config_.noise_1f_counts > 0) {
+    for (std::size_t p = 0; p < n; ++p) {
+      double noise = config_.noise_counts * normal(noise_rng_);
+      if (config_.noise_1f_counts > 0) {
+        for (int k = 0; k < kNoiseOctaves; ++k) {
+          const double a = std::exp(-2.0 * 3.14159265358979 / std::pow(4.0, k + 1));
+          double& s = noise_state_[p * kNoiseOctaves + static_cast<std::size_t>(k)];
+          s = a * s + std::sqrt(1 - a * a) * normal(noise_rng_);
+          noise += config_.noise_1f_counts / std::sqrt(double{kNoiseOctaves}) * s;
+        }
+      }
+      reading_[p] += noise;
+    }
+  }
+  for (const auto& e : effects_) e->on_output(f, reading_);
+
+  const double full = std::ldexp(1.0, static_cast<int>(i.bits)) - 1.0;
+  out.counts.resize(n);
+  for (std::size_t p = 0; p < n; ++p)
+    out.counts[p] = static_cast<std::uint16_t>(std::clamp(std::round(reading_[p]), 0.0, full));
+  for (const auto& e : effects_) e->on_counts(f, out.counts);
+
+  out.row = rec::FrameRow{};
+  out.row.index = index_;
+  out.row.t_s = f.t_s;
+  out.row.exposure_s = i.exposure_s;
+  out.row.readout_s = i.readout_s;
+  out.row.ffc = f.shutter_event && f.shutter_flagged;
+  out.row.fpa_temp_c = f.fpa_temp_c;
+  ++index_;
+}
+
+nlohmann::json Simulator::truth() const {
+  const SimulationInfo& i = config_.info;
+  nlohmann::json effects = nlohmann::json::object();
+  for (const auto& e : effects_) effects[e->id()] = e->parameters();
+  return {{"baseline",
+           {{"model", "continuous-time bolometer (two-frame model for frame-constant input)"},
+            {"tau_h_s", i.tau_h_s}, {"tau_c_s", i.tau_c_s}, {"exposure_s", i.exposure_s},
+            {"readout_s", i.readout_s}, {"substeps", config_.substeps}, {"bits", i.bits},
+            {"reference_level", i.reference_level}, {"seed", i.seed}}},
+          {"noise", {{"white_counts", config_.noise_counts}, {"one_over_f_counts", config_.noise_1f_counts}}},
+          {"effects", effects}};
+}
+
+std::vector<std::pair<std::string, std::vector<float>>> Simulator::truth_maps() const {
+  std::vector<std::pair<std::string, std::vector<float>>> out;
+  for (const auto& e : effects_)
+    for (auto& m : e->maps()) out.push_back(std::move(m));
+  return out;
+}
+
+}  // namespace bolo::sim
