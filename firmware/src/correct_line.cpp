@@ -1,19 +1,27 @@
-// The per-pixel kernels of the two-frame corrector. Written so the compiler vectorises them:
-// unsigned 64-bit products of u16 x u32 (one pmuludq / umull per lane), a bias that keeps the
-// difference non-negative so a logical shift does the rounding division, then 32-bit clamping.
+// The per-pixel kernels of the two-frame corrector.
+//
+// The portable loop is the definition: unsigned 64-bit products of u16 x u32, a bias that keeps
+// the difference non-negative so a logical shift does the rounding division, then 32-bit
+// clamping. On x86-64 (GCC) hand-written AVX2 and AVX-512 versions are picked at run time; they
+// compute the same integers in a different lane layout (see "SIMD layout" below) and
+// tests/firmware/test_kernels.cpp checks every one against the portable loop, output and counts.
 
 #include <cstddef>
 #include <cstdint>
 
+#include "bolo/firmware/detail/kernels.hpp"
 #include "bolo/firmware/two_frame_corrector.hpp"
+#include "multiversion.hpp"
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(BOLO_NO_MULTIVERSION)
-// Same integer code built three times; the loader picks AVX-512 (x86-64-v4: 64-bit lanes with
-// vpmullq, ~3x the AVX2 clone's rate, see docs/benchmarks.md) or AVX2 where the CPU has it.
-// Bit-exact by construction: integer arithmetic has one answer.
-#define BOLO_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
-#else
-#define BOLO_KERNEL_CLONES
+#if BOLO_X86_KERNELS
+// GCC 12's AVX-512 headers start some intrinsics from _mm512_undefined_epi32(), which its own
+// -Wuninitialized then reports (GCC PR 105593, fixed in later releases). Silenced for these
+// headers only: the diagnostics are attributed to lines inside them.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <immintrin.h>
+#pragma GCC diagnostic pop
 #endif
 
 namespace bolo::fw {
@@ -26,18 +34,19 @@ constexpr std::uint64_t kBias = std::uint64_t{1} << 48;
 constexpr std::int32_t kBiasShifted = std::int32_t{1} << (48 - kShift);
 constexpr std::int32_t kMaxOut = 0xFFFF;
 
-}  // namespace
-
-BOLO_KERNEL_CLONES
-void correct_line(const Pixel* __restrict current, const Pixel* __restrict previous,
-                  CorrectorCoefficients c, Pixel* __restrict out, std::size_t width,
-                  std::uint32_t& low, std::uint32_t& high) {
+// The definition. `kStore`: previous[x] = current[x] after use (the frame-store update).
+template <bool kStore>
+inline void correct_portable(const Pixel* __restrict current, Pixel* __restrict previous,
+                             CorrectorCoefficients c, Pixel* __restrict out, std::size_t width,
+                             std::uint32_t& low, std::uint32_t& high) {
   const std::uint64_t gain = c.gain_q24;
   const std::uint64_t carry = c.carry_q24;
   std::uint32_t n_low = 0;
   std::uint32_t n_high = 0;
   for (std::size_t x = 0; x < width; ++x) {
-    const std::uint64_t biased = current[x] * gain + (kBias + kHalf) - previous[x] * carry;
+    const Pixel cur = current[x];
+    const std::uint64_t biased = cur * gain + (kBias + kHalf) - previous[x] * carry;
+    if constexpr (kStore) previous[x] = cur;
     // floor((d + half) / 2^24): round to nearest, ties away from zero for d >= 0; every d < 0
     // clamps to 0 whichever way it rounds.
     const std::int32_t value = static_cast<std::int32_t>(biased >> kShift) - kBiasShifted;
@@ -48,6 +57,237 @@ void correct_line(const Pixel* __restrict current, const Pixel* __restrict previ
   }
   low += n_low;
   high += n_high;
+}
+
+void correct_line_portable(const Pixel* current, const Pixel* previous, CorrectorCoefficients c,
+                           Pixel* out, std::size_t width, std::uint32_t& low,
+                           std::uint32_t& high) {
+  // kStore = false never writes through the pointer.
+  correct_portable<false>(current, const_cast<Pixel*>(previous), c, out, width, low, high);
+}
+
+void correct_update_portable(const Pixel* current, Pixel* previous, CorrectorCoefficients c,
+                             Pixel* out, std::size_t width, std::uint32_t& low,
+                             std::uint32_t& high) {
+  correct_portable<true>(current, previous, c, out, width, low, high);
+}
+
+#if BOLO_X86_KERNELS
+// ---- SIMD layout (AVX2 and AVX-512 alike) ----
+// A vector of u16 pixels is read as 32-bit lanes: `lane & 0xFFFF` holds the even pixels,
+// `lane >> 16` the odd ones. (v)pmuludq multiplies the low 32 bits of each 64-bit lane, so the
+// even pixels of the even/odd 32-bit lanes, and the same for the odd pixels, give four exact
+// u16 x u32 -> u64 products per operand: pixels 4k, 4k+1, 4k+2, 4k+3.
+// The bias is 2^56 + 2^23 instead of 2^48 + 2^23: 2^56 is a multiple of 2^24, so
+// (d + 2^56 + 2^23) >> 24 = floor((d + 2^23) / 2^24) + 2^32, whose low 32 bits are the portable
+// loop's `value` as a two's-complement int32 (|value| < 2^25), with no subtraction. The sum
+// stays in (2^56 - 2^48, 2^56 + 2^49), so it never wraps.
+// Narrowing: >> 24 leaves pixel 4k's value in the low half of its 64-bit lane; << 8 puts pixel
+// 4k+2's into the high half; a 32-bit blend makes the lanes [v0, v2, v4, ...] (and [v1, v3, ...]
+// from the odd products). packus_epi32 saturates int32 to [0, 65535] (exactly the clamp) and
+// interleaves per 128-bit lane as [v0 v2 v4 v6 v1 v3 v5 v7]; a byte shuffle restores the order.
+// Counts: value < 0 and value > 65535 on the int32 lanes, as in the portable loop; computed only
+// for the steps where some lane has a bit set above bit 15 (a value outside [0, 65535]).
+constexpr std::uint64_t kSimdBias = (std::uint64_t{1} << 56) + kHalf;
+
+#define BOLO_AVX2 __attribute__((target("avx2")))
+
+inline std::uint32_t popcount8(int bits) {
+  return static_cast<std::uint32_t>(__builtin_popcount(static_cast<unsigned>(bits) & 0xFFu));
+}
+inline std::uint32_t popcount16(__mmask16 bits) {
+  return static_cast<std::uint32_t>(__builtin_popcount(bits));
+}
+#define BOLO_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq,avx2")))
+
+template <bool kStore>
+BOLO_AVX2 void correct_avx2(const Pixel* __restrict current, Pixel* __restrict previous,
+                            CorrectorCoefficients c, Pixel* __restrict out, std::size_t width,
+                            std::uint32_t& low, std::uint32_t& high) {
+  const __m256i g = _mm256_set1_epi64x(static_cast<long long>(c.gain_q24));
+  const __m256i a = _mm256_set1_epi64x(static_cast<long long>(c.carry_q24));
+  const __m256i bias = _mm256_set1_epi64x(static_cast<long long>(kSimdBias));
+  const __m256i low16 = _mm256_set1_epi32(0xFFFF);
+  const __m256i max_out = _mm256_set1_epi32(kMaxOut);
+  const __m256i above16 = _mm256_set1_epi32(static_cast<int>(0xFFFF0000u));
+  const __m256i order = _mm256_setr_epi8(0, 1, 8, 9, 2, 3, 10, 11, 4, 5, 12, 13, 6, 7, 14, 15,
+                                         0, 1, 8, 9, 2, 3, 10, 11, 4, 5, 12, 13, 6, 7, 14, 15);
+  std::uint32_t n_low = 0;
+  std::uint32_t n_high = 0;
+  std::size_t x = 0;
+  for (; x + 16 <= width; x += 16) {
+    const __m256i cur = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(current + x));
+    const __m256i prev = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(previous + x));
+    if constexpr (kStore) _mm256_storeu_si256(reinterpret_cast<__m256i*>(previous + x), cur);
+    const __m256i ce = _mm256_and_si256(cur, low16);   // pixels 2i
+    const __m256i co = _mm256_srli_epi32(cur, 16);     // pixels 2i+1
+    const __m256i pe = _mm256_and_si256(prev, low16);
+    const __m256i po = _mm256_srli_epi32(prev, 16);
+    const __m256i b0 = _mm256_sub_epi64(_mm256_add_epi64(_mm256_mul_epu32(ce, g), bias),
+                                        _mm256_mul_epu32(pe, a));  // pixels 4k
+    const __m256i b1 = _mm256_sub_epi64(_mm256_add_epi64(_mm256_mul_epu32(co, g), bias),
+                                        _mm256_mul_epu32(po, a));  // 4k+1
+    const __m256i b2 = _mm256_sub_epi64(
+        _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(ce, 32), g), bias),
+        _mm256_mul_epu32(_mm256_srli_epi64(pe, 32), a));  // 4k+2
+    const __m256i b3 = _mm256_sub_epi64(
+        _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(co, 32), g), bias),
+        _mm256_mul_epu32(_mm256_srli_epi64(po, 32), a));  // 4k+3
+    const __m256i ve = _mm256_blend_epi32(_mm256_srli_epi64(b0, kShift),
+                                          _mm256_slli_epi64(b2, 32 - kShift), 0xAA);
+    const __m256i vo = _mm256_blend_epi32(_mm256_srli_epi64(b1, kShift),
+                                          _mm256_slli_epi64(b3, 32 - kShift), 0xAA);
+    // A value outside [0, 65535] has a bit set above bit 15 (negative ones: the sign). Rare, so
+    // one test per step, and the exact counts only where it fires.
+    if (!_mm256_testz_si256(_mm256_or_si256(ve, vo), above16)) [[unlikely]] {
+      n_low += popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(ve))) +
+               popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(vo)));
+      n_high += popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(ve, max_out)))) +
+                popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(vo, max_out))));
+    }
+    const __m256i packed = _mm256_shuffle_epi8(_mm256_packus_epi32(ve, vo), order);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), packed);
+  }
+  low += n_low;
+  high += n_high;
+  correct_portable<kStore>(current + x, previous + x, c, out + x, width - x, low, high);
+}
+
+// One step of 32 pixels; `m` selects the pixels that exist (all but in the last step).
+// Missing pixels load as 0 and give value 0: they count nowhere and are never stored.
+struct Avx512Constants {
+  __m512i g, a, bias, low16, max_out, above16, order;
+};
+
+template <bool kStore>
+BOLO_AVX512 inline __attribute__((always_inline)) void avx512_step(
+    const Pixel* __restrict current, Pixel* __restrict previous, Pixel* __restrict out,
+    std::size_t x, __mmask32 m, const Avx512Constants& k, std::uint32_t& n_low,
+    std::uint32_t& n_high) {
+  const __m512i g = k.g, a = k.a, bias = k.bias, low16 = k.low16, max_out = k.max_out,
+                above16 = k.above16, order = k.order;
+  const __m512i cur = _mm512_maskz_loadu_epi16(m, current + x);
+  const __m512i prev = _mm512_maskz_loadu_epi16(m, previous + x);
+  if constexpr (kStore) _mm512_mask_storeu_epi16(previous + x, m, cur);
+  const __m512i ce = _mm512_and_si512(cur, low16);
+  const __m512i co = _mm512_srli_epi32(cur, 16);
+  const __m512i pe = _mm512_and_si512(prev, low16);
+  const __m512i po = _mm512_srli_epi32(prev, 16);
+  const __m512i b0 = _mm512_sub_epi64(_mm512_add_epi64(_mm512_mul_epu32(ce, g), bias),
+                                      _mm512_mul_epu32(pe, a));
+  const __m512i b1 = _mm512_sub_epi64(_mm512_add_epi64(_mm512_mul_epu32(co, g), bias),
+                                      _mm512_mul_epu32(po, a));
+  const __m512i b2 = _mm512_sub_epi64(
+      _mm512_add_epi64(_mm512_mul_epu32(_mm512_srli_epi64(ce, 32), g), bias),
+      _mm512_mul_epu32(_mm512_srli_epi64(pe, 32), a));
+  const __m512i b3 = _mm512_sub_epi64(
+      _mm512_add_epi64(_mm512_mul_epu32(_mm512_srli_epi64(co, 32), g), bias),
+      _mm512_mul_epu32(_mm512_srli_epi64(po, 32), a));
+  const __m512i ve = _mm512_mask_blend_epi32(0xAAAA, _mm512_srli_epi64(b0, kShift),
+                                             _mm512_slli_epi64(b2, 32 - kShift));
+  const __m512i vo = _mm512_mask_blend_epi32(0xAAAA, _mm512_srli_epi64(b1, kShift),
+                                             _mm512_slli_epi64(b3, 32 - kShift));
+  // As in the AVX2 kernel: one test per step, exact counts only where a value is out of range.
+  if (_mm512_test_epi32_mask(_mm512_or_si512(ve, vo), above16) != 0) [[unlikely]] {
+    const __m512i zero = _mm512_setzero_si512();
+    n_low += popcount16(_mm512_cmplt_epi32_mask(ve, zero)) +
+             popcount16(_mm512_cmplt_epi32_mask(vo, zero));
+    n_high += popcount16(_mm512_cmpgt_epi32_mask(ve, max_out)) +
+              popcount16(_mm512_cmpgt_epi32_mask(vo, max_out));
+  }
+  const __m512i packed = _mm512_shuffle_epi8(_mm512_packus_epi32(ve, vo), order);
+  _mm512_mask_storeu_epi16(out + x, m, packed);
+}
+
+template <bool kStore>
+BOLO_AVX512 void correct_avx512(const Pixel* __restrict current, Pixel* __restrict previous,
+                                CorrectorCoefficients c, Pixel* __restrict out, std::size_t width,
+                                std::uint32_t& low, std::uint32_t& high) {
+  const __m512i g = _mm512_set1_epi64(static_cast<long long>(c.gain_q24));
+  const __m512i a = _mm512_set1_epi64(static_cast<long long>(c.carry_q24));
+  const __m512i bias = _mm512_set1_epi64(static_cast<long long>(kSimdBias));
+  const __m512i low16 = _mm512_set1_epi32(0xFFFF);
+  const __m512i max_out = _mm512_set1_epi32(kMaxOut);
+  const __m512i above16 = _mm512_set1_epi32(static_cast<int>(0xFFFF0000u));
+  const __m512i order = _mm512_broadcast_i32x4(
+      _mm_setr_epi8(0, 1, 8, 9, 2, 3, 10, 11, 4, 5, 12, 13, 6, 7, 14, 15));
+  std::uint32_t n_low = 0;
+  std::uint32_t n_high = 0;
+  std::size_t x = 0;
+  const Avx512Constants k{g, a, bias, low16, max_out, above16, order};
+  for (; x + 32 <= width; x += 32)
+    avx512_step<kStore>(current, previous, out, x, ~__mmask32{0}, k, n_low, n_high);
+  if (x < width)
+    avx512_step<kStore>(current, previous, out, x,
+                        static_cast<__mmask32>((std::uint32_t{1} << (width - x)) - 1u), k, n_low,
+                        n_high);
+  low += n_low;
+  high += n_high;
+}
+
+void correct_line_avx2(const Pixel* current, const Pixel* previous, CorrectorCoefficients c,
+                       Pixel* out, std::size_t width, std::uint32_t& low, std::uint32_t& high) {
+  correct_avx2<false>(current, const_cast<Pixel*>(previous), c, out, width, low, high);
+}
+void correct_update_avx2(const Pixel* current, Pixel* previous, CorrectorCoefficients c,
+                         Pixel* out, std::size_t width, std::uint32_t& low, std::uint32_t& high) {
+  correct_avx2<true>(current, previous, c, out, width, low, high);
+}
+void correct_line_avx512(const Pixel* current, const Pixel* previous, CorrectorCoefficients c,
+                         Pixel* out, std::size_t width, std::uint32_t& low, std::uint32_t& high) {
+  correct_avx512<false>(current, const_cast<Pixel*>(previous), c, out, width, low, high);
+}
+void correct_update_avx512(const Pixel* current, Pixel* previous, CorrectorCoefficients c,
+                           Pixel* out, std::size_t width, std::uint32_t& low,
+                           std::uint32_t& high) {
+  correct_avx512<true>(current, previous, c, out, width, low, high);
+}
+
+bool cpu_has(detail::KernelPath path) {
+  __builtin_cpu_init();
+  switch (path) {
+    case detail::KernelPath::portable: return true;
+    case detail::KernelPath::avx2: return __builtin_cpu_supports("avx2");
+    case detail::KernelPath::avx512:
+      return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+             __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq") &&
+             __builtin_cpu_supports("avx2");
+  }
+  return false;
+}
+#endif  // BOLO_X86_KERNELS
+
+struct Kernels {
+  detail::KernelPath path;
+  detail::CorrectLineFn correct;
+  detail::CorrectUpdateFn update;
+};
+
+Kernels select_kernels() {
+#if BOLO_X86_KERNELS
+  if (cpu_has(detail::KernelPath::avx512))
+    return {detail::KernelPath::avx512, correct_line_avx512, correct_update_avx512};
+  if (cpu_has(detail::KernelPath::avx2))
+    return {detail::KernelPath::avx2, correct_line_avx2, correct_update_avx2};
+#endif
+  return {detail::KernelPath::portable, correct_line_portable, correct_update_portable};
+}
+
+const Kernels& kernels() {
+  static const Kernels chosen = select_kernels();  // once; no allocation
+  return chosen;
+}
+
+}  // namespace
+
+void correct_line(const Pixel* current, const Pixel* previous, CorrectorCoefficients c,
+                  Pixel* out, std::size_t width, std::uint32_t& low, std::uint32_t& high) {
+  kernels().correct(current, previous, c, out, width, low, high);
+}
+
+void correct_line_update(const Pixel* current, Pixel* previous, CorrectorCoefficients c,
+                         Pixel* out, std::size_t width, std::uint32_t& low, std::uint32_t& high) {
+  kernels().update(current, previous, c, out, width, low, high);
 }
 
 BOLO_KERNEL_CLONES
@@ -63,4 +303,54 @@ void scale_line(const Pixel* __restrict current, std::uint32_t gain_q24, Pixel* 
   high += n_high;
 }
 
+namespace detail {
+
+const char* to_string(KernelPath path) {
+  switch (path) {
+    case KernelPath::portable: return "portable";
+    case KernelPath::avx2: return "avx2";
+    case KernelPath::avx512: return "avx512";
+  }
+  return "unknown";
+}
+
+bool kernel_path_available(KernelPath path) {
+#if BOLO_X86_KERNELS
+  return cpu_has(path);
+#else
+  return path == KernelPath::portable;
+#endif
+}
+
+KernelPath selected_kernel_path() { return kernels().path; }
+
+CorrectLineFn correct_line_kernel(KernelPath path) {
+  if (!kernel_path_available(path)) return nullptr;
+  switch (path) {
+    case KernelPath::portable: return correct_line_portable;
+#if BOLO_X86_KERNELS
+    case KernelPath::avx2: return correct_line_avx2;
+    case KernelPath::avx512: return correct_line_avx512;
+#else
+    default: break;
+#endif
+  }
+  return nullptr;
+}
+
+CorrectUpdateFn correct_update_kernel(KernelPath path) {
+  if (!kernel_path_available(path)) return nullptr;
+  switch (path) {
+    case KernelPath::portable: return correct_update_portable;
+#if BOLO_X86_KERNELS
+    case KernelPath::avx2: return correct_update_avx2;
+    case KernelPath::avx512: return correct_update_avx512;
+#else
+    default: break;
+#endif
+  }
+  return nullptr;
+}
+
+}  // namespace detail
 }  // namespace bolo::fw

@@ -2,13 +2,16 @@
 
 #include <algorithm>
 
+#include "multiversion.hpp"
+
 namespace bolo::fw {
 
+BOLO_KERNEL_CLONES
 void nuc_line(const Pixel* __restrict in, const std::uint16_t* __restrict gain_q14,
               const std::int16_t* __restrict offset, Pixel* __restrict out, std::size_t width) {
   constexpr std::int32_t kHalf = 1 << (kNucGainFractionBits - 1);
   for (std::size_t x = 0; x < width; ++x) {
-    // in * gain < 2^30: no overflow in 32 bits; values are non-negative so +half then shift
+    // in * gain + half < 2^32: no overflow in 32 bits; values are non-negative so +half then shift
     // rounds to nearest with ties away from zero.
     const std::int32_t scaled =
         static_cast<std::int32_t>((std::uint32_t{in[x]} * gain_q14[x] + kHalf) >>

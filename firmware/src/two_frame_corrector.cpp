@@ -128,21 +128,22 @@ void TwoFrameCorrector::push_line(std::uint32_t row, LineView line) {
     return;
   }
   Pixel* stored = store_.data() + std::size_t{row} * config_.width;
+  // The raw line becomes the next frame's predecessor: the model ghosts raw values, not outputs.
   switch (mode_) {
-    case Mode::full:
-      correct_line(line.data(), stored, frame_stats_.coefficients, out_line_.data(), line.size(),
-                   frame_stats_.saturated_low, frame_stats_.saturated_high);
+    case Mode::full:  // reads the stored row and replaces it with this line in one pass
+      correct_line_update(line.data(), stored, frame_stats_.coefficients, out_line_.data(),
+                          line.size(), frame_stats_.saturated_low, frame_stats_.saturated_high);
       break;
     case Mode::gain_only:
       scale_line(line.data(), frame_stats_.coefficients.gain_q24, out_line_.data(), line.size(),
                  frame_stats_.saturated_high);
+      std::copy(line.begin(), line.end(), stored);
       break;
     case Mode::pass_through:
       std::copy(line.begin(), line.end(), out_line_.begin());
+      std::copy(line.begin(), line.end(), stored);
       break;
   }
-  // The raw line becomes the next frame's predecessor: the model ghosts raw values, not outputs.
-  std::copy(line.begin(), line.end(), stored);
   ++lines_seen_;
   next().push_line(row, LineView(out_line_.data(), line.size()));
 }

@@ -2,6 +2,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <vector>
 
 #include "bolo/firmware/pipeline.hpp"
@@ -180,4 +182,105 @@ TEST_CASE("the pipeline equals its stages applied one after another", "[pipeline
   }
   CHECK(pipeline.corrector().totals().by_reason[static_cast<int>(fw::CarryOver::applied)] == 5);
   CHECK(pipeline.bad_pixels()->last_frame().replaced == 2);
+}
+
+namespace {
+
+// The bad-pixel rule written the plain way, on a whole frame of which only the first `rows`
+// lines arrived: what the stage must emit for each of them.
+std::vector<fw::Pixel> bad_pixel_reference(const std::vector<fw::Pixel>& frame, std::uint32_t w,
+                                           std::uint32_t rows, const fw::BadPixelConfig& cfg,
+                                           fw::BadPixelFrameStats& stats) {
+  auto bad = [&](std::uint32_t r, std::uint32_t c) {
+    const fw::Pixel v = frame[std::size_t{r} * w + c];
+    const bool stuck = cfg.detect_stuck && (v == cfg.stuck_low || v == cfg.stuck_high);
+    return stuck || (!cfg.mask.empty() && cfg.mask[std::size_t{r} * w + c] != 0);
+  };
+  std::vector<fw::Pixel> out(frame.begin(), frame.begin() + std::ptrdiff_t{rows} * w);
+  for (std::uint32_t r = 0; r < rows; ++r)
+    for (std::uint32_t c = 0; c < w; ++c) {
+      if (!bad(r, c)) continue;
+      std::uint32_t sum = 0, count = 0;
+      for (std::uint32_t rr = r == 0 ? 0 : r - 1; rr <= std::min(r + 1, rows - 1); ++rr)
+        for (std::uint32_t cc = c == 0 ? 0 : c - 1; cc <= std::min(c + 1, w - 1); ++cc)
+          if (!bad(rr, cc)) {
+            sum += frame[std::size_t{rr} * w + cc];
+            ++count;
+          }
+      if (count == 0) {
+        ++stats.unrepairable;
+      } else {
+        out[std::size_t{r} * w + c] = static_cast<fw::Pixel>((sum + count / 2) / count);
+        ++stats.replaced;
+      }
+    }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the bad-pixel stage equals the plain rule on random frames", "[bad_pixel]") {
+  SplitMix64 rng(23);
+  for (std::uint32_t w : {1u, 2u, 3u, 31u, 32u, 33u, 64u, 65u, 100u, 160u}) {
+    for (std::uint32_t h : {1u, 2u, 3u, 4u, 7u}) {
+      for (int variant = 0; variant < 12; ++variant) {
+        // Densities from none to most pixels bad, with and without mask and stuck detection.
+        const std::uint32_t per_mille = std::array<std::uint32_t, 6>{0, 1, 10, 100, 500, 950}[variant % 6];
+        fw::BadPixelConfig cfg;
+        cfg.width = w;
+        cfg.height = h;
+        cfg.detect_stuck = variant % 3 != 2;
+        cfg.stuck_low = static_cast<fw::Pixel>(rng.below(3));
+        cfg.stuck_high = static_cast<fw::Pixel>(0x3FFF - rng.below(2));
+        std::vector<std::uint8_t> mask;
+        if (variant % 4 != 3) {
+          mask.resize(std::size_t{w} * h);
+          for (auto& m : mask) m = rng.below(1000) < per_mille ? static_cast<std::uint8_t>(1 + rng.below(255)) : 0;
+        }
+        cfg.mask = mask;
+        std::vector<fw::Pixel> frame(std::size_t{w} * h);
+        for (auto& v : frame) {
+          const std::uint32_t roll = rng.below(1000);
+          v = roll < per_mille / 2         ? cfg.stuck_low
+              : roll < per_mille           ? cfg.stuck_high
+                                           : static_cast<fw::Pixel>(rng.below(0x4000));
+        }
+        std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(w));
+        FrameCollector sink(w, h);
+        fw::BadPixelStage stage(cfg, storage, sink);
+        INFO("w " << w << " h " << h << " variant " << variant);
+        for (std::uint32_t rows : {h, (h + 1) / 2}) {  // whole frame, and one cut short
+          sink.begin_frame(header(w, h, 0));
+          stage.begin_frame(header(w, h, 0));
+          for (std::uint32_t r = 0; r < rows; ++r)
+            stage.push_line(r, fw::LineView(frame.data() + std::size_t{r} * w, w));
+          stage.end_frame();
+          fw::BadPixelFrameStats want_stats;
+          const auto want = bad_pixel_reference(frame, w, rows, cfg, want_stats);
+          CHECK(std::equal(want.begin(), want.end(), sink.frame().begin()));
+          CHECK(sink.lines() == rows);
+          CHECK(stage.last_frame().replaced == want_stats.replaced);
+          CHECK(stage.last_frame().unrepairable == want_stats.unrepairable);
+        }
+        // Out of order after `k` lines: rows 0..k-1 come out as for a frame of k lines, the
+        // offending line passes through unchanged.
+        if (h >= 3) {
+          const std::uint32_t k = h - 2;
+          stage.begin_frame(header(w, h, 1));
+          for (std::uint32_t r = 0; r < k; ++r)
+            stage.push_line(r, fw::LineView(frame.data() + std::size_t{r} * w, w));
+          stage.push_line(k + 1, fw::LineView(frame.data(), w));  // row k skipped
+          fw::BadPixelFrameStats want_stats;
+          const auto want = bad_pixel_reference(frame, w, k, cfg, want_stats);
+          CHECK(std::equal(want.begin(), want.end(), sink.frame().begin()));
+          CHECK(sink.last_row() == k + 1);
+          CHECK(std::equal(frame.begin(), frame.begin() + w,
+                           sink.frame().begin() + std::ptrdiff_t{k + 1} * w));
+          CHECK(stage.last_frame().replaced == want_stats.replaced);
+          CHECK(stage.last_frame().unrepairable == want_stats.unrepairable);
+          stage.end_frame();
+        }
+      }
+    }
+  }
 }

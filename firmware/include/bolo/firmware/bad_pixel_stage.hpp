@@ -2,6 +2,7 @@
 // Bad-pixel replacement over a 3x3 neighbourhood: a pixel marked bad (static mask from the
 // source) or stuck (reads exactly the low or high rail) is replaced by the rounded mean of its
 // good neighbours. Holds three input lines in a ring, so row r leaves when row r+1 arrives.
+// A row without a flagged pixel is handed on straight from the ring, without a copy.
 
 #include <cstddef>
 #include <cstdint>
@@ -47,6 +48,7 @@ class BadPixelStage final : public Stage {
   std::uint32_t width_, height_;
   std::span<Pixel> ring_, flags_, out_line_;
   std::uint32_t rows_in_ = 0;
+  std::uint32_t flag_count_[3] = {};  // flagged pixels of each ring line
   bool active_ = false;
   BadPixelFrameStats stats_{};
 };

@@ -60,6 +60,10 @@ struct CorrectorTotals {
 // Returns the saturation counts through `low` / `high`.
 void correct_line(const Pixel* current, const Pixel* previous, CorrectorCoefficients c,
                   Pixel* out, std::size_t width, std::uint32_t& low, std::uint32_t& high);
+// The same, fused with the frame-store update: reads the predecessor from `previous` and
+// overwrites it with `current` in the same pass (previous[x] = current[x] once used).
+void correct_line_update(const Pixel* current, Pixel* previous, CorrectorCoefficients c,
+                         Pixel* out, std::size_t width, std::uint32_t& low, std::uint32_t& high);
 // The kernel without a previous frame: out = sat_u16(round(G * cur / 2^24)).
 void scale_line(const Pixel* current, std::uint32_t gain_q24, Pixel* out, std::size_t width,
                 std::uint32_t& high);

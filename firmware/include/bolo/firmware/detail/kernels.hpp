@@ -1,0 +1,37 @@
+#pragma once
+// The per-pixel kernels behind the stages, one entry per implementation, for the tests that
+// prove every SIMD path equal to the portable C++ definition. Not a stable API: stages call the
+// dispatching functions (`correct_line`, `correct_line_update`, `nuc_line`).
+
+#include <cstddef>
+#include <cstdint>
+
+#include "bolo/firmware/two_frame_corrector.hpp"
+
+namespace bolo::fw::detail {
+
+enum class KernelPath : std::uint8_t {
+  portable,  // the C++ loop: the definition, and what ARM builds run
+  avx2,      // x86-64 intrinsics, 16 pixels per step
+  avx512,    // x86-64-v4 intrinsics (AVX-512 F/BW/VL/DQ), 32 pixels per step, masked tail
+};
+inline constexpr KernelPath kKernelPaths[] = {KernelPath::portable, KernelPath::avx2,
+                                              KernelPath::avx512};
+const char* to_string(KernelPath path);
+
+// Compiled into this build and supported by the CPU it runs on.
+bool kernel_path_available(KernelPath path);
+// The path `correct_line` / `correct_line_update` use on this CPU.
+KernelPath selected_kernel_path();
+
+using CorrectLineFn = void (*)(const Pixel* current, const Pixel* previous,
+                               CorrectorCoefficients c, Pixel* out, std::size_t width,
+                               std::uint32_t& low, std::uint32_t& high);
+using CorrectUpdateFn = void (*)(const Pixel* current, Pixel* previous, CorrectorCoefficients c,
+                                 Pixel* out, std::size_t width, std::uint32_t& low,
+                                 std::uint32_t& high);
+// nullptr where the path is not available.
+CorrectLineFn correct_line_kernel(KernelPath path);
+CorrectUpdateFn correct_update_kernel(KernelPath path);
+
+}  // namespace bolo::fw::detail

@@ -1,0 +1,15 @@
+#pragma once
+// Per-CPU code selection on x86-64 with GCC (ifunc, glibc):
+// * BOLO_KERNEL_CLONES: the same C++ loop compiled for x86-64-v4, AVX2 and the baseline; the
+//   loader picks one. Integer code has one answer whatever the vector width.
+// * BOLO_X86_KERNELS: 1 where the hand-written intrinsic kernels are built (picked at run time
+//   with __builtin_cpu_supports, each tested against the portable loop).
+// Elsewhere (ARM, clang, BOLO_NO_MULTIVERSION) only the portable loops are built.
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(BOLO_NO_MULTIVERSION)
+#define BOLO_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
+#define BOLO_X86_KERNELS 1
+#else
+#define BOLO_KERNEL_CLONES
+#define BOLO_X86_KERNELS 0
+#endif
