@@ -1,6 +1,6 @@
-// bolo simulate OUT: a recording with known ghosting, made by the paper's discrete sensor model
-// run forward over a moving demo scene. The small stand-in for the full simulator, and what the
-// set-up command corrects where ../shared/data is absent.
+// bolo simulate OUT: a recording with known physics: a scene seen through the continuous-time
+// bolometer model, any catalogue effects, noise and quantisation (sim/simulator), written in the
+// shared format with scene.npy (the steady-state input) and truth/ (parameters and maps).
 
 #include <cmath>
 #include <memory>
@@ -15,7 +15,9 @@
 #include "bolo/recording/recording.hpp"
 #include "bolo/registry.hpp"
 #include "bolo/sim/demo_scene.hpp"
-#include "bolo/sim/two_frame_sensor.hpp"
+#include "bolo/sim/sensor_preset.hpp"
+#include "bolo/sim/simulator.hpp"
+#include "bolo/simulate_scene.hpp"
 
 namespace bolo::cli {
 namespace {
@@ -36,111 +38,144 @@ void require_positive(const char* flag, double value) {
   if (!std::isfinite(value) || value <= 0) fail(flag, ": must be a positive number, got ", value);
 }
 
+// Everything the simulator needs, resolved from the preset and the flags.
+sim::SimulatorConfig resolve(const SimulateOptions& o, const sim::SensorPreset& preset) {
+  sim::SimulatorConfig c;
+  sim::SimulationInfo& i = c.info;
+  i.width = preset.width;
+  i.height = preset.height;
+  if (o.size) parse_size(*o.size, i.width, i.height);
+  i.fps = o.fps.value_or(preset.fps);
+  require_positive("--fps", i.fps);
+  i.tau_h_s = o.tau_h_s.value_or(o.tau_s.value_or(preset.tau_s));
+  i.tau_c_s = o.tau_c_s.value_or(o.tau_s.value_or(preset.tau_s));
+  require_positive(o.tau_h_s ? "--tau-h" : "--tau", i.tau_h_s);
+  require_positive(o.tau_c_s ? "--tau-c" : "--tau", i.tau_c_s);
+  const double period = 1.0 / i.fps;
+  i.exposure_s = o.exposure_s.value_or(0.5 * period);
+  require_positive("--exposure", i.exposure_s);
+  i.readout_s = o.readout_s.value_or(period - i.exposure_s);
+  if (!std::isfinite(i.readout_s) || i.readout_s < 0)
+    fail("--readout: must be >= 0, got ", i.readout_s, " (exposure ", i.exposure_s, " s at ", i.fps, " fps)");
+  if (i.exposure_s + i.readout_s > period * (1 + 1e-9))
+    fail("--exposure + --readout: ", i.exposure_s + i.readout_s, " s do not fit one frame period (",
+         period, " s at ", i.fps, " fps)");
+  i.bits = o.bits.value_or(preset.bits);
+  if (i.bits < 8 || i.bits > 16) fail("--bits: must be 8..16, got ", i.bits);
+  i.reference_level = preset.level_300k * std::ldexp(1.0, static_cast<int>(i.bits) - 14);
+  i.seed = o.seed;
+  c.noise_counts = o.noise.value_or(preset.noise_counts);
+  if (!std::isfinite(c.noise_counts) || c.noise_counts < 0) fail("--noise: must be >= 0, got ", c.noise_counts);
+  c.noise_1f_counts = o.noise_1f;
+  if (!std::isfinite(c.noise_1f_counts) || c.noise_1f_counts < 0) fail("--noise-1f: must be >= 0, got ", c.noise_1f_counts);
+  if (o.substeps < 1 || o.substeps > 64) fail("--substeps: must be 1..64, got ", o.substeps);
+  c.substeps = o.substeps;
+  for (const std::string& e : o.effects) c.effects.push_back(sim::parse_effect(e));
+  return c;
+}
+
 }  // namespace
 
 int run_simulate(const SimulateOptions& o, std::ostream& out) {
-  std::uint32_t width = 0, height = 0;
-  parse_size(o.size, width, height);
-  require_positive("--fps", o.fps);
-  require_positive("--tau-h", o.tau_h_s);
-  require_positive("--tau-c", o.tau_c_s);
+  if (o.output.empty()) fail("no output folder: give OUT or --out");
   if (o.frames == 0) fail("--frames: must be at least 1");
-  if (o.bits < 8 || o.bits > 16) fail("--bits: must be 8..16, got ", o.bits);
-  if (!std::isfinite(o.noise) || o.noise < 0) fail("--noise: must be >= 0, got ", o.noise);
-  const double period = 1.0 / o.fps;
-  const double exposure = o.exposure_s.value_or(0.5 * period);
-  const double readout = o.readout_s.value_or(period - exposure);
-  require_positive("--exposure", exposure);
-  if (!std::isfinite(readout) || readout < 0)
-    fail("--readout: must be >= 0, got ", readout, " (exposure ", exposure, " s at ", o.fps, " fps)");
+  const sim::SensorPreset& preset = sim::sensor_preset(o.preset);
+  const sim::SimulatorConfig config = resolve(o, preset);
+  const sim::SimulationInfo& i = config.info;
+  SimulatedScene scene = make_simulated_scene(o.scene, o.trajectory, preset, i);
+  sim::Simulator simulator(config, scene.input);  // checks the effects before anything is written
 
   rec::RecordingInfo info;
-  info.sensor = "bolo simulate: two-frame microbolometer model";
-  info.width = width;
-  info.height = height;
-  info.bits = o.bits;
-  info.fps = o.fps;
+  info.sensor = preset.sensor;
+  info.width = i.width;
+  info.height = i.height;
+  info.bits = i.bits;
+  info.fps = i.fps;
   info.units = rec::Units::counts;
   std::ostringstream source;
-  source << "bolo simulate, demo scene, tau_h " << o.tau_h_s << " s, tau_c " << o.tau_c_s
-         << " s, exposure " << exposure << " s, readout " << readout << " s, noise " << o.noise
-         << " counts, seed " << o.seed;
+  source << "bolo simulate: scene " << o.scene << (scene.trajectory.empty() ? "" : ", trajectory " + scene.trajectory)
+         << ", preset " << preset.name << ", tau_h " << i.tau_h_s << " s, tau_c " << i.tau_c_s
+         << " s, noise " << config.noise_counts << " counts, seed " << o.seed;
+  for (const auto& e : o.effects) source << ", effect " << e;
   info.source = source.str();
-  info.notes = "scene.npy holds the steady-state input; truth/parameters.json the model parameters";
+  info.notes = "scene.npy holds the steady-state input; truth/ the model, its parameters and maps";
 
   rec::RecordingWriter writer(o.output, info, {.overwrite = o.overwrite});
-  sim::TwoFrameSensor::Options sensor_options;
-  sensor_options.tau_h_s = o.tau_h_s;
-  sensor_options.tau_c_s = o.tau_c_s;
-  sensor_options.noise_counts = o.noise;
-  sensor_options.bits = o.bits;
-  sensor_options.seed = o.seed;
-  sim::TwoFrameSensor sensor(width, height, sensor_options);
-
-  // Scene levels scaled to the sensor's range, so 8- to 16-bit sensors all see a usable scene.
-  const double full = std::ldexp(1.0, static_cast<int>(o.bits)) - 1.0;
-  sim::DemoSceneOptions scene_options;
-  scene_options.background = 0.37 * full;
-  scene_options.gradient = 0.05 * full;
-  scene_options.bar_contrast = -0.04 * full;
-  scene_options.hot_contrast = 0.25 * full;
-  scene_options.speed_px_per_s = 2.0 * width;  // two widths a second: strong ghosting
-
-  std::vector<float> scene(std::size_t{width} * height);
-  std::vector<std::uint16_t> frame(scene.size());
+  if (scene.camera) writer.set_camera(*scene.camera);
+  std::string poses;
+  sim::SimulatedFrame frame;
   Progress progress("simulate", o.frames, o.progress);
-  for (std::uint64_t i = 0; i < o.frames; ++i) {
-    const double t = static_cast<double>(i) * period;
-    sim::render_demo_scene(width, height, t, scene_options, scene);
-    const bool ffc = o.ffc_every > 0 && i > 0 && i % o.ffc_every == 0;
-    sensor.expose(scene, {exposure, readout}, i == 0 || ffc, frame);
-    rec::FrameRow row;
-    row.index = i;
-    row.t_s = t;
-    row.exposure_s = exposure;
-    row.readout_s = readout;
-    row.ffc = ffc;
-    writer.append(frame, row);
-    writer.append_scene(scene);
-    progress.update(i + 1);
+  for (std::uint64_t n = 0; n < o.frames; ++n) {
+    simulator.next(frame);
+    writer.append(frame.counts, frame.row);
+    writer.append_scene(frame.scene);
+    // The pose at the middle of the exposure, on the frames.csv clock.
+    if (scene.pose_line) poses += scene.pose_line(*frame.row.t_s + 0.5 * i.exposure_s) + "\n";
+    progress.update(n + 1);
   }
   progress.finish();
-  const nlohmann::json truth = {{"model", "two_frame"},         {"tau_h_s", o.tau_h_s},
-                                {"tau_c_s", o.tau_c_s},         {"exposure_s", exposure},
-                                {"readout_s", readout},         {"noise_counts", o.noise},
-                                {"seed", o.seed},               {"ffc_every", o.ffc_every}};
-  writer.add_file("truth/parameters.json", truth.dump(2) + "\n");
+  if (!poses.empty()) writer.add_file("poses.tum", poses);
+  nlohmann::json truth = simulator.truth();
+  truth["scene"] = {{"name", o.scene}, {"trajectory", scene.trajectory}, {"preset", preset.name},
+                    {"counts_per_kelvin", preset.counts_per_kelvin}};
+  writer.add_file("truth/effects.json", truth.dump(2) + "\n");
+  for (const auto& [name, values] : simulator.truth_maps()) {
+    std::vector<std::uint64_t> shape;
+    if (values.size() == std::size_t{i.width} * i.height) shape = {i.height, i.width};
+    else shape = {values.size()};
+    writer.add_file("truth/" + name + ".npy", rec::encode_npy_f4(shape, values));
+  }
   writer.commit();
-  out << "simulate: wrote " << o.output.string() << ": " << o.frames << " frames of " << width
-      << "x" << height << " at " << o.fps << " fps, tau_h " << o.tau_h_s << " s, tau_c "
-      << o.tau_c_s << " s, exposure " << exposure << " s, readout " << readout << " s\n";
+  out << "simulate: wrote " << o.output.string() << ": " << o.frames << " frames of " << i.width << "x"
+      << i.height << " at " << i.fps << " fps (" << preset.name << ", scene " << o.scene
+      << (scene.trajectory.empty() ? "" : ", " + scene.trajectory) << "), tau_h " << i.tau_h_s
+      << " s, tau_c " << i.tau_c_s << " s, exposure " << i.exposure_s << " s, readout " << i.readout_s
+      << " s, " << o.effects.size() << " effect(s)\n";
   return kExitOk;
 }
 
 Command add_simulate_command(CLI::App& parent) {
   auto o = std::make_shared<SimulateOptions>();
+  auto out_flag = std::make_shared<std::string>();
   CLI::App* app = add_command(
-      parent, "simulate", "Make a recording with known ghosting (two-frame sensor model, demo scene)",
-      "Runs the paper's discrete microbolometer model forward,\n"
-      "  I_i = I_ss,i (1 - exp(-t_e/tau_h)) + I_{i-1} exp(-t_r/tau_c),\n"
-      "over a moving demo scene (warm gradient, cool bars, a hot disc crossing the view), with white\n"
-      "noise and quantisation. Writes frames.npy, frames.csv (with exposure/readout), scene.npy\n"
-      "(the steady-state input) and truth/parameters.json. `bolo correct` with the same tau\n"
-      "restores scene.npy.");
-  app->add_option("OUT", o->output, "Recording folder to write")->required();
+      parent, "simulate", "Simulate a microbolometer recording with known physics (scene, tau, effects, noise)",
+      "Renders a scene, runs it through the continuous-time bolometer model (the paper's two-frame\n"
+      "model for an input constant within a frame; motion within the exposure sampled at --substeps),\n"
+      "adds the chosen effects of the catalogue (--effect ID:KEY=VALUE,..., repeatable; ids:\n"
+      "rolling_readout tau_spread tau_temperature thermal_memory crosstalk nonlinearity gain_fpn\n"
+      "offset_fpn column_fpn row_fpn shading ffc_step fpa_drift temporal_filter agc dead_pixels\n"
+      "frame_duplication), white and 1/f noise and quantisation. Writes frames.npy, frames.csv\n"
+      "(exposure, readout, shutter flags, FPA temperature), scene.npy, camera.json and poses.tum for\n"
+      "3D scenes, and truth/ (effects.json, per-pixel maps as .npy).\n"
+      "Example: bolo simulate out/sim --effect thermal_memory:tau2_s=0.2,weight=0.03 --effect ffc_step:every=100");
+  app->add_option("OUT", o->output, "Recording folder to write");
+  app->add_option("--out", *out_flag, "Recording folder to write (same as OUT)");
+  app->add_option("--preset", o->preset, "Sensor preset: generic, lepton3, boson320, boson640, tau2")->capture_default_str();
+  app->add_option("--scene", o->scene, "Scene: " + simulated_scene_names())->capture_default_str();
+  app->add_option("--trajectory", o->trajectory, "Camera trajectory for 3D scenes: drive, handheld, static, pan, blackbody");
   app->add_option("--frames", o->frames, "Number of frames")->capture_default_str();
-  app->add_option("--size", o->size, "Frame size WIDTHxHEIGHT")->capture_default_str();
-  app->add_option("--fps", o->fps, "Frame rate")->capture_default_str();
-  app->add_option("--tau-h", o->tau_h_s, "Heating time constant, seconds")->capture_default_str();
-  app->add_option("--tau-c", o->tau_c_s, "Cooling time constant, seconds")->capture_default_str();
+  app->add_option("--size", o->size, "Frame size WIDTHxHEIGHT (default: the preset's)");
+  app->add_option("--fps", o->fps, "Frame rate (default: the preset's)");
+  app->add_option("--tau", o->tau_s, "Thermal time constant for heating and cooling, seconds (default: the preset's)");
+  app->add_option("--tau-h", o->tau_h_s, "Heating time constant, seconds (overrides --tau)");
+  app->add_option("--tau-c", o->tau_c_s, "Cooling time constant, seconds (overrides --tau)");
   app->add_option("--exposure", o->exposure_s, "Exposure time t_e, seconds (default: half the frame period)");
   app->add_option("--readout", o->readout_s, "Readout time t_r, seconds (default: frame period - exposure)");
-  app->add_option("--noise", o->noise, "White temporal noise, standard deviation in counts")->capture_default_str();
-  app->add_option("--bits", o->bits, "Sensor bit depth (8..16)")->capture_default_str();
-  app->add_option("--ffc-every", o->ffc_every, "A shutter event every N frames (0: none)")->capture_default_str();
-  app->add_option("--seed", o->seed, "Noise seed")->capture_default_str();
+  app->add_option("--noise", o->noise, "White temporal noise, standard deviation in counts (default: the preset's)");
+  app->add_option("--noise-1f", o->noise_1f, "1/f temporal noise, standard deviation in counts")->capture_default_str();
+  app->add_option("--bits", o->bits, "Sensor bit depth 8..16 (default: the preset's)");
+  app->add_option("--substeps", o->substeps, "Scene samples per exposure (motion within a frame)")->capture_default_str();
+  app->add_option("--effect", o->effects, "Catalogue effect ID[:KEY=VALUE,...]; repeatable");
+  app->add_option("--seed", o->seed, "Seed of noise, maps and scene")->capture_default_str();
   app->add_flag("--overwrite", o->overwrite, "Replace OUT if it is a recording");
-  return {app, [o](std::ostream& out) { return run_simulate(*o, out); }};
+  return {app, [o, out_flag](std::ostream& out) {
+            if (!out_flag->empty()) {
+              if (!o->output.empty() && o->output != *out_flag)
+                fail("OUT ", o->output.string(), " and --out ", *out_flag, ": give one");
+              o->output = *out_flag;
+            }
+            return run_simulate(*o, out);
+          }};
 }
 
 }  // namespace bolo::cli

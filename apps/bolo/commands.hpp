@@ -9,6 +9,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace bolo::cli {
 
@@ -58,20 +59,26 @@ struct RenderOptions {
 };
 int run_render(const RenderOptions& options, std::ostream& out);
 
-// bolo simulate OUT [--frames N] [--size WxH] [--fps F] [--tau-h S] [--tau-c S] [--exposure S]
-//                   [--readout S] [--noise C] [--bits B] [--ffc-every N] [--seed K] [--overwrite]
+// bolo simulate OUT [--preset NAME] [--scene NAME] [--trajectory NAME] [--frames N] [--size WxH]
+//   [--fps F] [--tau S | --tau-h S --tau-c S] [--exposure S] [--readout S] [--noise C] [--noise-1f C]
+//   [--bits B] [--substeps K] [--effect ID:K=V,...]... [--seed K] [--overwrite]
 struct SimulateOptions {
   std::filesystem::path output;
+  std::string preset = "generic";
+  std::string scene = "demo";
+  std::string trajectory;              // default: the scene's own (demo: none; street: drive)
   std::uint64_t frames = 120;
-  std::string size = "160x120";
-  double fps = 30.0;
-  double tau_h_s = 0.012;
-  double tau_c_s = 0.012;
-  std::optional<double> exposure_s;  // default: half the frame period
-  std::optional<double> readout_s;   // default: the rest of the frame period
-  double noise = 2.0;                // counts, standard deviation
-  std::uint32_t bits = 14;
-  std::uint64_t ffc_every = 0;
+  std::optional<std::string> size;     // default: the preset's
+  std::optional<double> fps;           // default: the preset's
+  std::optional<double> tau_s;         // sets both
+  std::optional<double> tau_h_s, tau_c_s;
+  std::optional<double> exposure_s;    // default: half the frame period
+  std::optional<double> readout_s;     // default: the rest of the frame period
+  std::optional<double> noise;         // counts, standard deviation; default: the preset's
+  double noise_1f = 0.0;
+  std::optional<std::uint32_t> bits;   // default: the preset's
+  std::uint32_t substeps = 4;
+  std::vector<std::string> effects;
   std::uint64_t seed = 1;
   bool overwrite = false;
   bool progress = true;

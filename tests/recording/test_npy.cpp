@@ -231,3 +231,18 @@ TEST_CASE("npy: out-of-range reads and wrong buffer sizes are errors", "[npy][ba
   std::vector<float> floats(4);
   CHECK(contains(error_of([&] { reader.read_frame(0, floats); }), "read as float32"));
 }
+
+TEST_CASE("npy: encode_npy_f4 writes arrays of any shape that the reader accepts", "[npy]") {
+  test::TempDir tmp;
+  std::vector<float> values(2 * 3 * 4);
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = 0.5f * static_cast<float>(i);
+  test::write_bytes(tmp / "a.npy", rec::encode_npy_f4({2, 3, 4}, values));
+  rec::NpyFrameReader reader(tmp / "a.npy", rec::DType::f4);
+  std::vector<float> frame(12);
+  reader.read_frame(1, frame);
+  CHECK(frame[11] == 11.5f);
+  const std::string one_axis = rec::encode_npy_f4({5}, std::vector<float>(5, 1.0f));
+  CHECK(one_axis.find("'shape': (5,)") != std::string::npos);
+  CHECK(one_axis.size() % 64 == 20 % 64);  // 64-byte aligned header + 5 floats
+  CHECK_THROWS_AS(rec::encode_npy_f4({2, 2}, std::vector<float>(3)), rec::Error);
+}

@@ -226,6 +226,37 @@ std::string header_bytes(DType dtype, std::uint64_t n, std::uint64_t height, std
 
 }  // namespace
 
+std::string encode_npy_f4(const std::vector<std::uint64_t>& shape, std::span<const float> values) {
+  std::uint64_t count = 1;
+  std::string dims;
+  for (std::uint64_t d : shape) {
+    count *= d;
+    dims += std::to_string(d) + ", ";
+  }
+  // "(3, 4)", but "(5,)" for one axis as Python writes a one-element tuple
+  if (!dims.empty()) dims.resize(dims.size() - (shape.size() == 1 ? 1 : 2));
+  if (count != values.size())
+    throw Error("encode_npy_f4: shape holds " + std::to_string(count) + " values, got " +
+                std::to_string(values.size()));
+  std::string dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (" + dims + "), }";
+  const std::size_t total = (10 + dict.size() + 1 + 63) / 64 * 64;
+  const std::size_t header_len = total - 10;
+  dict.resize(header_len - 1, ' ');
+  dict += '\n';
+  std::string bytes(kMagic);
+  bytes += '\x01';
+  bytes += '\x00';
+  bytes += static_cast<char>(header_len & 0xff);
+  bytes += static_cast<char>((header_len >> 8) & 0xff);
+  bytes += dict;
+  for (float v : values) {
+    std::uint32_t u;
+    std::memcpy(&u, &v, 4);
+    for (int b = 0; b < 4; ++b) bytes += static_cast<char>((u >> (8 * b)) & 0xff);  // little-endian
+  }
+  return bytes;
+}
+
 NpyHeader read_npy_header(const std::filesystem::path& file) {
   const RawHeader raw = parse_raw(file);
   NpyHeader header;

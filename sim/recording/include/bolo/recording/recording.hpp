@@ -69,6 +69,9 @@ struct NpyHeader {
 // that the file is long enough for the data it declares.
 NpyHeader read_npy_header(const std::filesystem::path& file);
 
+// A whole float32 array of any shape as .npy bytes (version 1.0), e.g. a map for truth/.
+std::string encode_npy_f4(const std::vector<std::uint64_t>& shape, std::span<const float> values);
+
 // Random access to the frames of a (N, H, W) .npy stack without loading all of it.
 class NpyFrameReader {
  public:

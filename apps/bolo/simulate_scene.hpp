@@ -1,0 +1,28 @@
+#pragma once
+// The scenes `bolo simulate` can render, as the simulator's input (steady-state counts), with the
+// camera.json and poses.tum that go with them.
+
+#include <functional>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "bolo/sim/sensor_preset.hpp"
+#include "bolo/sim/simulator.hpp"
+
+namespace bolo::cli {
+
+struct SimulatedScene {
+  sim::InputSampler input;
+  std::optional<nlohmann::json> camera;               // camera.json, for 3D scenes
+  std::function<std::string(double t_s)> pose_line;   // one poses.tum line, for 3D scenes
+  std::string trajectory;                             // as used
+};
+
+// Throws bolo::cli::Error naming the unknown scene or trajectory and listing the known ones.
+SimulatedScene make_simulated_scene(const std::string& scene, const std::string& trajectory,
+                                    const sim::SensorPreset& preset, const sim::SimulationInfo& info);
+std::string simulated_scene_names();
+
+}  // namespace bolo::cli
