@@ -226,7 +226,8 @@ Command add_render_command(CLI::App& parent) {
       "  bolo render out/corrected out/sheet.png --contact-sheet --count 12 --columns 4 --colormap iron");
   app->add_option("REC", o->input, "Recording folder (uint16 or float32 frames.npy)")->required();
   app->add_option("OUT.png", o->output, "PNG file to write (replaced atomically)")->required();
-  CLI::Option* frame_opt = app->add_option("--frame", *frame, "Frame index to render (default 0)");
+  CLI::Option* frame_opt = app->add_option("--frame", *frame, "Frame index to render (default 0)")
+                               ->check(not_negative());
   CLI::Option* sheet_opt =
       app->add_flag("--contact-sheet", o->contact_sheet, "Tile --count evenly spaced frames in --columns columns");
   frame_opt->excludes(sheet_opt);
@@ -241,9 +242,11 @@ Command add_render_command(CLI::App& parent) {
   app->add_flag("--agc", o->agc, "Automatic gain per frame: the percentile range of each frame shown");
   app->add_option("--colormap", o->colormap, "gray or iron (default gray)")
       ->check(CLI::IsMember({"gray", "iron"}));
-  app->add_option("--scale", o->scale, "Nearest-neighbour upscale factor K, 1 to 64 (default 1)");
-  app->add_option("--columns", o->columns, "Contact sheet columns (default 4)");
-  app->add_option("--count", o->count, "Contact sheet frames (default 16)");
+  // Unsigned options take "-3" as a huge number unless the text is checked first.
+  app->add_option("--scale", o->scale, "Nearest-neighbour upscale factor K, 1 to 64 (default 1)")
+      ->check(not_negative());
+  app->add_option("--columns", o->columns, "Contact sheet columns (default 4)")->check(not_negative());
+  app->add_option("--count", o->count, "Contact sheet frames (default 16)")->check(not_negative());
   app->add_flag("--labels", o->labels, "Draw frame indices on the tiles");
   return {app, [=](std::ostream& out) {
             if (frame_opt->count()) o->frame = *frame;

@@ -153,7 +153,9 @@ Command add_simulate_command(CLI::App& parent) {
   app->add_option("--preset", o->preset, "Sensor preset: generic, lepton3, boson320, boson640, tau2")->capture_default_str();
   app->add_option("--scene", o->scene, "Scene: " + simulated_scene_names())->capture_default_str();
   app->add_option("--trajectory", o->trajectory, "Camera trajectory for 3D scenes: drive, handheld, static, pan, blackbody");
-  app->add_option("--frames", o->frames, "Number of frames")->capture_default_str();
+  // Unsigned options take "-3" as a huge number unless the text is checked first.
+  app->add_option("--frames", o->frames, "Number of frames")
+      ->check(not_negative())->capture_default_str();
   app->add_option("--size", o->size, "Frame size WIDTHxHEIGHT (default: the preset's)");
   app->add_option("--fps", o->fps, "Frame rate (default: the preset's)");
   app->add_option("--tau", o->tau_s, "Thermal time constant for heating and cooling, seconds (default: the preset's)");
@@ -163,10 +165,11 @@ Command add_simulate_command(CLI::App& parent) {
   app->add_option("--readout", o->readout_s, "Readout time t_r, seconds (default: frame period - exposure)");
   app->add_option("--noise", o->noise, "White temporal noise, standard deviation in counts (default: the preset's)");
   app->add_option("--noise-1f", o->noise_1f, "1/f temporal noise, standard deviation in counts")->capture_default_str();
-  app->add_option("--bits", o->bits, "Sensor bit depth 8..16 (default: the preset's)");
-  app->add_option("--substeps", o->substeps, "Scene samples per exposure (motion within a frame)")->capture_default_str();
+  app->add_option("--bits", o->bits, "Sensor bit depth 8..16 (default: the preset's)")->check(not_negative());
+  app->add_option("--substeps", o->substeps, "Scene samples per exposure (motion within a frame), 1 to 64")
+      ->check(not_negative())->capture_default_str();
   app->add_option("--effect", o->effects, "Catalogue effect ID[:KEY=VALUE,...]; repeatable");
-  app->add_option("--seed", o->seed, "Seed of noise, maps and scene")->capture_default_str();
+  app->add_option("--seed", o->seed, "Seed of noise, maps and scene")->check(not_negative())->capture_default_str();
   app->add_flag("--overwrite", o->overwrite, "Replace OUT if it is a recording");
   return {app, [o, out_flag](std::ostream& out) {
             if (!out_flag->empty()) {

@@ -29,6 +29,15 @@ struct Command {
   std::function<int(std::ostream& out)> action;
 };
 
+// CLI11 reads "-3" into an unsigned option as a huge number; this refuses the sign first.
+inline CLI::Validator not_negative() {
+  return CLI::Validator(
+      [](std::string& value) {
+        return !value.empty() && value[0] == '-' ? "must not be negative, got " + value : std::string();
+      },
+      "NON-NEGATIVE");
+}
+
 Command add_info_command(CLI::App& parent);     // cmd_info.cpp
 Command add_correct_command(CLI::App& parent);  // cmd_correct.cpp
 Command add_render_command(CLI::App& parent);   // cmd_render.cpp

@@ -173,3 +173,18 @@ TEST_CASE("render reads the float32 output of correct --float", "[cli][render]")
   REQUIRE(info.code == 0);
   CHECK(info.out.find("float32") != std::string::npos);
 }
+
+TEST_CASE("render refuses negative numbers for unsigned options", "[cli][render][refusal]") {
+  TempDir tmp;
+  SmallRecording::write(tmp / "rec");
+  for (const auto& [flag, value] : std::vector<std::pair<std::string, std::string>>{
+           {"--frame", "-1"}, {"--count", "-2"}, {"--scale", "-3"}, {"--columns", "-4"}}) {
+    std::vector<std::string> args = {"render", (tmp / "rec").string(), (tmp / "x.png").string(), flag, value};
+    if (flag != "--frame") args.push_back("--contact-sheet");
+    const CliResult r = run_bolo(args);
+    INFO(r.err);
+    CHECK(r.code == 2);
+    CHECK(r.err.find(flag) != std::string::npos);
+    CHECK(!fs::exists(tmp / "x.png"));
+  }
+}
