@@ -75,6 +75,7 @@ void TwoFrameCorrector::begin_frame(const FrameHeader& header) {
   header_ = header;
   in_frame_ = true;
   lines_seen_ = 0;
+  frame_broken_ = false;
   frame_ok_ = header.width == config_.width && header.height == config_.height &&
               config_.width != 0;
 
@@ -121,9 +122,12 @@ void TwoFrameCorrector::begin_frame(const FrameHeader& header) {
 }
 
 void TwoFrameCorrector::push_line(std::uint32_t row, LineView line) {
-  if (!frame_ok_ || row >= config_.height || line.size() != config_.width) {
-    // Not ours to correct: pass it on unchanged and make sure it never becomes a predecessor.
-    frame_ok_ = false;
+  // Rows must come in order, each once, at the configured width: a repeated or skipped row would
+  // leave a stale row of an older frame in the store. Anything else is passed on unchanged and
+  // the frame never becomes a complete predecessor.
+  if (!frame_ok_ || frame_broken_ || row != lines_seen_ || line.size() != config_.width) {
+    if (frame_ok_ && !frame_broken_) frame_broken_ = true;
+    ++frame_stats_.rows_uncorrected;
     next().push_line(row, line);
     return;
   }
@@ -150,8 +154,10 @@ void TwoFrameCorrector::push_line(std::uint32_t row, LineView line) {
 
 void TwoFrameCorrector::end_frame() {
   if (in_frame_) {
+    // A frame of the configured size that broke mid-way is an incomplete predecessor (not
+    // "nothing before"): the next frame says previous_incomplete.
     have_previous_ = frame_ok_;
-    previous_complete_ = frame_ok_ && lines_seen_ == config_.height;
+    previous_complete_ = frame_ok_ && !frame_broken_ && lines_seen_ == config_.height;
     previous_ = header_;
     previous_readout_ns_ =
         header_.readout_ns != 0 ? header_.readout_ns : config_.default_readout_ns;

@@ -222,6 +222,28 @@ TEST_CASE("a frame is corrected against its predecessor only when the chain hold
     rig.corrector.end_frame();  // three lines never came
     CHECK(rig.run(header(8, 4, 1, 0.1), 1000) == fw::CarryOver::previous_incomplete);
   }
+  SECTION("rows out of order or of the wrong width break the frame: passed on, no predecessor") {
+    Rig rig;
+    rig.run(header(8, 4, 0, 0.0), 1000);
+    std::vector<fw::Pixel> line(8, 1000), short_line(5, 1000);
+    rig.corrector.begin_frame(header(8, 4, 1, 0.1));
+    rig.corrector.push_line(0, line);
+    rig.corrector.push_line(0, line);  // repeated: row 1 never comes
+    rig.corrector.push_line(2, line);
+    rig.corrector.push_line(3, line);
+    rig.corrector.end_frame();
+    CHECK(rig.corrector.last_frame().rows_uncorrected == 3);
+    CHECK(rig.sink.frame()[3 * 8] == 1000);  // passed on unchanged
+    CHECK(rig.run(header(8, 4, 2, 0.2), 1000) == fw::CarryOver::previous_incomplete);
+    rig.corrector.begin_frame(header(8, 4, 3, 0.3));
+    rig.corrector.push_line(0, line);
+    rig.corrector.push_line(1, short_line);
+    rig.corrector.push_line(2, line);
+    rig.corrector.push_line(3, line);
+    rig.corrector.end_frame();
+    CHECK(rig.run(header(8, 4, 4, 0.4), 1000) == fw::CarryOver::previous_incomplete);
+    CHECK(rig.corrector.totals().by_reason[static_cast<int>(fw::CarryOver::first_frame)] == 1);
+  }
   SECTION("missing timing: no exposure passes through, no readout gives gain only") {
     Rig rig;
     CHECK(rig.run(header(8, 4, 0, 0.0, 0, 0), 1234) == fw::CarryOver::missing_timing);

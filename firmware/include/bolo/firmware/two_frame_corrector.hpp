@@ -47,6 +47,9 @@ struct CorrectorFrameStats {
   CorrectorCoefficients coefficients;
   std::uint32_t saturated_low = 0;   // pixels clamped at 0 (value below -0.5)
   std::uint32_t saturated_high = 0;  // pixels clamped at 65535
+  // Lines passed on uncorrected because the frame broke: a row out of order or repeated, a line
+  // of the wrong width. The frame is then no predecessor for the next one.
+  std::uint32_t rows_uncorrected = 0;
 };
 
 struct CorrectorTotals {
@@ -102,6 +105,7 @@ class TwoFrameCorrector final : public Stage {
   bool have_previous_ = false;
   bool previous_complete_ = false;
   bool in_frame_ = false;
+  bool frame_broken_ = false;      // a row came out of order or at the wrong width
   bool frame_ok_ = false;          // header matches the configured size
   Mode mode_ = Mode::pass_through;
   std::uint32_t lines_seen_ = 0;

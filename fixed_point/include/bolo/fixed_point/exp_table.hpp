@@ -43,9 +43,13 @@ consteval double exp_neg_for_table(double x) {
   return 1.0 / sum;
 }
 
-// v in [0, 1] to Q0.63, rounded to nearest.
+// v in [0, 1] to Q0.63, rounded to nearest (ties up). Not `(uint64)(v * 2^63 + 0.5)`: in
+// [2^52, 2^53) doubles are spaced 1 apart, so `+ 0.5` is itself rounded (to even) and an odd
+// integer came out one too high (exp(-7) did); splitting off the whole part is exact.
 consteval std::uint64_t to_q63(double v) {
-  return static_cast<std::uint64_t>(v * 0x1p63 + 0.5);
+  const double scaled = v * 0x1p63;
+  const auto whole = static_cast<std::uint64_t>(scaled);
+  return whole + (scaled - static_cast<double>(whole) >= 0.5 ? 1u : 0u);
 }
 
 // round(a * b / 2^63) for Q0.63 factors <= 2^63 (so the result is <= 2^63).
