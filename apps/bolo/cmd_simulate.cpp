@@ -110,7 +110,7 @@ int run_simulate(const SimulateOptions& o, std::ostream& out) {
     writer.append(frame.counts, frame.row);
     writer.append_scene(frame.scene);
     // The pose at the middle of the exposure, on the frames.csv clock.
-    if (scene.pose_line) poses += scene.pose_line(*frame.row.t_s + 0.5 * i.exposure_s) + "\n";
+    if (scene.pose_line) poses += scene.pose_line(*frame.row.t_s + 0.5 * i.exposure_s);
     progress.update(n + 1);
   }
   progress.finish();

@@ -16,7 +16,7 @@ namespace bolo::cli {
 struct SimulatedScene {
   sim::InputSampler input;
   std::optional<nlohmann::json> camera;               // camera.json, for 3D scenes
-  std::function<std::string(double t_s)> pose_line;   // one poses.tum line, for 3D scenes
+  std::function<std::string(double t_s)> pose_line;   // one poses.tum line with its newline
   std::string trajectory;                             // as used
 };
 

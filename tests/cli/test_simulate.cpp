@@ -77,3 +77,36 @@ TEST_CASE("simulate refuses bad options", "[cli][simulate][refusal]") {
     CHECK(!fs::exists(tmp / "x"));
   }
 }
+
+TEST_CASE("simulate a 3D scene: camera.json, one pose per frame, counts from kelvin", "[cli][simulate]") {
+  TempDir tmp;
+  const auto dir = tmp / "street";
+  const auto r = run_bolo({"simulate", "--out", dir.string(), "--scene", "street", "--trajectory", "drive",
+                           "--size", "64x48", "--frames", "5", "--fps", "60", "--tau", "0.010", "--noise", "3",
+                           "--seed", "1", "--effect", "fpa_drift:rate=0.5"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  rec::Recording rec(dir);
+  REQUIRE(rec.camera().has_value());
+  CHECK((*rec.camera())["model"] == "pinhole");
+  CHECK((*rec.camera())["cx"] == 31.5);
+  std::istringstream poses(read_text(dir / "poses.tum"));
+  std::string line;
+  int lines = 0;
+  double t = 0, x = 0, previous_x = -1e9;
+  while (std::getline(poses, line)) {
+    std::istringstream fields(line);
+    fields >> t >> x;
+    CHECK(x > previous_x);  // driving forward along +x
+    previous_x = x;
+    ++lines;
+  }
+  CHECK(lines == 5);
+  CHECK(rec.rows()[4].fpa_temp_c.has_value());
+  // A night street: the cold sky (230-260 K) reads far below the 300 K level of the preset.
+  std::vector<float> scene(64 * 48);
+  rec.read_scene(0, scene);
+  CHECK(*std::min_element(scene.begin(), scene.end()) < 8000 - 40 * 35);
+  CHECK(run_bolo({"simulate", (tmp / "x").string(), "--scene", "street", "--trajectory", "warp"}).code == 2);
+  CHECK(run_bolo({"simulate", (tmp / "y").string(), "--scene", "street", "--trajectory", "blackbody"}).err.find("laid out for the lab scene") != std::string::npos);
+}

@@ -1,0 +1,110 @@
+#include "bolo/sim/scene/camera.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+
+namespace bolo::sim::scene {
+
+Camera::Camera(std::uint32_t w, std::uint32_t h, double hfov) : width(w), height(h) {
+  if (w == 0 || h == 0) throw std::invalid_argument("camera: size must be non-zero");
+  if (!(hfov > 0.0 && hfov < 180.0))
+    throw std::invalid_argument("camera: horizontal field of view " + std::to_string(hfov) +
+                                " deg is outside (0, 180)");
+  fx = fy = 0.5 * static_cast<double>(w) / std::tan(0.5 * hfov * std::numbers::pi / 180.0);
+  cx = 0.5 * (static_cast<double>(w) - 1.0);
+  cy = 0.5 * (static_cast<double>(h) - 1.0);
+}
+
+double Camera::hfov_deg() const {
+  return 2.0 * std::atan(0.5 * static_cast<double>(width) / fx) * 180.0 / std::numbers::pi;
+}
+double Camera::vfov_deg() const {
+  return 2.0 * std::atan(0.5 * static_cast<double>(height) / fy) * 180.0 / std::numbers::pi;
+}
+
+Eigen::Vector2d Camera::distort(const Eigen::Vector2d& n) const {
+  const double x = n.x(), y = n.y();
+  const double r2 = x * x + y * y;
+  const double rad = 1.0 + r2 * (k1 + k2 * r2);
+  return {x * rad + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
+          y * rad + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y};
+}
+
+Eigen::Vector2d Camera::undistort(const Eigen::Vector2d& d) const {
+  if (k1 == 0.0 && k2 == 0.0 && p1 == 0.0 && p2 == 0.0) return d;
+  Eigen::Vector2d x = d;
+  for (int it = 0; it < 60; ++it) {
+    const double u = x.x(), v = x.y();
+    const double r2 = u * u + v * v;
+    const double rad = 1.0 + r2 * (k1 + k2 * r2);
+    const double drad = 2.0 * (k1 + 2.0 * k2 * r2);  // d rad / d(u) = drad * u
+    Eigen::Matrix2d j;
+    j(0, 0) = rad + u * drad * u + 2.0 * p1 * v + 6.0 * p2 * u;
+    j(0, 1) = u * drad * v + 2.0 * p1 * u + 2.0 * p2 * v;
+    j(1, 0) = v * drad * u + 2.0 * p1 * u + 2.0 * p2 * v;
+    j(1, 1) = rad + v * drad * v + 6.0 * p1 * v + 2.0 * p2 * u;
+    const Eigen::Vector2d step = j.inverse() * (distort(x) - d);
+    x -= step;
+    if (!(step.norm() > 1e-15 * (1.0 + x.norm()))) break;
+  }
+  return x;
+}
+
+std::optional<Eigen::Vector2d> Camera::project(const Eigen::Vector3d& p) const {
+  if (!(p.z() > 0.0)) return std::nullopt;
+  const Eigen::Vector2d d = distort({p.x() / p.z(), p.y() / p.z()});
+  return Eigen::Vector2d(fx * d.x() + cx, fy * d.y() + cy);
+}
+
+Eigen::Vector3d Camera::unproject(const Eigen::Vector2d& px) const {
+  const Eigen::Vector2d n = undistort({(px.x() - cx) / fx, (px.y() - cy) / fy});
+  return Eigen::Vector3d(n.x(), n.y(), 1.0).normalized();
+}
+
+nlohmann::json Camera::to_json() const {
+  return nlohmann::json{{"model", "pinhole"}, {"fx", fx}, {"fy", fy}, {"cx", cx}, {"cy", cy},
+                        {"k1", k1},           {"k2", k2}, {"p1", p1}, {"p2", p2}};
+}
+
+Camera Camera::from_json(const nlohmann::json& j, std::uint32_t w, std::uint32_t h) {
+  if (!j.is_object()) throw std::invalid_argument("camera.json: not a JSON object");
+  if (!j.contains("model") || !j["model"].is_string() || j["model"].get<std::string>() != "pinhole")
+    throw std::invalid_argument("camera.json: field 'model' must be \"pinhole\"");
+  auto number = [&](const char* key, bool required) -> double {
+    if (!j.contains(key)) {
+      if (required) throw std::invalid_argument(std::string("camera.json: missing field '") + key + "'");
+      return 0.0;
+    }
+    if (!j[key].is_number())
+      throw std::invalid_argument(std::string("camera.json: field '") + key + "' is not a number");
+    return j[key].get<double>();
+  };
+  Camera c;
+  c.width = w;
+  c.height = h;
+  c.fx = number("fx", true);
+  c.fy = number("fy", true);
+  c.cx = number("cx", true);
+  c.cy = number("cy", true);
+  c.k1 = number("k1", false);
+  c.k2 = number("k2", false);
+  c.p1 = number("p1", false);
+  c.p2 = number("p2", false);
+  c.validate();
+  return c;
+}
+
+void Camera::validate() const {
+  if (width == 0 || height == 0) throw std::invalid_argument("camera: size must be non-zero");
+  if (!(fx > 0.0) || !(fy > 0.0) || !std::isfinite(fx) || !std::isfinite(fy))
+    throw std::invalid_argument("camera: focal lengths fx, fy must be positive and finite");
+  for (double v : {cx, cy, k1, k2, p1, p2})
+    if (!std::isfinite(v)) throw std::invalid_argument("camera: cx, cy, k1, k2, p1, p2 must be finite");
+}
+
+}  // namespace bolo::sim::scene
