@@ -35,6 +35,16 @@ TwoFrameCorrector::TwoFrameCorrector(const CorrectorConfig& config, std::span<Pi
   out_line_ = storage.subspan(frame, config.width);
 }
 
+namespace {
+
+// later - earlier for later > earlier, exact even where the signed difference would overflow
+// (timestamps far apart, e.g. a clock that jumped): unsigned arithmetic wraps by definition.
+std::uint64_t interval_ns(std::int64_t earlier, std::int64_t later) {
+  return static_cast<std::uint64_t>(later) - static_cast<std::uint64_t>(earlier);
+}
+
+}  // namespace
+
 std::uint32_t TwoFrameCorrector::learned_period_ns() const {
   if (config_.nominal_frame_period_ns != 0) return config_.nominal_frame_period_ns;
   if (interval_count_ == 0) return 0;
@@ -62,11 +72,11 @@ CarryOver TwoFrameCorrector::judge_predecessor(const FrameHeader& header) const 
       header.sequence != previous_.sequence + 1)
     return CarryOver::sequence_gap;
   if (header.timestamp_valid && previous_.timestamp_valid) {
-    const std::int64_t interval = header.timestamp_ns - previous_.timestamp_ns;
-    if (interval <= 0) return CarryOver::timestamp_not_increasing;
-    const std::uint32_t period = learned_period_ns();
-    // interval > 1.5 * period, in integers
-    if (period != 0 && interval * 2 > std::int64_t{period} * 3) return CarryOver::timestamp_gap;
+    if (header.timestamp_ns <= previous_.timestamp_ns) return CarryOver::timestamp_not_increasing;
+    const std::uint64_t interval = interval_ns(previous_.timestamp_ns, header.timestamp_ns);
+    const std::uint64_t period = learned_period_ns();
+    // 2 * interval > 3 * period without overflow: interval > floor(3 * period / 2)
+    if (period != 0 && interval > period * 3 / 2) return CarryOver::timestamp_gap;
   }
   return CarryOver::applied;
 }
@@ -110,10 +120,12 @@ void TwoFrameCorrector::begin_frame(const FrameHeader& header) {
   }
   frame_stats_.carry_over = reason;
 
-  if (header.timestamp_valid && previous_.timestamp_valid && have_previous_) {
-    const std::int64_t interval = header.timestamp_ns - previous_.timestamp_ns;
-    if (interval > 0) {
-      intervals_ns_[interval_count_ % kIntervalHistory] = interval;
+  if (header.timestamp_valid && previous_.timestamp_valid && have_previous_ &&
+      header.timestamp_ns > previous_.timestamp_ns) {
+    const std::uint64_t interval = interval_ns(previous_.timestamp_ns, header.timestamp_ns);
+    {
+      intervals_ns_[interval_count_ % kIntervalHistory] =
+          interval > INT64_MAX ? INT64_MAX : static_cast<std::int64_t>(interval);
       ++interval_count_;
       if (interval_count_ >= 2 * kIntervalHistory) interval_count_ -= kIntervalHistory;
     }

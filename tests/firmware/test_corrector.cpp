@@ -199,6 +199,21 @@ TEST_CASE("a frame is corrected against its predecessor only when the chain hold
     CHECK(rig.run(header(8, 4, 6, 0.66), 1000) == fw::CarryOver::applied);
     CHECK(rig.run(header(8, 4, 7, 0.66), 1000) == fw::CarryOver::timestamp_not_increasing);
   }
+  SECTION("timestamps far apart (a clock jump) are a gap, without overflow") {
+    Rig rig;
+    auto early = header(8, 4, 0, 0.0);
+    early.timestamp_ns = INT64_MIN + 5;
+    rig.run(early, 1000);
+    auto mid = header(8, 4, 1, 0.0);
+    mid.timestamp_ns = INT64_MIN + 100'000'005;
+    CHECK(rig.run(mid, 1000) == fw::CarryOver::applied);
+    auto late = header(8, 4, 2, 0.0);
+    late.timestamp_ns = INT64_MAX;  // the difference does not fit int64
+    CHECK(rig.run(late, 1000) == fw::CarryOver::timestamp_gap);
+    auto back = header(8, 4, 3, 0.0);
+    back.timestamp_ns = INT64_MIN;
+    CHECK(rig.run(back, 1000) == fw::CarryOver::timestamp_not_increasing);
+  }
   SECTION("a nominal period from the configuration") {
     auto cfg = Rig::config();
     cfg.nominal_frame_period_ns = 50'000'000;
