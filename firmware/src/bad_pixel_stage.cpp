@@ -89,7 +89,7 @@ inline bool block_has_flag(const Pixel* flags, std::uint32_t n) {
 }  // namespace
 
 void BadPixelStage::push_line(std::uint32_t row, LineView line) {
-  if (!active_ || row != rows_in_ || line.size() != width_) {
+  if (!active_ || row != rows_in_ || row >= height_ || line.size() != width_) {
     // Out of order or mis-sized: the neighbourhood is meaningless, so stop repairing this frame
     // but still deliver what is buffered in order.
     if (active_ && rows_in_ > 0) emit(rows_in_ - 1);

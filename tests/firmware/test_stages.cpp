@@ -284,3 +284,22 @@ TEST_CASE("the bad-pixel stage equals the plain rule on random frames", "[bad_pi
     }
   }
 }
+
+TEST_CASE("bad-pixel stage: rows beyond the frame's height are passed on, never read against the mask",
+          "[bad_pixel]") {
+  constexpr std::uint32_t W = 6, H = 3;
+  std::vector<std::uint8_t> mask(W * H, 0);
+  mask[4] = 1;
+  fw::BadPixelConfig cfg;
+  cfg.width = W;
+  cfg.height = H;
+  cfg.mask = mask;
+  std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W));
+  FrameCollector sink(W, H + 2);
+  fw::BadPixelStage stage(cfg, storage, sink);
+  std::vector<fw::Pixel> line(W, 700);
+  stage.begin_frame(header(W, H, 0));
+  for (std::uint32_t r = 0; r < H + 2; ++r) stage.push_line(r, line);  // two rows too many
+  stage.end_frame();
+  CHECK(sink.lines() == H + 2);  // every line delivered, none lost or invented
+}
