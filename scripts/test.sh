@@ -1,14 +1,21 @@
 #!/usr/bin/env bash
-# Test command: installs what is missing, builds, builds the board parts for aarch64 and armhf
-# and runs their tests under qemu-user (checking that the golden hashes agree bit for bit with
-# x86-64), then runs the whole host test suite with ctest, whose summary ends the output.
+# Test command: installs what is missing, builds, then
+#   1. the board parts for aarch64 and armhf, tested under qemu-user, golden hashes compared
+#      bit for bit with x86-64 (scripts/cross-test.sh);
+#   2. static analysis of firmware/, fixed_point/, hal/ (scripts/static-analysis.sh);
+#   3. the whole host suite under AddressSanitizer + UBSan (scripts/sanitize.sh);
+#   4. every fuzz target for a short fixed time (scripts/fuzz-smoke.sh);
+#   5. the whole host test suite, whose ctest summary ends the output.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 scripts/deps.sh || exit 1
 scripts/build.sh || exit 1
-scripts/cross-test.sh
-cross=$?
+failed=()
+scripts/cross-test.sh || failed+=(cross-test)
+scripts/static-analysis.sh || failed+=(static-analysis)
+scripts/sanitize.sh || failed+=(sanitize)
+scripts/fuzz-smoke.sh || failed+=(fuzz-smoke)
 ctest --test-dir build --output-on-failure -j "$(nproc)"
 host=$?
-[ $cross -eq 0 ] || echo "test.sh: the aarch64/armhf tests failed (see above)" >&2
-[ $cross -eq 0 ] && [ $host -eq 0 ]
+[ ${#failed[@]} -eq 0 ] || echo "test.sh: failed: ${failed[*]} (see above)" >&2
+[ ${#failed[@]} -eq 0 ] && [ $host -eq 0 ]
