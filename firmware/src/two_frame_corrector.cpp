@@ -137,7 +137,8 @@ void TwoFrameCorrector::push_line(std::uint32_t row, LineView line) {
   // Rows must come in order, each once, at the configured width: a repeated or skipped row would
   // leave a stale row of an older frame in the store. Anything else is passed on unchanged and
   // the frame never becomes a complete predecessor.
-  if (!frame_ok_ || frame_broken_ || row != lines_seen_ || line.size() != config_.width) {
+  if (!frame_ok_ || frame_broken_ || row != lines_seen_ || row >= config_.height ||
+      line.size() != config_.width) {
     if (frame_ok_ && !frame_broken_) frame_broken_ = true;
     ++frame_stats_.rows_uncorrected;
     next().push_line(row, line);

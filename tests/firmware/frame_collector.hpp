@@ -20,7 +20,8 @@ class FrameCollector final : public fw::LineSink {
   }
   void push_line(std::uint32_t row, fw::LineView line) override {
     for (std::size_t x = 0; x < line.size() && x < width_; ++x) {
-      frame_[std::size_t{row} * width_ + x] = line[x];
+      const std::size_t at = std::size_t{row} * width_ + x;
+      if (at < frame_.size()) frame_[at] = line[x];  // rows past the frame are only hashed
       hash_pixel(line[x]);
     }
     ++lines_;

@@ -258,6 +258,12 @@ TEST_CASE("a frame is corrected against its predecessor only when the chain hold
     rig.corrector.end_frame();
     CHECK(rig.run(header(8, 4, 4, 0.4), 1000) == fw::CarryOver::previous_incomplete);
     CHECK(rig.corrector.totals().by_reason[static_cast<int>(fw::CarryOver::first_frame)] == 1);
+    // Rows past the height, in order, are passed on and never written to the frame store.
+    rig.corrector.begin_frame(header(8, 4, 5, 0.5));
+    for (std::uint32_t r = 0; r < 6; ++r) rig.corrector.push_line(r, line);
+    rig.corrector.end_frame();
+    CHECK(rig.corrector.last_frame().rows_uncorrected == 2);
+    CHECK(rig.run(header(8, 4, 6, 0.6), 1000) == fw::CarryOver::previous_incomplete);
   }
   SECTION("missing timing: no exposure passes through, no readout gives gain only") {
     Rig rig;
