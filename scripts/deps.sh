@@ -7,7 +7,7 @@ packages=(
   catch2 nlohmann-json3-dev libcli11-dev libeigen3-dev libpng-dev
   libusb-1.0-0-dev libgpiod-dev libbenchmark-dev
   g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user
-  clang libclang-rt-14-dev clang-tidy cppcheck
+  clang libclang-rt-14-dev llvm clang-tidy cppcheck
 )
 
 missing=()

@@ -14,7 +14,8 @@ cmake --preset fuzz >/dev/null || exit 1
 cmake --build --preset fuzz -j "$jobs" || exit 1
 
 work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+# BOLO_FUZZ_LOGS=DIR keeps each target's libFuzzer log and its grown corpus (long runs).
+trap '[ -n "${BOLO_FUZZ_LOGS:-}" ] && mkdir -p "$BOLO_FUZZ_LOGS" && cp -r "$work"/. "$BOLO_FUZZ_LOGS"/; rm -rf "$work"' EXIT
 targets=()
 for bin in build-fuzz/fuzz/fuzz_*; do
   [ -x "$bin" ] && targets+=("${bin##*/fuzz_}")

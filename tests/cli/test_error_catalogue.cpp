@@ -408,7 +408,7 @@ TEST_CASE("catalogue: simulate OUT that exists, is not a recording, or has no pa
   };
   REQUIRE(run_bolo(sim(tmp / "done", false)).code == 0);
   const std::string before = read_text(tmp / "done" / "frames.npy");
-  CHECK(has(refused(sim(tmp / "done", false)), (tmp / "done").string() + ": already exists (pass overwrite to replace it)"));
+  CHECK(has(refused(sim(tmp / "done", false)), (tmp / "done").string() + ": already exists (use --overwrite to replace it)"));
   CHECK(read_text(tmp / "done" / "frames.npy") == before);
   std::ofstream(tmp / "file") << "keep";
   CHECK(has(refused(sim(tmp / "file", true)), (tmp / "file").string() + ": exists and is not a folder; refusing to replace it"));

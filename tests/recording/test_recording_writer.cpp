@@ -54,7 +54,7 @@ TEST_CASE("writer: an existing destination is refused before any work", "[writer
   test::make_fixture(dir, 2);
   const std::string before = test::read_bytes(dir / "frames.npy");
   CHECK(error_of([&] { rec::RecordingWriter w(dir, test::fixture_info()); }) ==
-        dir.string() + ": already exists (pass overwrite to replace it)");
+        dir.string() + ": already exists (use --overwrite to replace it)");
   // Also with a trailing slash.
   CHECK(contains(error_of([&] { rec::RecordingWriter w(dir.string() + "/", test::fixture_info()); }),
                  "already exists"));

@@ -35,7 +35,7 @@ fs::path prepare(const fs::path& dir, const RecordingInfo& info, bool overwrite)
   if (dir.empty() || dir.filename() == "." || dir.filename() == "..")
     throw Error("recording folder '" + dir.string() + "': not a valid destination name");
   if (exists_no_follow(dir)) {
-    if (!overwrite) fail(dir, "already exists (pass overwrite to replace it)");
+    if (!overwrite) fail(dir, "already exists (use --overwrite to replace it)");
     check_replaceable(dir);
   }
   const fs::path parent = dir.parent_path().empty() ? fs::path(".") : dir.parent_path();
@@ -176,7 +176,7 @@ void RecordingWriter::commit() {
 
   std::error_code ec;
   if (exists_no_follow(dir_)) {
-    if (!options_.overwrite) fail(dir_, "appeared while writing (pass overwrite to replace it)");
+    if (!options_.overwrite) fail(dir_, "appeared while writing (use --overwrite to replace it)");
     check_replaceable(dir_);
     const fs::path aside = detail::temp_sibling(dir_, "old");
     fs::rename(dir_, aside, ec);
