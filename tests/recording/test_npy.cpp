@@ -208,6 +208,22 @@ TEST_CASE("npy: malformed headers are refused", "[npy][bad-input]") {
   CHECK(contains(error_of([&] { rec::read_npy_header(file); }), "truncated: the header is 32767 bytes long"));
 }
 
+TEST_CASE("npy: a stack of empty frames is refused, however wide (found by fuzzing)", "[npy][bad-input]") {
+  // An empty frame holds no data, so the file-size check alone would accept any other side.
+  test::TempDir tmp;
+  const auto file = tmp / "frames.npy";
+  for (const std::string& shape : {"(1, 0, 51619111116191111)", "(3, 7, 0)", "(0, 0, 0)"}) {
+    INFO(shape);
+    test::write_bytes(file, test::npy_bytes("{'descr': '<u2', 'fortran_order': False, 'shape': " + shape + ", }", ""));
+    const std::string msg = error_of([&] { rec::NpyFrameReader(file, rec::DType::u2); });
+    CHECK(contains(msg, file.string() + ": frame size "));
+    CHECK(contains(msg, " is empty"));
+  }
+  // Zero frames of a real size is an empty recording, not a malformed one.
+  test::write_bytes(file, test::npy_bytes("{'descr': '<u2', 'fortran_order': False, 'shape': (0, 2, 3), }", ""));
+  CHECK(rec::NpyFrameReader(file, rec::DType::u2).frames() == 0);
+}
+
 TEST_CASE("npy: out-of-range reads and wrong buffer sizes are errors", "[npy][bad-input]") {
   test::TempDir tmp;
   const auto file = tmp / "frames.npy";

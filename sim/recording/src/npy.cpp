@@ -277,6 +277,10 @@ NpyFrameReader::NpyFrameReader(const std::filesystem::path& file, DType expected
     fail(file, "dtype '" + raw.descr + "', expected '" + std::string(descr_of(expected)) + "'");
   if (raw.shape.size() != 3)
     fail(file, "shape " + detail::shape_string(raw.shape) + " is not a stack of frames (N, H, W)");
+  // An empty frame holds no data, so check_length cannot bound its other side: (1, 0, 10^16)
+  // "fits" in any file and then asks every reader for a row of 10^16 pixels.
+  if (raw.shape[1] == 0 || raw.shape[2] == 0)
+    fail(file, "frame size " + detail::size_string(raw.shape[1], raw.shape[2]) + " is empty");
   check_length(file, raw, expected);
   header_.dtype = expected;
   header_.shape = raw.shape;
