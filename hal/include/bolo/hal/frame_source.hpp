@@ -32,6 +32,8 @@ struct SourceStats {
   std::uint64_t short_transfers = 0;
   std::uint64_t corrupt_transfers = 0;
   std::uint64_t disconnects = 0;
+  std::uint64_t reconnects = 0;   // the device came back after a disconnect
+  std::uint64_t duplicates = 0;   // frames the device sent twice (same core frame counter)
 };
 
 class FrameSource {
