@@ -32,4 +32,12 @@ class BulkInTransport {
   virtual bool reconnect(std::uint32_t timeout_ms) = 0;
 };
 
+// Request/response devices (Seek): vendor control requests (type vendor, wValue 0, wIndex 0) as
+// well as bulk reads. `bytes` of the result is what was transferred.
+class VendorUsbTransport : public BulkInTransport {
+ public:
+  virtual Transfer control_out(std::uint8_t request, std::span<const std::uint8_t> data) = 0;
+  virtual Transfer control_in(std::uint8_t request, std::span<std::uint8_t> data) = 0;
+};
+
 }  // namespace bolo::hal
