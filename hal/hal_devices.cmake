@@ -24,6 +24,7 @@ if(PkgConfig_FOUND AND (NOT CMAKE_CROSSCOMPILING OR DEFINED ENV{PKG_CONFIG_LIBDI
   endif()
 endif()
 if(BOLO_HAVE_LIBUSB)
+  target_sources(bolo_hal_devices PRIVATE src/usb_libusb.cpp)
   target_link_libraries(bolo_hal_devices PUBLIC PkgConfig::LIBUSB)
   target_compile_definitions(bolo_hal_devices PUBLIC BOLO_HAVE_LIBUSB=1)
 endif()
