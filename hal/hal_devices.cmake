@@ -4,7 +4,8 @@
 add_library(bolo_hal_devices STATIC
   src/captured_transfers.cpp
   src/v4l2_source.cpp
-  src/gpio_lines.cpp)
+  src/gpio_lines.cpp
+  src/device_spec.cpp)
 add_library(bolo::hal_devices ALIAS bolo_hal_devices)
 set_target_properties(bolo_hal_devices PROPERTIES EXPORT_NAME hal_devices POSITION_INDEPENDENT_CODE ON)
 target_link_libraries(bolo_hal_devices PUBLIC bolo_hal_protocols)
