@@ -119,6 +119,9 @@ TEST_CASE("capture: refusals name the device, flag or file and leave nothing beh
             "--device usb:boson: unknown USB camera 'boson'"));
   CHECK(has(refused({"capture", "--device", "v4l2:", "--out", out, "--frames", "1"}),
             "--device v4l2:: v4l2: needs a device node"));
+  CHECK(has(refused({"capture", "--device", "file:", "--out", out}), "--device file:: file: needs a recording folder"));
+  CHECK(has(refused({"capture", "--device", "flirone-log:", "--out", out}),
+            "--device flirone-log:: flirone-log: needs a transfer-log folder"));
   CHECK(has(refused({"capture", "--device", "v4l2:/dev/null", "--out", out}),
             "--frames: required for a live camera (v4l2:/dev/null)"));
   CHECK(has(refused({"capture", "--device", "v4l2:/dev/null", "--out", out, "--frames", "3"}),
