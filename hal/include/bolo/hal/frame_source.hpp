@@ -32,6 +32,9 @@ struct SourceStats {
   std::uint64_t short_transfers = 0;
   std::uint64_t corrupt_transfers = 0;
   std::uint64_t disconnects = 0;
+  std::uint64_t reconnects = 0;   // the device came back after a disconnect
+  std::uint64_t dropped = 0;      // frames the device numbered but never delivered (sequence gaps)
+  std::uint64_t duplicates = 0;   // frames the device sent twice (same core frame counter)
 };
 
 class FrameSource {

@@ -1,0 +1,333 @@
+// bolo capture --device DEV --out REC [--frames N]: records from any HAL backend (V4L2, USB
+// cores, a recording, a captured FLIR ONE transfer log) into the shared recording format through
+// the atomic RecordingWriter. Device faults are counted and reported; too many of them in a row
+// give up with nothing written.
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <optional>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bolo/errors.hpp"
+#include "bolo/hal/captured_transfers.hpp"
+#include "bolo/hal/device_spec.hpp"
+#include "bolo/hal/flirone_source.hpp"
+#include "bolo/hal/gpio_synced_source.hpp"
+#include "bolo/hal/recording_player.hpp"
+#include "bolo/hal/seek_source.hpp"
+#include "bolo/hal/v4l2_source.hpp"
+#if defined(BOLO_HAVE_LIBUSB)
+#include "bolo/hal/usb_libusb.hpp"
+#endif
+#include "bolo/progress.hpp"
+#include "bolo/recording/recording.hpp"
+#include "bolo/registry.hpp"
+
+namespace bolo::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CaptureOptions {
+  std::string device;
+  fs::path output;
+  std::uint64_t frames = 0;  // 0 = until the source ends (file:, flirone-log: only)
+  std::uint64_t max_faults = 50;
+  std::string gpio;
+  bool overwrite = false;
+  bool progress = true;
+};
+
+// A frame source with whatever it runs on (transport, player) kept alive beside it.
+struct OpenedDevice {
+  std::string sensor;
+  rec::Units units = rec::Units::counts;
+  std::unique_ptr<hal::BulkInTransport> transport;
+  std::unique_ptr<hal::VendorUsbTransport> vendor_transport;
+  std::unique_ptr<hal::FrameSource> source;
+};
+
+#if !defined(BOLO_HAVE_LIBUSB)
+[[noreturn]] void no_usb(const std::string& device) {
+  fail("--device ", device,
+       ": this build has no USB backend (libusb-1.0 was not found when it was configured; see `bolo devices`)");
+}
+#endif
+
+hal::DeviceSpec parse_device(const std::string& text) {
+  try {
+    return hal::parse_device_spec(text);
+  } catch (const std::invalid_argument& e) {
+    fail("--device ", text, ": ", e.what());
+  }
+}
+
+bool finite(const hal::DeviceSpec& spec) {
+  return spec.kind == hal::DeviceKind::file || spec.kind == hal::DeviceKind::flirone_log;
+}
+
+OpenedDevice open_device(const hal::DeviceSpec& spec, const std::string& text) {
+  OpenedDevice d;
+  try {
+    switch (spec.kind) {
+      case hal::DeviceKind::file: {
+        auto player = std::make_unique<hal::RecordingPlayer>(spec.path);
+        d.sensor = player->recording().info().sensor;
+        d.units = player->recording().info().units;
+        d.source = std::move(player);
+        break;
+      }
+      case hal::DeviceKind::flirone_log: {
+        d.transport = std::make_unique<hal::CapturedTransfers>(spec.path);
+        d.source = std::make_unique<hal::FlirOneSource>(*d.transport);
+        d.sensor = "FLIR ONE Pro (Lepton-class 80x60 core), replayed transfer log";
+        break;
+      }
+      case hal::DeviceKind::v4l2: {
+        auto v4l2 = std::make_unique<hal::V4l2Source>(hal::V4l2Config{.path = spec.path});
+        d.sensor = v4l2->negotiated().card + " (V4L2 Y16, " + v4l2->negotiated().driver + ")";
+        d.source = std::move(v4l2);
+        break;
+      }
+      case hal::DeviceKind::usb_flirone: {
+#if defined(BOLO_HAVE_LIBUSB)
+        d.transport = std::make_unique<hal::LibusbTransport>(hal::flirone_libusb_config());
+        d.source = std::make_unique<hal::FlirOneSource>(*d.transport);
+        d.sensor = "FLIR ONE Pro (Lepton-class 80x60 core)";
+        break;
+#else
+        no_usb(text);
+#endif
+      }
+      case hal::DeviceKind::usb_seek: {
+#if defined(BOLO_HAVE_LIBUSB)
+        auto usb = std::make_unique<hal::LibusbTransport>(hal::seek_libusb_config());
+        const hal::SeekModel& model = usb->opened().product_id == hal::kSeekCompactPro.product_id
+                                          ? hal::kSeekCompactPro
+                                          : hal::kSeekCompact;
+        d.source = std::make_unique<hal::SeekSource>(*usb, model);
+        d.vendor_transport = std::move(usb);
+        d.sensor = std::string("Seek Thermal ") + model.name;
+        break;
+#else
+        no_usb(text);
+#endif
+      }
+    }
+  } catch (const Error&) {
+    throw;
+  } catch (const rec::Error&) {
+    throw;  // names the recording's file, frame and field already
+  } catch (const std::exception& e) {
+    fail("--device ", text, ": ", e.what());
+  }
+  return d;
+}
+
+// Keeps the last frame pushed into it, to hand to the writer.
+class FrameGrab final : public fw::LineSink {
+ public:
+  FrameGrab(std::uint32_t width, std::uint32_t height) : width_(width), height_(height), pixels_(std::size_t{width} * height) {}
+  void begin_frame(const fw::FrameHeader& header) override {
+    header_ = header;
+    lines_ = 0;
+    ok_ = header.width == width_ && header.height == height_;
+  }
+  void push_line(std::uint32_t row, fw::LineView line) override {
+    if (!ok_ || row != lines_ || line.size() != width_) {
+      ok_ = false;
+      return;
+    }
+    std::copy(line.begin(), line.end(), pixels_.begin() + static_cast<std::ptrdiff_t>(std::size_t{row} * width_));
+    ++lines_;
+  }
+  void end_frame() override {}
+  bool complete() const { return ok_ && lines_ == height_; }
+  const fw::FrameHeader& header() const { return header_; }
+  std::span<const std::uint16_t> pixels() const { return pixels_; }
+
+ private:
+  std::uint32_t width_, height_;
+  std::vector<std::uint16_t> pixels_;
+  fw::FrameHeader header_{};
+  std::uint32_t lines_ = 0;
+  bool ok_ = false;
+};
+
+std::optional<double> celsius(std::int32_t mc) {
+  if (mc == fw::kUnknownTemperature) return std::nullopt;
+  return std::round(mc / 10.0) / 100.0;  // the shared recordings keep 0.01 °C
+}
+
+// The recording format needs increasing t_s; a device clock that stalls or steps back leaves
+// that frame's t_s empty (counted) rather than failing the capture.
+struct Clock {
+  std::optional<std::int64_t> t0, last;
+  std::uint64_t not_increasing = 0;
+};
+
+rec::FrameRow row_of(const fw::FrameHeader& h, std::uint64_t index, Clock& clock) {
+  rec::FrameRow row;
+  row.index = index;
+  if (h.timestamp_valid) {
+    if (!clock.t0) clock.t0 = h.timestamp_ns;
+    if (clock.last && h.timestamp_ns <= *clock.last) {
+      ++clock.not_increasing;
+    } else {
+      clock.last = h.timestamp_ns;
+      row.t_s = static_cast<double>(h.timestamp_ns - *clock.t0) / 1e9;  // division: 1.14065, not 1.1406500000000002
+    }
+  }
+  if (h.exposure_ns != 0) row.exposure_s = h.exposure_ns * 1e-9;
+  if (h.readout_ns != 0) row.readout_s = h.readout_ns * 1e-9;
+  if (h.ffc != fw::FfcState::unknown) row.ffc = h.ffc == fw::FfcState::completed;
+  row.fpa_temp_c = celsius(h.fpa_temp_mc);
+  row.housing_temp_c = celsius(h.housing_temp_mc);
+  return row;
+}
+
+std::string stats_text(const hal::SourceStats& s) {
+  std::ostringstream o;
+  o << "timeouts " << s.timeouts << ", short " << s.short_transfers << ", corrupt " << s.corrupt_transfers
+    << ", disconnects " << s.disconnects << ", reconnects " << s.reconnects << ", dropped " << s.dropped
+    << ", duplicates " << s.duplicates;
+  return o.str();
+}
+
+nlohmann::json stats_json(const hal::SourceStats& s) {
+  return {{"frames_delivered", s.frames_delivered}, {"timeouts", s.timeouts},
+          {"short_transfers", s.short_transfers},   {"corrupt_transfers", s.corrupt_transfers},
+          {"disconnects", s.disconnects},           {"reconnects", s.reconnects},
+          {"dropped", s.dropped},                   {"duplicates", s.duplicates}};
+}
+
+int run_capture(const CaptureOptions& o, std::ostream& out) {
+  if (o.output.empty()) fail("--out: required");
+  if (!o.overwrite && fs::exists(o.output)) fail(o.output.string(), ": exists (use --overwrite to replace it)");
+  std::optional<hal::GpioConfig> gpio_config;
+  if (!o.gpio.empty()) {
+    try {
+      gpio_config = hal::parse_gpio_spec(o.gpio);
+    } catch (const std::invalid_argument& e) {
+      fail("--gpio ", o.gpio, ": ", e.what());
+    }
+    if (!hal::gpio_backend_available())
+      fail("--gpio ", o.gpio, ": this build has no GPIO backend (libgpiod was not found when it was configured)");
+  }
+  const hal::DeviceSpec spec = parse_device(o.device);
+  if (!finite(spec) && o.frames == 0) fail("--frames: required for a live camera (", o.device, ")");
+  OpenedDevice device = open_device(spec, o.device);
+
+  hal::FrameSource* source = device.source.get();
+  std::unique_ptr<hal::GpioLines> lines;
+  std::unique_ptr<hal::GpioSyncedSource> synced;
+#if defined(BOLO_HAVE_LIBGPIOD)
+  if (gpio_config) {
+    try {
+      lines = std::make_unique<hal::GpiodLines>(*gpio_config);
+    } catch (const std::exception& e) {
+      fail("--gpio ", o.gpio, ": ", e.what());
+    }
+    synced = std::make_unique<hal::GpioSyncedSource>(*source, *lines);
+    source = synced.get();
+  }
+#endif
+
+  const hal::SourceFormat format = source->format();
+  rec::RecordingInfo info;
+  info.sensor = device.sensor;
+  info.width = format.width;
+  info.height = format.height;
+  info.bits = format.bits;
+  info.units = device.units;
+  if (format.frame_period_ns != 0) info.fps = std::round(1e11 / format.frame_period_ns) / 100.0;
+  info.source = "bolo capture --device " + o.device;
+  info.notes = "t_s from the device's clock, relative to the first frame";
+
+  FrameGrab grab(format.width, format.height);
+  rec::RecordingWriter writer(o.output, info, {o.overwrite});
+  Progress progress("capture", o.frames, o.progress && o.frames != 0);
+  Clock clock;
+  std::uint64_t faults_in_a_row = 0, captured = 0;
+  bool ended = false;
+  const auto start = std::chrono::steady_clock::now();
+  while (o.frames == 0 || captured < o.frames) {
+    const hal::StreamStatus s = source->stream_frame(grab);
+    if (s == hal::StreamStatus::end_of_stream) {
+      ended = true;
+      break;
+    }
+    if (s == hal::StreamStatus::fault || !grab.complete()) {
+      if (++faults_in_a_row > o.max_faults)
+        fail(o.device, ": gave up after ", o.max_faults, " faults in a row, ", captured,
+             " frames captured, nothing written (", stats_text(source->stats()), ")");
+      continue;
+    }
+    faults_in_a_row = 0;
+    writer.append(grab.pixels(), row_of(grab.header(), captured, clock));
+    progress.update(++captured);
+  }
+  progress.finish();
+  if (captured == 0) fail(o.device, ": delivered no frames, nothing written");
+  const hal::SourceStats stats = source->stats();
+  nlohmann::json extra = {{"device", o.device}, {"stats", stats_json(stats)},
+                          {"timestamps_not_increasing", clock.not_increasing}};
+  if (synced && synced->latency().count > 0)
+    extra["sync_latency_ns"] = {{"count", synced->latency().count}, {"min", synced->latency().min_ns},
+                                {"mean", synced->latency().mean_ns()}, {"max", synced->latency().max_ns}};
+  writer.add_file("capture.json", extra.dump(2) + "\n");
+  writer.commit();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  out << "captured " << captured << " frames (" << format.width << "x" << format.height << ") from " << o.device
+      << " into " << o.output.string() << " in " << std::fixed << std::setprecision(1) << seconds << " s\n";
+  if (ended && o.frames != 0 && captured < o.frames)
+    out << "the source ended after " << captured << " of " << o.frames << " frames\n";
+  out << "device faults: " << stats_text(stats) << "\n";
+  if (clock.not_increasing > 0)
+    out << clock.not_increasing << " frames with a time stamp not after the previous one: t_s left empty\n";
+  if (synced && synced->latency().count > 0)
+    out << "sync-to-frame latency: mean " << synced->latency().mean_ns() / 1000 << " us over "
+        << synced->latency().count << " frames\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+Command add_capture_command(CLI::App& parent) {
+  auto o = std::make_shared<CaptureOptions>();
+  CLI::App* app = add_command(
+      parent, "capture", "Record frames from a camera (V4L2, USB) or a recording into a recording",
+      "Records from any frame source of the HAL into a recording in the shared format\n"
+      "(frames.npy, frames.csv with time, FFC and temperatures where the device reports them,\n"
+      "recording.json, capture.json with the device's fault counters). Devices:\n"
+      "  v4l2:/dev/videoN   UVC Y16 camera (Lepton on PureThermal: 160x122 with telemetry)\n"
+      "  usb:flirone        FLIR ONE Pro (libusb)\n"
+      "  usb:seek           Seek Thermal Compact / CompactPro (libusb)\n"
+      "  file:REC           a recording (the recording player)\n"
+      "  flirone-log:DIR    a captured FLIR ONE bulk-transfer log (N.txt hex files)\n"
+      "Faults (timeouts, short or corrupt transfers, unplugs) are counted and skipped; more than\n"
+      "--max-faults in a row give up and write nothing. `bolo devices` lists what is connected.\n\n"
+      "Example:\n"
+      "  bolo capture --device v4l2:/dev/video0 --out lepton-run --frames 500");
+  app->add_option("--device", o->device, "Where frames come from (see above)")->required();
+  app->add_option("--out", o->output, "Output recording folder (must not exist unless --overwrite)")->required();
+  app->add_option("--frames", o->frames, "Frames to record (default for file:/flirone-log: all)")
+      ->check(not_negative());
+  app->add_option("--max-faults", o->max_faults, "Faults in a row before giving up (default 50)")
+      ->check(not_negative());
+  app->add_option("--gpio", o->gpio,
+                  "GPIO lines beside the camera, CHIP:sync=N,shutter=N,imminent=N (sync-to-frame latency)");
+  app->add_flag("--overwrite", o->overwrite, "Replace OUT if it exists");
+  app->add_flag("--no-progress", [o](std::int64_t) { o->progress = false; },
+                "Never draw the progress bar (it is drawn only when stderr is a terminal)");
+  return {app, [=](std::ostream& out) { return run_capture(*o, out); }};
+}
+
+}  // namespace bolo::cli

@@ -1,0 +1,90 @@
+// bolo devices: what the HAL finds on this machine: V4L2 nodes offering Y16, USB devices with
+// a known VID:PID, gpiochips, and which backends this build has.
+
+#include <iomanip>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "bolo/errors.hpp"
+#include "bolo/hal/device_spec.hpp"
+#include "bolo/hal/gpio_lines.hpp"
+#include "bolo/hal/v4l2_source.hpp"
+#if defined(BOLO_HAVE_LIBUSB)
+#include "bolo/hal/usb_libusb.hpp"
+#endif
+#include "bolo/registry.hpp"
+
+namespace bolo::cli {
+namespace {
+
+std::string hex4(unsigned v) {
+  std::ostringstream o;
+  o << std::hex << std::setw(4) << std::setfill('0') << v;
+  return o.str();
+}
+
+int run_devices(bool json, std::ostream& out) {
+  const auto v4l2 = hal::list_v4l2_y16_devices();
+  nlohmann::json j = {{"v4l2", nlohmann::json::array()}, {"usb", nlohmann::json::array()},
+                      {"gpio", nlohmann::json::array()},
+                      {"backends", {{"v4l2", true}, {"usb", hal::usb_backend_available()},
+                                    {"gpio", hal::gpio_backend_available()}}}};
+  for (const auto& d : v4l2) {
+    nlohmann::json sizes = nlohmann::json::array();
+    for (auto [w, h] : d.y16_sizes) sizes.push_back(std::to_string(w) + "x" + std::to_string(h));
+    j["v4l2"].push_back({{"device", "v4l2:" + d.path}, {"card", d.card}, {"driver", d.driver}, {"y16", sizes}});
+  }
+#if defined(BOLO_HAVE_LIBUSB)
+  for (const auto& d : hal::list_known_usb_devices())
+    j["usb"].push_back({{"id", hex4(d.vendor_id) + ":" + hex4(d.product_id)}, {"bus", d.bus},
+                       {"address", d.address}, {"what", d.what}});
+#endif
+  for (const auto& c : hal::list_gpiochips())
+    j["gpio"].push_back({{"chip", c.name}, {"label", c.label}, {"lines", c.lines}});
+  if (json) {
+    out << j.dump(2) << "\n";
+    return kExitOk;
+  }
+  out << "V4L2 (Y16):\n";
+  if (j["v4l2"].empty()) out << "  none found\n";
+  for (const auto& d : j["v4l2"]) {
+    out << "  " << d["device"].get<std::string>() << "  " << d["card"].get<std::string>() << " ("
+        << d["driver"].get<std::string>() << ")  Y16";
+    for (const auto& s : d["y16"]) out << " " << s.get<std::string>();
+    out << "\n";
+  }
+  out << "USB:\n";
+  if (!hal::usb_backend_available())
+    out << "  backend compiled out (libusb-1.0 not found when this build was configured)\n";
+  else if (j["usb"].empty())
+    out << "  no known camera (FLIR ONE Pro 09cb:1996, Seek 289d:0010/0011, PureThermal 1e4e:0100)\n";
+  for (const auto& d : j["usb"])
+    out << "  " << d["id"].get<std::string>() << "  bus " << d["bus"].get<int>() << " address "
+        << d["address"].get<int>() << "  " << d["what"].get<std::string>() << "\n";
+  out << "GPIO:\n";
+  if (!hal::gpio_backend_available())
+    out << "  backend compiled out (libgpiod not found when this build was configured)\n";
+  else if (j["gpio"].empty())
+    out << "  no gpiochip\n";
+  for (const auto& c : j["gpio"])
+    out << "  " << c["chip"].get<std::string>() << "  " << c["label"].get<std::string>() << "  "
+        << c["lines"].get<unsigned>() << " lines\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+Command add_devices_command(CLI::App& parent) {
+  auto json = std::make_shared<bool>(false);
+  CLI::App* app = add_command(
+      parent, "devices", "List cameras and GPIO chips the HAL can use",
+      "Lists V4L2 capture nodes that offer Y16 (with their sizes), USB devices with a known\n"
+      "VID:PID (FLIR ONE Pro, Seek Thermal, PureThermal, Boson control), and gpiochips, each\n"
+      "with the --device string `bolo capture` takes. A backend this build was configured\n"
+      "without (no libusb-1.0 / libgpiod) is reported as compiled out.");
+  app->add_flag("--json", *json, "Print JSON instead of text");
+  return {app, [=](std::ostream& out) { return run_devices(*json, out); }};
+}
+
+}  // namespace bolo::cli

@@ -1,0 +1,59 @@
+#pragma once
+// FLIR ONE Pro as a FrameSource: transfers from a BulkInTransport (libusb on a device, a captured
+// log in tests) through the FlirOneReassembler, out as 80x60 frames of raw 14-bit counts with
+// the telemetry in the FrameHeader. Board-safe: no exceptions, buffers sized at construction.
+
+#include <cstdint>
+#include <vector>
+
+#include "bolo/hal/flirone_reassembler.hpp"
+#include "bolo/hal/frame_source.hpp"
+#include "bolo/hal/usb_transport.hpp"
+
+namespace bolo::hal {
+
+enum class FlirOneClock : std::uint8_t {
+  camera,  // the JSON's usbNotifiedTimestamp (what the shared recording's t_s were made from)
+  host,    // the transport's arrival time
+};
+
+struct FlirOneSourceConfig {
+  std::uint32_t transfer_timeout_ms = 1000;
+  std::uint32_t reconnect_timeout_ms = 2000;
+  bool verify_crc = true;
+  bool skip_duplicates = false;  // the core exports some frames twice; keep them by default
+  FlirOneClock clock = FlirOneClock::camera;
+  std::size_t max_frame_bytes = flirone::kDefaultMaxFrameBytes;
+  std::size_t transfer_bytes = 64 * 1024;
+};
+
+class FlirOneSource final : public FrameSource {
+ public:
+  FlirOneSource(BulkInTransport& transport, const FlirOneSourceConfig& config = {});
+  SourceFormat format() const override;
+  // `fault` when a frame was lost (truncated, bad header/row/CRC, timeout, transfer error,
+  // disconnect: each counted in stats()); after a disconnect it has already tried to reconnect
+  // for reconnect_timeout_ms. end_of_stream only when a replayed log ends.
+  StreamStatus stream_frame(fw::LineSink& sink) override;
+  SourceStats stats() const override { return stats_; }
+
+  const FlirOneReassembler& reassembler() const { return reassembler_; }
+  // The frame last delivered (telemetry, JSON status, JPEG).
+  const FlirOneFrame& last_frame() const { return reassembler_.frame(); }
+
+ private:
+  StreamStatus deliver(fw::LineSink& sink, std::int64_t arrival_ns);
+  bool lost_frames_since(const FlirOneCounters& before);
+
+  BulkInTransport& transport_;
+  FlirOneSourceConfig config_;
+  FlirOneReassembler reassembler_;
+  std::vector<std::uint8_t> transfer_;
+  std::uint64_t sequence_ = 0;  // frames begun, good or lost: a lost frame leaves a gap
+  bool have_previous_ = false;
+  std::uint32_t previous_counter_ = 0;
+  std::uint32_t previous_ffc_ms_ = 0;
+  SourceStats stats_;
+};
+
+}  // namespace bolo::hal

@@ -1,0 +1,94 @@
+#pragma once
+// Seek Thermal Compact / CompactPro frames (usb-thermal-cores.md, "Seek Thermal"): assembling a
+// requested frame from bulk chunks, its type and counter, dead pixels. The protocol layer only:
+// no I/O, no exceptions, buffers allocated at construction (board-safe).
+//
+// A frame is width x height uint16 LE words. The type is word 10 (Compact) or word 2 of the
+// 4-row header (Pro); the counter word 40 (Compact) or word 1 (Pro). Type 3 is an image, 1 a
+// shutter-closed calibration frame (an FFC event), 4 the first frame after start-up: its 0x0000
+// and 0xFFFF pixels are the dead-pixel map. The rows delivered as the image are the rows after
+// the header rows (the Pro's 4; the Compact's metadata words sit inside row 0, which the facts
+// do not place outside the image, so row 0 is delivered as is).
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace bolo::hal {
+
+struct SeekModel {
+  const char* name;
+  std::uint16_t product_id;
+  std::uint32_t width, height;  // the whole frame as transferred
+  std::uint32_t header_rows;    // rows before the image
+  std::uint32_t type_word, counter_word;
+  std::uint32_t chunk_bytes;    // bulk read size
+  std::uint32_t max_fps;
+  std::uint32_t pixels() const { return width * height; }
+  std::uint32_t frame_bytes() const { return pixels() * 2; }
+  std::uint32_t image_height() const { return height - header_rows; }
+};
+
+inline constexpr std::uint16_t kSeekVendorId = 0x289d;
+inline constexpr SeekModel kSeekCompact{"compact", 0x0010, 208, 156, 0, 10, 40, 16224, 8};
+inline constexpr SeekModel kSeekCompactPro{"compactpro", 0x0011, 342, 260, 4, 2, 1, 13680, 15};
+
+enum class SeekFrameKind : std::uint8_t {
+  image,                // 3
+  shutter,              // 1: shutter closed, an FFC event
+  startup,              // 4: first frame, gives the dead-pixel map
+  before_calibration,   // 6
+  after_calibration,    // 20
+  startup_calibration,  // 8, 7
+  other,                // the other boot frames (9, 14, 25-28) and anything unknown
+};
+
+SeekFrameKind seek_frame_kind(std::uint16_t type);
+
+enum class SeekChunk : std::uint8_t {
+  need_more,  // keep reading
+  complete,   // the whole frame has arrived
+  aborted,    // a zero-length read: the frame is given up (never wait on it)
+  overflow,   // more bytes than the frame has: the frame is given up
+};
+
+struct SeekFrameInfo {
+  SeekFrameKind kind = SeekFrameKind::other;
+  std::uint16_t type = 0;
+  std::uint16_t counter = 0;
+  std::uint32_t dead_pixels = 0;  // 0x0000 / 0xFFFF pixels in this frame's image rows
+};
+
+class SeekFrameParser {
+ public:
+  explicit SeekFrameParser(const SeekModel& model);
+  const SeekModel& model() const { return model_; }
+
+  // Frame assembly: begin() before the first chunk of a requested frame.
+  void begin() { have_ = 0; }
+  SeekChunk add_chunk(std::span<const std::uint8_t> chunk);
+  std::size_t received() const { return have_; }
+
+  // Decodes the complete frame (add_chunk returned `complete`), or a frame given whole.
+  // A start-up frame replaces the dead-pixel map. False when `frame` is not exactly one frame.
+  bool parse(std::span<const std::uint8_t> frame, SeekFrameInfo& info);
+  bool parse_received(SeekFrameInfo& info) { return parse({bytes_.data(), have_}, info); }
+
+  // The last parsed frame's image rows (header rows excluded), host-endian.
+  std::span<const std::uint16_t> image_row(std::uint32_t row) const {
+    return {&words_[std::size_t{row + model_.header_rows} * model_.width], model_.width};
+  }
+  // 1 = dead, one byte per image pixel, from the last start-up frame (all 0 before one).
+  std::span<const std::uint8_t> dead_map() const { return dead_; }
+  std::uint32_t dead_map_count() const { return dead_count_; }
+
+ private:
+  SeekModel model_;
+  std::vector<std::uint8_t> bytes_;
+  std::size_t have_ = 0;
+  std::vector<std::uint16_t> words_;
+  std::vector<std::uint8_t> dead_;
+  std::uint32_t dead_count_ = 0;
+};
+
+}  // namespace bolo::hal

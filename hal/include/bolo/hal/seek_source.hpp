@@ -1,0 +1,84 @@
+#pragma once
+// Seek Thermal Compact / CompactPro as a FrameSource: the start-up sequence, one frame request
+// per frame, calibration frames consumed (a shutter frame marks the next image as after an FFC,
+// the start-up frame gives the dead-pixel map), images delivered. Runs over a
+// VendorUsbTransport: libusb on a device, a scripted device in tests. Board-safe.
+
+#include <cstdint>
+#include <vector>
+
+#include "bolo/hal/frame_source.hpp"
+#include "bolo/hal/seek_frame_parser.hpp"
+#include "bolo/hal/usb_transport.hpp"
+
+namespace bolo::hal {
+
+namespace seek {
+// Vendor request codes (usb-thermal-cores.md).
+enum Request : std::uint8_t {
+  kGetErrorCode = 53,
+  kReadChipId = 54,
+  kToggleShutter = 55,
+  kSetOperationMode = 60,
+  kGetOperationMode = 61,
+  kSetImageProcessingMode = 62,
+  kGetFirmwareInfo = 78,
+  kStartGetImageTransfer = 83,
+  kTargetPlatform = 84,
+  kSetFirmwareInfoFeatures = 85,
+  kSetFactorySettingsFeatures = 86,
+  kGetFactorySettings = 88,
+  kResetDevice = 89,
+};
+}  // namespace seek
+
+struct SeekSourceConfig {
+  std::uint32_t transfer_timeout_ms = 1000;
+  std::uint32_t reconnect_timeout_ms = 2000;
+  // Frames without an image (boot and calibration frames) before a call gives up with a fault.
+  std::uint32_t max_frames_without_image = 64;
+};
+
+struct SeekCounters {
+  std::uint64_t shutter_frames = 0;      // FFC events seen
+  std::uint64_t calibration_frames = 0;  // other non-image frames consumed
+  std::uint64_t startup_frames = 0;
+  std::uint64_t start_failures = 0;      // start-up sequences that did not complete
+};
+
+class SeekSource final : public FrameSource {
+ public:
+  SeekSource(VendorUsbTransport& transport, const SeekModel& model, const SeekSourceConfig& config = {});
+  ~SeekSource() override;  // leaves the camera in operation mode 0
+  SourceFormat format() const override;
+  StreamStatus stream_frame(fw::LineSink& sink) override;
+  SourceStats stats() const override { return stats_; }
+
+  // Closes the shutter for a calibration (an FFC event the stream then reports).
+  bool request_shutter();
+  const SeekCounters& counters() const { return counters_; }
+  std::span<const std::uint8_t> dead_map() const { return parser_.dead_map(); }
+  std::uint32_t dead_pixels() const { return parser_.dead_map_count(); }
+  std::span<const std::uint8_t> firmware_info() const { return {firmware_, sizeof firmware_}; }
+  std::span<const std::uint8_t> chip_id() const { return {chip_id_, sizeof chip_id_}; }
+
+ private:
+  enum class Read : std::uint8_t { frame, lost, gone };
+  bool start();
+  Read read_frame(std::int64_t& arrival_ns);
+  StreamStatus device_gone();
+
+  VendorUsbTransport& transport_;
+  SeekSourceConfig config_;
+  SeekFrameParser parser_;
+  std::vector<std::uint8_t> chunk_;
+  bool started_ = false;
+  bool ffc_pending_ = false;
+  std::uint64_t sequence_ = 0;
+  std::uint8_t firmware_[4] = {};
+  std::uint8_t chip_id_[12] = {};
+  SeekCounters counters_;
+  SourceStats stats_;
+};
+
+}  // namespace bolo::hal

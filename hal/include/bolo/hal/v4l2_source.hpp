@@ -1,0 +1,74 @@
+#pragma once
+// A UVC Y16 camera through V4L2 (FLIR Lepton on PureThermal, FLIR Boson): format negotiation
+// (Y16; for a 160-wide Lepton the 160x122 size with two telemetry rows when offered), mmap
+// streaming over a ring of buffers, the driver's sequence numbers for dropped-frame detection,
+// its timestamps, telemetry (FFC, FPA and housing temperature) where the format carries it.
+// Host code: the constructor throws std::runtime_error naming the device; streaming never throws
+// (faults are counted, an unplugged camera is reopened within reconnect_timeout_ms).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bolo/hal/frame_source.hpp"
+#include "bolo/hal/lepton_telemetry.hpp"
+
+namespace bolo::hal {
+
+enum class TelemetryRows : std::uint8_t { automatic, on, off };
+
+struct V4l2Config {
+  std::string path;              // /dev/videoN
+  std::uint32_t width = 0;       // 0 = the largest Y16 size offered
+  std::uint32_t height = 0;      // image rows (telemetry rows come on top)
+  TelemetryRows telemetry = TelemetryRows::automatic;
+  std::uint32_t buffers = 4;
+  std::uint32_t timeout_ms = 1000;
+  std::uint32_t reconnect_timeout_ms = 2000;
+};
+
+struct V4l2Negotiated {
+  std::string driver, card;
+  std::uint32_t width = 0, image_rows = 0, telemetry_rows = 0, bytes_per_line = 0;
+  std::uint32_t buffers = 0;
+  std::uint32_t frame_period_ns = 0;
+};
+
+class V4l2Source final : public FrameSource {
+ public:
+  explicit V4l2Source(const V4l2Config& config);
+  ~V4l2Source() override;
+  SourceFormat format() const override;
+  StreamStatus stream_frame(fw::LineSink& sink) override;
+  SourceStats stats() const override { return stats_; }
+  const V4l2Negotiated& negotiated() const { return negotiated_; }
+  const LeptonTelemetry& last_telemetry() const { return telemetry_; }
+
+  struct Device;
+
+ private:
+  StreamStatus lost_device();
+
+  V4l2Config config_;
+  std::unique_ptr<Device> device_;
+  V4l2Negotiated negotiated_;
+  std::vector<std::uint16_t> line_;
+  bool have_sequence_ = false;
+  std::uint32_t last_driver_sequence_ = 0;
+  std::uint64_t sequence_offset_ = 0;  // keeps sequences increasing across a reopen
+  std::uint64_t last_sequence_ = 0;
+  bool have_ffc_stamp_ = false;
+  std::uint32_t last_ffc_ms_ = 0;
+  LeptonTelemetry telemetry_;
+  SourceStats stats_;
+};
+
+struct V4l2DeviceEntry {
+  std::string path, card, driver;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> y16_sizes;  // width, height
+};
+// /dev/video* capture nodes that offer Y16.
+std::vector<V4l2DeviceEntry> list_v4l2_y16_devices();
+
+}  // namespace bolo::hal

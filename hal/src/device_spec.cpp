@@ -1,0 +1,83 @@
+#include "bolo/hal/device_spec.hpp"
+
+#include <charconv>
+#include <stdexcept>
+
+namespace bolo::hal {
+namespace {
+
+bool starts_with(const std::string& s, const char* prefix, std::string& rest) {
+  const std::string p(prefix);
+  if (s.rfind(p, 0) != 0) return false;
+  rest = s.substr(p.size());
+  return true;
+}
+
+int line_number(const std::string& key, const std::string& value) {
+  int n = -1;
+  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), n);
+  if (ec != std::errc() || end != value.data() + value.size() || n < 0 || n > 4095)
+    throw std::invalid_argument(key + "=" + value + ": expected a line number 0..4095");
+  return n;
+}
+
+}  // namespace
+
+DeviceSpec parse_device_spec(const std::string& text) {
+  DeviceSpec spec;
+  std::string rest;
+  if (starts_with(text, "v4l2:", rest)) {
+    spec.kind = DeviceKind::v4l2;
+    if (rest.empty()) throw std::invalid_argument("v4l2: needs a device node, e.g. v4l2:/dev/video0");
+    spec.path = rest;
+  } else if (text == "usb:flirone") {
+    spec.kind = DeviceKind::usb_flirone;
+  } else if (text == "usb:seek") {
+    spec.kind = DeviceKind::usb_seek;
+  } else if (starts_with(text, "file:", rest)) {
+    spec.kind = DeviceKind::file;
+    if (rest.empty()) throw std::invalid_argument("file: needs a recording folder, e.g. file:rec");
+    spec.path = rest;
+  } else if (starts_with(text, "flirone-log:", rest)) {
+    spec.kind = DeviceKind::flirone_log;
+    if (rest.empty()) throw std::invalid_argument("flirone-log: needs a transfer-log folder");
+    spec.path = rest;
+  } else if (starts_with(text, "usb:", rest)) {
+    throw std::invalid_argument("unknown USB camera '" + rest + "' (known: usb:flirone, usb:seek)");
+  } else {
+    throw std::invalid_argument(
+        "unknown device (expected v4l2:/dev/videoN, usb:flirone, usb:seek, file:REC or flirone-log:DIR)");
+  }
+  return spec;
+}
+
+GpioConfig parse_gpio_spec(const std::string& text) {
+  GpioConfig c;
+  const std::size_t colon = text.find(':');
+  c.chip = text.substr(0, colon);
+  if (c.chip.empty()) throw std::invalid_argument("expected CHIP:sync=N,shutter=N,imminent=N");
+  if (colon == std::string::npos) throw std::invalid_argument("no lines given (sync=N, shutter=N, imminent=N)");
+  std::size_t at = colon + 1;
+  while (at <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', at), text.size());
+    const std::string item = text.substr(at, comma - at);
+    const std::size_t eq = item.find('=');
+    const std::string key = item.substr(0, eq), value = eq == std::string::npos ? "" : item.substr(eq + 1);
+    if (key == "sync") c.sync_line = line_number(key, value);
+    else if (key == "shutter") c.shutter_line = line_number(key, value);
+    else if (key == "imminent") c.ffc_imminent_line = line_number(key, value);
+    else throw std::invalid_argument("'" + item + "': expected sync=N, shutter=N or imminent=N");
+    at = comma + 1;
+  }
+  return c;
+}
+
+bool usb_backend_available() {
+#if defined(BOLO_HAVE_LIBUSB)
+  return true;
+#else
+  return false;
+#endif
+}
+
+}  // namespace bolo::hal

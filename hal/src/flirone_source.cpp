@@ -1,0 +1,115 @@
+#include "bolo/hal/flirone_source.hpp"
+
+namespace bolo::hal {
+
+FlirOneSource::FlirOneSource(BulkInTransport& transport, const FlirOneSourceConfig& config)
+    : transport_(transport),
+      config_(config),
+      reassembler_(config.max_frame_bytes, config.verify_crc),
+      transfer_(config.transfer_bytes) {}
+
+SourceFormat FlirOneSource::format() const {
+  SourceFormat f;
+  f.width = flirone::kWidth;
+  f.height = flirone::kHeight;
+  f.bits = 14;
+  f.frame_period_ns = 116279070;  // ~8.6 frames/s exported
+  return f;
+}
+
+bool FlirOneSource::lost_frames_since(const FlirOneCounters& before) {
+  const FlirOneCounters& now = reassembler_.counters();
+  const std::uint64_t truncated = now.truncated - before.truncated;
+  const std::uint64_t corrupt = (now.bad_header - before.bad_header) +
+                                (now.bad_row_id - before.bad_row_id) +
+                                (now.bad_crc - before.bad_crc);
+  stats_.short_transfers += truncated;
+  stats_.corrupt_transfers += corrupt;
+  sequence_ += truncated + corrupt;
+  return truncated + corrupt > 0;
+}
+
+StreamStatus FlirOneSource::stream_frame(fw::LineSink& sink) {
+  for (;;) {
+    FlirOneCounters before = reassembler_.counters();
+    if (reassembler_.poll()) {
+      lost_frames_since(before);
+      const StreamStatus s = deliver(sink, 0);
+      if (s != StreamStatus::end_of_stream) return s;
+      continue;  // a skipped duplicate
+    }
+    if (lost_frames_since(before)) return StreamStatus::fault;
+
+    const Transfer t = transport_.next(transfer_, config_.transfer_timeout_ms);
+    switch (t.status) {
+      case TransferStatus::ok: break;
+      case TransferStatus::end: return StreamStatus::end_of_stream;
+      case TransferStatus::timeout:
+        ++stats_.timeouts;
+        if (reassembler_.buffered() > 0) ++sequence_;
+        reassembler_.reset();
+        return StreamStatus::fault;
+      case TransferStatus::error:
+        ++stats_.corrupt_transfers;
+        if (reassembler_.buffered() > 0) ++sequence_;
+        reassembler_.reset();
+        return StreamStatus::fault;
+      case TransferStatus::disconnected:
+        ++stats_.disconnects;
+        ++sequence_;  // a gap: nothing before the unplug is a predecessor of what follows
+        reassembler_.reset();
+        have_previous_ = false;  // the core restarts: no predecessor across an unplug
+        if (transport_.reconnect(config_.reconnect_timeout_ms)) ++stats_.reconnects;
+        return StreamStatus::fault;
+    }
+    before = reassembler_.counters();
+    const bool whole = reassembler_.push_transfer(std::span<const std::uint8_t>(transfer_.data(), t.bytes));
+    const bool lost = lost_frames_since(before);
+    if (whole) {
+      const StreamStatus s = deliver(sink, t.arrival_ns);
+      if (s != StreamStatus::end_of_stream) return s;
+    }
+    if (lost) return StreamStatus::fault;
+  }
+}
+
+// end_of_stream here means "nothing delivered, keep going" (a skipped duplicate).
+StreamStatus FlirOneSource::deliver(fw::LineSink& sink, std::int64_t arrival_ns) {
+  const FlirOneFrame& f = reassembler_.frame();
+  const std::uint32_t counter = f.lepton.frame_counter;
+  const bool duplicate = have_previous_ && counter == previous_counter_;
+  if (duplicate) ++stats_.duplicates;
+  if (duplicate && config_.skip_duplicates) return StreamStatus::end_of_stream;
+
+  fw::FrameHeader header;
+  header.width = flirone::kWidth;
+  header.height = flirone::kHeight;
+  header.sequence = sequence_++;
+  header.sequence_valid = true;
+  if (config_.clock == FlirOneClock::camera) {
+    header.timestamp_valid = f.status_ok && f.status.has_usb_timestamp;
+    header.timestamp_ns = header.timestamp_valid ? f.status.usb_timestamp_ns : 0;
+  } else {
+    header.timestamp_valid = arrival_ns != 0;
+    header.timestamp_ns = arrival_ns;
+  }
+  // The core stamps every shutter event with its time: a new stamp means one happened since the
+  // previous frame.
+  header.ffc = have_previous_ && f.lepton.time_at_last_ffc_ms != previous_ffc_ms_
+                   ? fw::FfcState::completed
+                   : fw::FfcState::none;
+  header.fpa_temp_mc = centikelvin_to_mc(f.lepton.fpa_temp_ck);
+  header.housing_temp_mc = centikelvin_to_mc(f.lepton.housing_temp_ck);
+  have_previous_ = true;
+  previous_counter_ = counter;
+  previous_ffc_ms_ = f.lepton.time_at_last_ffc_ms;
+
+  sink.begin_frame(header);
+  for (std::uint32_t row = 0; row < flirone::kHeight; ++row)
+    sink.push_line(row, fw::LineView(&f.pixels[row * flirone::kWidth], flirone::kWidth));
+  sink.end_frame();
+  ++stats_.frames_delivered;
+  return StreamStatus::frame;
+}
+
+}  // namespace bolo::hal

@@ -1,0 +1,58 @@
+#include "bolo/hal/seek_frame_parser.hpp"
+
+#include <cstring>
+
+namespace bolo::hal {
+
+SeekFrameKind seek_frame_kind(std::uint16_t type) {
+  switch (type) {
+    case 3: return SeekFrameKind::image;
+    case 1: return SeekFrameKind::shutter;
+    case 4: return SeekFrameKind::startup;
+    case 6: return SeekFrameKind::before_calibration;
+    case 20: return SeekFrameKind::after_calibration;
+    case 7:
+    case 8: return SeekFrameKind::startup_calibration;
+    default: return SeekFrameKind::other;
+  }
+}
+
+SeekFrameParser::SeekFrameParser(const SeekModel& model)
+    : model_(model),
+      bytes_(model.frame_bytes()),
+      words_(model.pixels()),
+      dead_(std::size_t{model.width} * model.image_height()) {}
+
+SeekChunk SeekFrameParser::add_chunk(std::span<const std::uint8_t> chunk) {
+  if (chunk.empty()) return SeekChunk::aborted;
+  if (chunk.size() > bytes_.size() - have_) {
+    have_ = 0;
+    return SeekChunk::overflow;
+  }
+  std::memcpy(bytes_.data() + have_, chunk.data(), chunk.size());
+  have_ += chunk.size();
+  return have_ == bytes_.size() ? SeekChunk::complete : SeekChunk::need_more;
+}
+
+bool SeekFrameParser::parse(std::span<const std::uint8_t> frame, SeekFrameInfo& info) {
+  if (frame.size() != bytes_.size()) return false;
+  for (std::size_t i = 0; i < words_.size(); ++i)
+    words_[i] = static_cast<std::uint16_t>(frame[2 * i] | (frame[2 * i + 1] << 8));
+  SeekFrameInfo out;
+  out.type = words_[model_.type_word];
+  out.counter = words_[model_.counter_word];
+  out.kind = seek_frame_kind(out.type);
+  const std::size_t image_start = std::size_t{model_.header_rows} * model_.width;
+  const bool startup = out.kind == SeekFrameKind::startup;
+  for (std::size_t i = 0; i < dead_.size(); ++i) {
+    const std::uint16_t v = words_[image_start + i];
+    const bool dead = v == 0x0000 || v == 0xFFFF;
+    out.dead_pixels += dead ? 1u : 0u;
+    if (startup) dead_[i] = dead ? 1 : 0;
+  }
+  if (startup) dead_count_ = out.dead_pixels;
+  info = out;
+  return true;
+}
+
+}  // namespace bolo::hal

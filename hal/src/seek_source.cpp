@@ -1,0 +1,136 @@
+#include "bolo/hal/seek_source.hpp"
+
+namespace bolo::hal {
+namespace {
+
+bool ok(const Transfer& t) { return t.status == TransferStatus::ok; }
+
+}  // namespace
+
+SeekSource::SeekSource(VendorUsbTransport& transport, const SeekModel& model, const SeekSourceConfig& config)
+    : transport_(transport), config_(config), parser_(model), chunk_(model.chunk_bytes) {}
+
+SeekSource::~SeekSource() {
+  if (started_) {
+    const std::uint8_t idle[2] = {0, 0};
+    transport_.control_out(seek::kSetOperationMode, idle);
+  }
+}
+
+SourceFormat SeekSource::format() const {
+  SourceFormat f;
+  f.width = parser_.model().width;
+  f.height = parser_.model().image_height();
+  f.bits = 16;
+  f.frame_period_ns = 1'000'000'000u / parser_.model().max_fps;
+  return f;
+}
+
+// The start-up sequence of usb-thermal-cores.md. The factory-settings write/read pairs are not
+// sent: the facts do not give their payloads.
+bool SeekSource::start() {
+  const std::uint8_t platform[1] = {1}, idle[2] = {0, 0}, processing[2] = {8, 0}, run[2] = {1, 0};
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    if (!ok(transport_.control_out(seek::kTargetPlatform, platform))) {
+      transport_.control_out(seek::kSetOperationMode, idle);  // close, then try once more
+      continue;
+    }
+    if (ok(transport_.control_out(seek::kSetOperationMode, idle)) &&
+        ok(transport_.control_in(seek::kGetFirmwareInfo, firmware_)) &&
+        ok(transport_.control_in(seek::kReadChipId, chip_id_)) &&
+        ok(transport_.control_out(seek::kSetImageProcessingMode, processing)) &&
+        ok(transport_.control_out(seek::kSetOperationMode, run))) {
+      started_ = true;
+      return true;
+    }
+  }
+  ++counters_.start_failures;
+  return false;
+}
+
+bool SeekSource::request_shutter() {
+  const std::uint8_t toggle[4] = {0xFC, 0x00, 0x04, 0x00};
+  return ok(transport_.control_out(seek::kToggleShutter, toggle));
+}
+
+SeekSource::Read SeekSource::read_frame(std::int64_t& arrival_ns) {
+  const std::uint32_t pixels = parser_.model().pixels();
+  const std::uint8_t count[4] = {static_cast<std::uint8_t>(pixels), static_cast<std::uint8_t>(pixels >> 8),
+                                 static_cast<std::uint8_t>(pixels >> 16), static_cast<std::uint8_t>(pixels >> 24)};
+  const Transfer request = transport_.control_out(seek::kStartGetImageTransfer, count);
+  if (request.status == TransferStatus::disconnected) return Read::gone;
+  if (!ok(request)) {
+    ++stats_.corrupt_transfers;
+    return Read::lost;
+  }
+  parser_.begin();
+  for (;;) {
+    const Transfer t = transport_.next(chunk_, config_.transfer_timeout_ms);
+    switch (t.status) {
+      case TransferStatus::ok: break;
+      case TransferStatus::timeout: ++stats_.timeouts; return Read::lost;
+      case TransferStatus::error: ++stats_.corrupt_transfers; return Read::lost;
+      case TransferStatus::disconnected:
+      case TransferStatus::end: return Read::gone;
+    }
+    switch (parser_.add_chunk({chunk_.data(), t.bytes})) {
+      case SeekChunk::need_more: continue;
+      case SeekChunk::complete: arrival_ns = t.arrival_ns; return Read::frame;
+      case SeekChunk::aborted: ++stats_.short_transfers; return Read::lost;
+      case SeekChunk::overflow: ++stats_.corrupt_transfers; return Read::lost;
+    }
+  }
+}
+
+StreamStatus SeekSource::device_gone() {
+  ++stats_.disconnects;
+  started_ = false;
+  ++sequence_;
+  if (transport_.reconnect(config_.reconnect_timeout_ms)) {
+    ++stats_.reconnects;
+    start();
+  }
+  return StreamStatus::fault;
+}
+
+StreamStatus SeekSource::stream_frame(fw::LineSink& sink) {
+  if (!started_ && !start()) return StreamStatus::fault;
+  for (std::uint32_t n = 0; n < config_.max_frames_without_image; ++n) {
+    std::int64_t arrival_ns = 0;
+    const Read r = read_frame(arrival_ns);
+    if (r == Read::gone) return device_gone();
+    if (r == Read::lost) {
+      ++sequence_;
+      return StreamStatus::fault;
+    }
+    SeekFrameInfo info;
+    parser_.parse_received(info);
+    switch (info.kind) {
+      case SeekFrameKind::image: break;
+      case SeekFrameKind::shutter:
+        ++counters_.shutter_frames;
+        ffc_pending_ = true;
+        continue;
+      case SeekFrameKind::startup: ++counters_.startup_frames; continue;
+      default: ++counters_.calibration_frames; continue;
+    }
+    fw::FrameHeader header;
+    header.width = parser_.model().width;
+    header.height = parser_.model().image_height();
+    header.sequence = sequence_++;
+    header.sequence_valid = true;
+    header.timestamp_ns = arrival_ns;
+    header.timestamp_valid = arrival_ns != 0;
+    header.ffc = ffc_pending_ ? fw::FfcState::completed : fw::FfcState::none;
+    ffc_pending_ = false;
+    sink.begin_frame(header);
+    for (std::uint32_t row = 0; row < header.height; ++row) sink.push_line(row, parser_.image_row(row));
+    sink.end_frame();
+    ++stats_.frames_delivered;
+    return StreamStatus::frame;
+  }
+  ++stats_.corrupt_transfers;  // a device that never sends an image is not delivering frames
+  return StreamStatus::fault;
+}
+
+}  // namespace bolo::hal

@@ -1,0 +1,392 @@
+#include "bolo/hal/usb_libusb.hpp"
+
+#include <libusb.h>
+#include <time.h>
+
+#include <chrono>
+#include <cstring>
+#include <deque>
+#include <stdexcept>
+#include <thread>
+
+#include "bolo/hal/seek_frame_parser.hpp"
+
+namespace bolo::hal {
+namespace {
+
+std::int64_t monotonic_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+std::string hex4(std::uint16_t v) {
+  char s[8];
+  std::snprintf(s, sizeof s, "%04x", v);
+  return s;
+}
+
+constexpr std::uint8_t kVendorOut = 0x40 | 0x01;  // host-to-device, vendor, interface
+constexpr std::uint8_t kVendorIn = 0x80 | 0x40;   // device-to-host, vendor (| recipient)
+constexpr std::uint8_t kRecipientInterface = 0x01, kRecipientDevice = 0x00;
+
+TransferStatus status_of(int libusb_error) {
+  switch (libusb_error) {
+    case LIBUSB_SUCCESS: return TransferStatus::ok;
+    case LIBUSB_ERROR_TIMEOUT: return TransferStatus::timeout;
+    case LIBUSB_ERROR_NO_DEVICE: return TransferStatus::disconnected;
+    default: return TransferStatus::error;
+  }
+}
+
+}  // namespace
+
+struct LibusbTransport::Impl {
+  struct Slot {
+    libusb_transfer* transfer = nullptr;
+    std::vector<std::uint8_t> buffer;
+    bool busy = false;
+    Impl* owner = nullptr;
+  };
+  struct Done {
+    Slot* slot;
+    TransferStatus status;
+    std::size_t bytes;
+    std::int64_t arrival_ns;
+  };
+
+  LibusbConfig config;
+  libusb_context* ctx = nullptr;
+  libusb_device_handle* handle = nullptr;
+  std::vector<int> claimed;
+  std::uint8_t endpoint = 0;
+  std::vector<Slot> slots;
+  std::deque<Done> done;
+  bool gone = false;
+
+  static void LIBUSB_CALL on_complete(libusb_transfer* t) {
+    Slot* slot = static_cast<Slot*>(t->user_data);
+    slot->busy = false;
+    TransferStatus s = TransferStatus::error;
+    switch (t->status) {
+      case LIBUSB_TRANSFER_COMPLETED: s = TransferStatus::ok; break;
+      case LIBUSB_TRANSFER_TIMED_OUT: s = TransferStatus::timeout; break;
+      case LIBUSB_TRANSFER_NO_DEVICE: s = TransferStatus::disconnected; break;
+      case LIBUSB_TRANSFER_CANCELLED: return;  // closing: nobody waits for it
+      default: s = TransferStatus::error; break;
+    }
+    if (s == TransferStatus::disconnected) slot->owner->gone = true;
+    slot->owner->done.push_back({slot, s, static_cast<std::size_t>(t->actual_length), monotonic_ns()});
+  }
+
+  // Opens the first matching device; false when there is none (or it cannot be opened yet).
+  bool open(LibusbOpened& opened, std::string& why) {
+    libusb_device** list = nullptr;
+    const ssize_t n = libusb_get_device_list(ctx, &list);
+    libusb_device* found = nullptr;
+    libusb_device_descriptor desc{};
+    for (ssize_t i = 0; i < n && !found; ++i) {
+      if (libusb_get_device_descriptor(list[i], &desc) != 0 || desc.idVendor != config.vendor_id) continue;
+      for (std::uint16_t pid : config.product_ids)
+        if (desc.idProduct == pid) found = list[i];
+    }
+    if (!found) {
+      libusb_free_device_list(list, 1);
+      why = "no device";
+      return false;
+    }
+    int rc = libusb_open(found, &handle);
+    if (rc != 0) {
+      libusb_free_device_list(list, 1);
+      why = libusb_error_name(rc);
+      handle = nullptr;
+      return false;
+    }
+    opened.vendor_id = desc.idVendor;
+    opened.product_id = desc.idProduct;
+    opened.bus = libusb_get_bus_number(found);
+    opened.address = libusb_get_device_address(found);
+    if (!find_endpoint(found, opened)) {
+      libusb_free_device_list(list, 1);
+      close();
+      why = "no bulk IN endpoint in the configuration descriptor";
+      return false;
+    }
+    libusb_free_device_list(list, 1);
+    libusb_set_auto_detach_kernel_driver(handle, 1);
+    for (int iface : interfaces_to_claim()) {
+      rc = libusb_claim_interface(handle, iface);
+      if (rc != 0) {
+        close();
+        why = std::string("claiming interface ") + std::to_string(iface) + ": " + libusb_error_name(rc);
+        return false;
+      }
+      claimed.push_back(iface);
+    }
+    for (const ControlStep& s : config.start) {
+      rc = libusb_control_transfer(handle, s.request_type, s.request, s.value, s.index, nullptr, 0, 1000);
+      if (rc < 0) {
+        close();
+        why = std::string("start request ") + std::to_string(s.request) + ": " + libusb_error_name(rc);
+        return false;
+      }
+    }
+    gone = false;
+    endpoint = opened.endpoint;
+    return true;
+  }
+
+  std::vector<int> interfaces_to_claim() {
+    std::vector<int> out;
+    if (!config.claim_all_interfaces) return {0};
+    libusb_config_descriptor* cfg = nullptr;
+    if (libusb_get_active_config_descriptor(libusb_get_device(handle), &cfg) != 0) return {0};
+    for (int i = 0; i < cfg->bNumInterfaces; ++i)
+      if (cfg->interface[i].num_altsetting > 0) out.push_back(cfg->interface[i].altsetting[0].bInterfaceNumber);
+    libusb_free_config_descriptor(cfg);
+    return out;
+  }
+
+  // The first bulk IN endpoint of each interface; the configuration picks the lowest or the
+  // highest interface that has one.
+  bool find_endpoint(libusb_device* dev, LibusbOpened& opened) {
+    libusb_config_descriptor* cfg = nullptr;
+    if (libusb_get_active_config_descriptor(dev, &cfg) != 0 &&
+        libusb_get_config_descriptor(dev, 0, &cfg) != 0)
+      return false;
+    for (int i = 0; i < cfg->bNumInterfaces; ++i) {
+      if (cfg->interface[i].num_altsetting < 1) continue;
+      const libusb_interface_descriptor& alt = cfg->interface[i].altsetting[0];
+      for (int e = 0; e < alt.bNumEndpoints; ++e) {
+        const libusb_endpoint_descriptor& ep = alt.endpoint[e];
+        const bool bulk_in = (ep.bEndpointAddress & LIBUSB_ENDPOINT_IN) &&
+                             (ep.bmAttributes & LIBUSB_TRANSFER_TYPE_MASK) == LIBUSB_TRANSFER_TYPE_BULK;
+        if (!bulk_in) continue;
+        const bool better = opened.endpoint == 0 ||
+                            (config.endpoint == EndpointChoice::last_bulk_in
+                                 ? alt.bInterfaceNumber > opened.interface_number
+                                 : alt.bInterfaceNumber < opened.interface_number);
+        if (better) {
+          opened.interface_number = alt.bInterfaceNumber;
+          opened.endpoint = ep.bEndpointAddress;
+        }
+        break;
+      }
+    }
+    libusb_free_config_descriptor(cfg);
+    return opened.endpoint != 0;
+  }
+
+  void cancel_all() {
+    for (Slot& s : slots)
+      if (s.busy) libusb_cancel_transfer(s.transfer);
+    for (int spins = 0; spins < 100; ++spins) {
+      bool any = false;
+      for (Slot& s : slots) any = any || s.busy;
+      if (!any) break;
+      timeval tv{0, 10000};
+      libusb_handle_events_timeout_completed(ctx, &tv, nullptr);
+    }
+    done.clear();
+  }
+
+  void close() {
+    if (!handle) return;
+    cancel_all();
+    for (int iface : claimed) libusb_release_interface(handle, iface);
+    claimed.clear();
+    libusb_close(handle);
+    handle = nullptr;
+  }
+
+  bool submit(Slot& s, std::uint32_t timeout_ms) {
+    libusb_fill_bulk_transfer(s.transfer, handle, endpoint, s.buffer.data(), static_cast<int>(s.buffer.size()),
+                              on_complete, &s, config.streaming ? 0 : timeout_ms);
+    const int rc = libusb_submit_transfer(s.transfer);
+    if (rc == LIBUSB_ERROR_NO_DEVICE) gone = true;
+    s.busy = rc == 0;
+    return s.busy;
+  }
+};
+
+LibusbTransport::LibusbTransport(const LibusbConfig& config) : impl_(std::make_unique<Impl>()) {
+  impl_->config = config;
+  if (libusb_init(&impl_->ctx) != 0) throw std::runtime_error("libusb: cannot initialise");
+  const int count = config.streaming ? (config.in_flight < 1 ? 1 : config.in_flight) : 1;
+  impl_->slots.resize(static_cast<std::size_t>(count));
+  for (auto& s : impl_->slots) {
+    s.transfer = libusb_alloc_transfer(0);
+    s.buffer.resize(config.transfer_bytes);
+    s.owner = impl_.get();
+  }
+  std::string why;
+  if (!impl_->open(opened_, why)) {
+    std::string pids;
+    for (auto p : config.product_ids) {
+      if (!pids.empty()) pids += '/';
+      pids += hex4(p);
+    }
+    const std::string message = "usb " + hex4(config.vendor_id) + ":" + pids + ": " + why;
+    for (auto& s : impl_->slots) libusb_free_transfer(s.transfer);
+    libusb_exit(impl_->ctx);
+    throw std::runtime_error(message);
+  }
+}
+
+LibusbTransport::~LibusbTransport() {
+  impl_->close();
+  for (auto& s : impl_->slots) libusb_free_transfer(s.transfer);
+  libusb_exit(impl_->ctx);
+}
+
+Transfer LibusbTransport::next(std::span<std::uint8_t> buffer, std::uint32_t timeout_ms) {
+  Impl& m = *impl_;
+  Transfer out;
+  if (!m.handle || m.gone) {
+    out.status = TransferStatus::disconnected;
+    return out;
+  }
+  if (m.done.empty()) {
+    for (auto& s : m.slots)
+      if (!s.busy && !m.submit(s, timeout_ms) && m.gone) {
+        out.status = TransferStatus::disconnected;
+        return out;
+      }
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (m.done.empty()) {
+      const auto left = deadline - std::chrono::steady_clock::now();
+      if (left <= std::chrono::steady_clock::duration::zero()) {
+        if (!m.config.streaming) m.cancel_all();
+        out.status = TransferStatus::timeout;
+        return out;
+      }
+      const auto us = std::chrono::duration_cast<std::chrono::microseconds>(left).count();
+      timeval tv{static_cast<time_t>(us / 1'000'000), static_cast<suseconds_t>(us % 1'000'000)};
+      const int rc = libusb_handle_events_timeout_completed(m.ctx, &tv, nullptr);
+      if (rc == LIBUSB_ERROR_NO_DEVICE) m.gone = true;
+      if (m.gone && m.done.empty()) {
+        out.status = TransferStatus::disconnected;
+        return out;
+      }
+    }
+  }
+  const Impl::Done d = m.done.front();
+  m.done.pop_front();
+  out.status = d.status;
+  out.arrival_ns = d.arrival_ns;
+  if (d.status == TransferStatus::ok) {
+    if (d.bytes > buffer.size()) {
+      out.status = TransferStatus::error;
+    } else {
+      std::memcpy(buffer.data(), d.slot->buffer.data(), d.bytes);
+      out.bytes = d.bytes;
+    }
+  }
+  if (m.config.streaming && !m.gone) m.submit(*d.slot, timeout_ms);
+  return out;
+}
+
+bool LibusbTransport::reconnect(std::uint32_t timeout_ms) {
+  Impl& m = *impl_;
+  m.close();
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  for (;;) {
+    LibusbOpened opened;
+    std::string why;
+    if (m.open(opened, why)) {
+      opened_ = opened;
+      return true;
+    }
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
+Transfer LibusbTransport::control_out(std::uint8_t request, std::span<const std::uint8_t> data) {
+  Transfer out;
+  if (!impl_->handle) {
+    out.status = TransferStatus::disconnected;
+    return out;
+  }
+  const int rc = libusb_control_transfer(
+      impl_->handle, kVendorOut, request, 0, 0,
+      const_cast<unsigned char*>(data.data()), static_cast<std::uint16_t>(data.size()), 1000);
+  out.status = rc < 0 ? status_of(rc) : TransferStatus::ok;
+  out.bytes = rc < 0 ? 0 : static_cast<std::size_t>(rc);
+  if (out.status == TransferStatus::disconnected) impl_->gone = true;
+  return out;
+}
+
+// Public drivers read with the interface or the device as recipient: try one, then the other.
+Transfer LibusbTransport::control_in(std::uint8_t request, std::span<std::uint8_t> data) {
+  Transfer out;
+  if (!impl_->handle) {
+    out.status = TransferStatus::disconnected;
+    return out;
+  }
+  int rc = LIBUSB_ERROR_PIPE;
+  for (std::uint8_t recipient : {kRecipientInterface, kRecipientDevice}) {
+    rc = libusb_control_transfer(impl_->handle, static_cast<std::uint8_t>(kVendorIn | recipient),
+                                 request, 0, 0, data.data(), static_cast<std::uint16_t>(data.size()), 1000);
+    if (rc >= 0 || rc == LIBUSB_ERROR_NO_DEVICE) break;
+  }
+  out.status = rc < 0 ? status_of(rc) : TransferStatus::ok;
+  out.bytes = rc < 0 ? 0 : static_cast<std::size_t>(rc);
+  if (out.status == TransferStatus::disconnected) impl_->gone = true;
+  return out;
+}
+
+LibusbConfig flirone_libusb_config() {
+  LibusbConfig c;
+  c.vendor_id = 0x09cb;
+  c.product_ids = {0x1996};
+  c.endpoint = EndpointChoice::last_bulk_in;
+  c.claim_all_interfaces = true;
+  c.streaming = true;
+  c.transfer_bytes = 64 * 1024;
+  c.in_flight = 4;
+  return c;
+}
+
+LibusbConfig seek_libusb_config() {
+  LibusbConfig c;
+  c.vendor_id = kSeekVendorId;
+  c.product_ids = {kSeekCompact.product_id, kSeekCompactPro.product_id};
+  c.endpoint = EndpointChoice::first_bulk_in;
+  c.streaming = false;
+  c.transfer_bytes = kSeekCompact.chunk_bytes > kSeekCompactPro.chunk_bytes ? kSeekCompact.chunk_bytes
+                                                                            : kSeekCompactPro.chunk_bytes;
+  return c;
+}
+
+std::vector<UsbDeviceEntry> list_known_usb_devices() {
+  struct Known {
+    std::uint16_t vid, pid;
+    const char* what;
+  };
+  static constexpr Known kKnown[] = {
+      {0x09cb, 0x1996, "usb:flirone (FLIR ONE Pro)"},
+      {0x289d, 0x0010, "usb:seek (Seek Thermal Compact / CompactXR)"},
+      {0x289d, 0x0011, "usb:seek (Seek Thermal CompactPro / Nano 300)"},
+      {0x1e4e, 0x0100, "PureThermal (FLIR Lepton, UVC: use its v4l2 node)"},
+      {0x09cb, 0x4007, "FLIR Boson control (CDC serial; video through its v4l2 node)"},
+  };
+  std::vector<UsbDeviceEntry> out;
+  libusb_context* ctx = nullptr;
+  if (libusb_init(&ctx) != 0) return out;
+  libusb_device** list = nullptr;
+  const ssize_t n = libusb_get_device_list(ctx, &list);
+  for (ssize_t i = 0; i < n; ++i) {
+    libusb_device_descriptor d{};
+    if (libusb_get_device_descriptor(list[i], &d) != 0) continue;
+    for (const Known& k : kKnown)
+      if (k.vid == d.idVendor && k.pid == d.idProduct)
+        out.push_back({d.idVendor, d.idProduct, libusb_get_bus_number(list[i]),
+                       libusb_get_device_address(list[i]), k.what});
+  }
+  if (n >= 0) libusb_free_device_list(list, 1);
+  libusb_exit(ctx);
+  return out;
+}
+
+}  // namespace bolo::hal

@@ -1,0 +1,305 @@
+#include "bolo/hal/v4l2_source.hpp"
+
+#include <fcntl.h>
+#include <linux/videodev2.h>
+#include <poll.h>
+#include <sys/ioctl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <thread>
+
+#include "bolo/hal/y16_frame.hpp"
+
+namespace bolo::hal {
+namespace {
+
+int xioctl(int fd, unsigned long request, void* arg) {
+  int rc;
+  do rc = ::ioctl(fd, request, arg);
+  while (rc == -1 && errno == EINTR);
+  return rc;
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> y16_sizes(int fd) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> sizes;
+  bool has_y16 = false;
+  v4l2_fmtdesc desc{};
+  desc.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  for (desc.index = 0; xioctl(fd, VIDIOC_ENUM_FMT, &desc) == 0; ++desc.index)
+    has_y16 = has_y16 || desc.pixelformat == V4L2_PIX_FMT_Y16;
+  if (!has_y16) return sizes;
+  v4l2_frmsizeenum size{};
+  size.pixel_format = V4L2_PIX_FMT_Y16;
+  for (size.index = 0; xioctl(fd, VIDIOC_ENUM_FRAMESIZES, &size) == 0; ++size.index) {
+    if (size.type == V4L2_FRMSIZE_TYPE_DISCRETE) {
+      sizes.emplace_back(size.discrete.width, size.discrete.height);
+    } else {
+      sizes.emplace_back(size.stepwise.max_width, size.stepwise.max_height);
+      break;
+    }
+  }
+  if (sizes.empty()) sizes.emplace_back(0, 0);  // Y16 without size enumeration: take S_FMT's answer
+  return sizes;
+}
+
+// The Lepton's telemetry format: 160 wide, two rows more than the 120-row image.
+bool lepton_telemetry_size(std::uint32_t w, std::uint32_t h) { return w == 160 && h == 122; }
+
+}  // namespace
+
+struct V4l2Source::Device {
+  int fd = -1;
+  struct Buffer {
+    void* start = MAP_FAILED;
+    std::size_t length = 0;
+  };
+  std::vector<Buffer> buffers;
+  bool streaming = false;
+
+  ~Device() { close(); }
+  void close() {
+    if (fd < 0) return;
+    if (streaming) {
+      v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+      xioctl(fd, VIDIOC_STREAMOFF, &type);
+    }
+    for (Buffer& b : buffers)
+      if (b.start != MAP_FAILED) ::munmap(b.start, b.length);
+    buffers.clear();
+    ::close(fd);
+    fd = -1;
+    streaming = false;
+  }
+
+  // Opens, negotiates and starts streaming; returns an error message, empty on success.
+  std::string open(const V4l2Config& c, V4l2Negotiated& n) {
+    fd = ::open(c.path.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) return std::string("cannot open: ") + std::strerror(errno);
+    v4l2_capability cap{};
+    if (xioctl(fd, VIDIOC_QUERYCAP, &cap) != 0) return "not a V4L2 device";
+    const std::uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
+    if (!(caps & V4L2_CAP_VIDEO_CAPTURE)) return "not a video capture device";
+    if (!(caps & V4L2_CAP_STREAMING)) return "does not support streaming I/O";
+    n.driver = reinterpret_cast<const char*>(cap.driver);
+    n.card = reinterpret_cast<const char*>(cap.card);
+
+    auto sizes = y16_sizes(fd);
+    if (sizes.empty()) return "offers no Y16 format (raw 16-bit); GREY/UYVY/RGB are display formats";
+    // The largest size that fits the request; with automatic telemetry that is the Lepton's
+    // 160x122 over its 160x120.
+    const bool enumerated = !(sizes.size() == 1 && sizes[0].first == 0);
+    std::pair<std::uint32_t, std::uint32_t> pick{0, 0};
+    bool found = false;
+    for (auto [w, h] : sizes) {
+      const bool tel = lepton_telemetry_size(w, h);
+      const std::uint32_t image_h = tel ? h - 2 : h;
+      if (c.telemetry == TelemetryRows::on && !tel) continue;
+      if (c.telemetry == TelemetryRows::off && tel) continue;
+      if (c.width != 0 && (w != c.width || image_h != c.height)) continue;
+      if (!found || std::uint64_t{w} * h > std::uint64_t{pick.first} * pick.second) pick = {w, h};
+      found = true;
+    }
+    if (enumerated && !found) return "no Y16 size matches the request (see `bolo devices`)";
+
+    v4l2_format fmt{};
+    fmt.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    fmt.fmt.pix.pixelformat = V4L2_PIX_FMT_Y16;
+    fmt.fmt.pix.width = pick.first != 0 ? pick.first : c.width;
+    fmt.fmt.pix.height = pick.second != 0 ? pick.second : c.height;
+    fmt.fmt.pix.field = V4L2_FIELD_NONE;
+    if (xioctl(fd, VIDIOC_S_FMT, &fmt) != 0) return std::string("VIDIOC_S_FMT: ") + std::strerror(errno);
+    if (fmt.fmt.pix.pixelformat != V4L2_PIX_FMT_Y16) return "the driver refused Y16";
+    const bool tel = lepton_telemetry_size(fmt.fmt.pix.width, fmt.fmt.pix.height) && c.telemetry != TelemetryRows::off;
+    n.width = fmt.fmt.pix.width;
+    n.telemetry_rows = tel ? 2 : 0;
+    n.image_rows = fmt.fmt.pix.height - n.telemetry_rows;
+    n.bytes_per_line = fmt.fmt.pix.bytesperline;
+    if (n.width == 0 || n.image_rows == 0) return "the driver reported an empty Y16 frame size";
+
+    v4l2_streamparm parm{};
+    parm.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    if (xioctl(fd, VIDIOC_G_PARM, &parm) == 0 && parm.parm.capture.timeperframe.denominator != 0)
+      n.frame_period_ns = static_cast<std::uint32_t>(1'000'000'000ull * parm.parm.capture.timeperframe.numerator /
+                                                     parm.parm.capture.timeperframe.denominator);
+
+    v4l2_requestbuffers req{};
+    req.count = c.buffers < 2 ? 2 : c.buffers;
+    req.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    req.memory = V4L2_MEMORY_MMAP;
+    if (xioctl(fd, VIDIOC_REQBUFS, &req) != 0 || req.count < 2)
+      return std::string("VIDIOC_REQBUFS (mmap): ") + std::strerror(errno);
+    for (std::uint32_t i = 0; i < req.count; ++i) {
+      v4l2_buffer buf{};
+      buf.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+      buf.memory = V4L2_MEMORY_MMAP;
+      buf.index = i;
+      if (xioctl(fd, VIDIOC_QUERYBUF, &buf) != 0) return std::string("VIDIOC_QUERYBUF: ") + std::strerror(errno);
+      Buffer b;
+      b.length = buf.length;
+      b.start = ::mmap(nullptr, buf.length, PROT_READ | PROT_WRITE, MAP_SHARED, fd, buf.m.offset);
+      if (b.start == MAP_FAILED) return std::string("mmap: ") + std::strerror(errno);
+      buffers.push_back(b);
+      if (xioctl(fd, VIDIOC_QBUF, &buf) != 0) return std::string("VIDIOC_QBUF: ") + std::strerror(errno);
+    }
+    n.buffers = req.count;
+    v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    if (xioctl(fd, VIDIOC_STREAMON, &type) != 0) return std::string("VIDIOC_STREAMON: ") + std::strerror(errno);
+    streaming = true;
+    return {};
+  }
+};
+
+V4l2Source::V4l2Source(const V4l2Config& config) : config_(config), device_(std::make_unique<Device>()) {
+  const std::string why = device_->open(config_, negotiated_);
+  if (!why.empty()) throw std::runtime_error(config_.path + ": " + why);
+  line_.resize(negotiated_.width);
+}
+
+V4l2Source::~V4l2Source() = default;
+
+SourceFormat V4l2Source::format() const {
+  SourceFormat f;
+  f.width = negotiated_.width;
+  f.height = negotiated_.image_rows;
+  f.bits = negotiated_.telemetry_rows > 0 ? 14 : 16;  // Lepton Y16: raw 14-bit counts
+  f.frame_period_ns = negotiated_.frame_period_ns;
+  return f;
+}
+
+StreamStatus V4l2Source::lost_device() {
+  ++stats_.disconnects;
+  device_->close();
+  sequence_offset_ = last_sequence_ + 2;  // a gap: the driver starts again at 0
+  have_sequence_ = false;
+  have_ffc_stamp_ = false;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(config_.reconnect_timeout_ms);
+  while (std::chrono::steady_clock::now() < deadline) {
+    V4l2Negotiated again;
+    if (device_->open(config_, again).empty() && again.width == negotiated_.width &&
+        again.image_rows == negotiated_.image_rows) {
+      negotiated_ = again;
+      ++stats_.reconnects;
+      return StreamStatus::fault;
+    }
+    device_->close();
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return StreamStatus::fault;
+}
+
+StreamStatus V4l2Source::stream_frame(fw::LineSink& sink) {
+  if (device_->fd < 0) return lost_device();
+  pollfd p{device_->fd, POLLIN, 0};
+  const int ready = ::poll(&p, 1, static_cast<int>(config_.timeout_ms));
+  if (ready == 0) {
+    ++stats_.timeouts;
+    return StreamStatus::fault;
+  }
+  if (ready < 0) {
+    if (errno == EINTR) return StreamStatus::fault;
+    return lost_device();
+  }
+  if (p.revents & (POLLERR | POLLHUP | POLLNVAL)) return lost_device();
+
+  v4l2_buffer buf{};
+  buf.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  buf.memory = V4L2_MEMORY_MMAP;
+  if (xioctl(device_->fd, VIDIOC_DQBUF, &buf) != 0) {
+    if (errno == EAGAIN) {
+      ++stats_.timeouts;
+      return StreamStatus::fault;
+    }
+    return lost_device();
+  }
+  struct Requeue {
+    Device& d;
+    v4l2_buffer& b;
+    ~Requeue() { xioctl(d.fd, VIDIOC_QBUF, &b); }
+  } requeue{*device_, buf};
+
+  // Every number the driver skipped is a frame that never arrived.
+  if (have_sequence_ && buf.sequence != last_driver_sequence_ + 1)
+    stats_.dropped += static_cast<std::uint32_t>(buf.sequence - last_driver_sequence_ - 1);
+  have_sequence_ = true;
+  last_driver_sequence_ = buf.sequence;
+  last_sequence_ = sequence_offset_ + buf.sequence;
+
+  if (buf.flags & V4L2_BUF_FLAG_ERROR) {
+    ++stats_.corrupt_transfers;
+    return StreamStatus::fault;
+  }
+  if (buf.index >= device_->buffers.size()) {
+    ++stats_.corrupt_transfers;
+    return StreamStatus::fault;
+  }
+  const Device::Buffer& mem = device_->buffers[buf.index];
+  const std::span<const std::uint8_t> bytes(static_cast<const std::uint8_t*>(mem.start),
+                                            std::min<std::size_t>(buf.bytesused, mem.length));
+  const Y16Layout layout{negotiated_.width, negotiated_.image_rows, negotiated_.telemetry_rows,
+                         negotiated_.bytes_per_line};
+  switch (Y16Frame::check(bytes, layout)) {
+    case Y16Check::ok: break;
+    case Y16Check::short_frame: ++stats_.short_transfers; return StreamStatus::fault;
+    case Y16Check::bad_layout: ++stats_.corrupt_transfers; return StreamStatus::fault;
+  }
+  const Y16Frame frame(bytes, layout);
+
+  fw::FrameHeader header;
+  header.width = negotiated_.width;
+  header.height = negotiated_.image_rows;
+  header.sequence = last_sequence_;
+  header.sequence_valid = true;
+  header.timestamp_valid = (buf.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
+  header.timestamp_ns = std::int64_t{buf.timestamp.tv_sec} * 1'000'000'000 + std::int64_t{buf.timestamp.tv_usec} * 1000;
+  header.ffc = fw::FfcState::unknown;
+  if (frame.telemetry(telemetry_)) {
+    header.ffc = have_ffc_stamp_ && telemetry_.time_at_last_ffc_ms != last_ffc_ms_ ? fw::FfcState::completed
+                                                                                    : fw::FfcState::none;
+    have_ffc_stamp_ = true;
+    last_ffc_ms_ = telemetry_.time_at_last_ffc_ms;
+    header.fpa_temp_mc = centikelvin_to_mc(telemetry_.fpa_temp_ck);
+    header.housing_temp_mc = centikelvin_to_mc(telemetry_.housing_temp_ck);
+  }
+  sink.begin_frame(header);
+  for (std::uint32_t row = 0; row < negotiated_.image_rows; ++row) {
+    frame.image_row(row, line_);
+    sink.push_line(row, fw::LineView(line_.data(), line_.size()));
+  }
+  sink.end_frame();
+  ++stats_.frames_delivered;
+  return StreamStatus::frame;
+}
+
+std::vector<V4l2DeviceEntry> list_v4l2_y16_devices() {
+  std::vector<V4l2DeviceEntry> out;
+  std::error_code ec;
+  std::vector<std::string> nodes;
+  for (const auto& e : std::filesystem::directory_iterator("/dev", ec))
+    if (e.path().filename().string().rfind("video", 0) == 0) nodes.push_back(e.path().string());
+  std::sort(nodes.begin(), nodes.end());
+  for (const std::string& node : nodes) {
+    const int fd = ::open(node.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) continue;
+    v4l2_capability cap{};
+    if (xioctl(fd, VIDIOC_QUERYCAP, &cap) == 0) {
+      const std::uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
+      if (caps & V4L2_CAP_VIDEO_CAPTURE) {
+        auto sizes = y16_sizes(fd);
+        if (!sizes.empty())
+          out.push_back({node, reinterpret_cast<const char*>(cap.card), reinterpret_cast<const char*>(cap.driver),
+                         std::move(sizes)});
+      }
+    }
+    ::close(fd);
+  }
+  return out;
+}
+
+}  // namespace bolo::hal

@@ -1,0 +1,211 @@
+// bolo capture and bolo devices, without hardware: from a recording (file:), from the real FLIR
+// ONE transfer log through the USB source (flirone-log:), and every refusal of docs/errors.md §8.
+
+#include <catch2/catch.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include "../hal/flirone_frames.hpp"
+#include "cli_test_support.hpp"
+
+using namespace bolo;
+using namespace bolo::test;
+
+namespace {
+
+std::string refused(const std::vector<std::string>& args) {
+  const CliResult r = run_bolo(args);
+  INFO("stdout: " << r.out << "\nstderr: " << r.err);
+  CHECK(r.code == 2);
+  CHECK(r.err.rfind("bolo: error: ", 0) == 0);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK(r.out.empty());
+  return r.err;
+}
+
+bool has(const std::string& text, const std::string& part) {
+  INFO("looking for '" << part << "' in: " << text);
+  return text.find(part) != std::string::npos;
+}
+
+std::string hex(const std::vector<std::uint8_t>& bytes) {
+  static const char* digits = "0123456789abcdef";
+  std::string s;
+  for (auto b : bytes) {
+    s += digits[b >> 4];
+    s += digits[b & 15];
+  }
+  return s;
+}
+
+// A transfer log of `frames` FLIR ONE frames, each one transfer; `corrupt` flips a pixel bit.
+void write_log(const fs::path& dir, int frames, bool corrupt) {
+  fs::create_directories(dir);
+  for (int i = 0; i < frames; ++i) {
+    auto f = make_flirone_frame({.frame_counter = static_cast<std::uint32_t>(3 * i)});
+    if (corrupt) f[1000] ^= 0x10;
+    std::ofstream(dir / (std::to_string(i + 1) + ".txt")) << hex(f);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("capture: file: re-records a recording frame for frame", "[cli][capture]") {
+  TempDir tmp;
+  SmallRecording::write(tmp / "rec");
+  const CliResult r = run_bolo({"capture", "--device", "file:" + (tmp / "rec").string(), "--out",
+                                (tmp / "out").string(), "--no-progress"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(has(r.out, "captured 12 frames (24x16)"));
+  rec::Recording in(tmp / "rec"), out(tmp / "out");
+  REQUIRE(out.frame_count() == 12);
+  for (std::uint64_t i = 0; i < 12; ++i) {
+    CHECK(read_u16_frame(out, i) == read_u16_frame(in, i));
+    const rec::FrameRow& a = in.rows()[i];
+    const rec::FrameRow& b = out.rows()[i];
+    CHECK(*b.t_s == Approx(*a.t_s - *in.rows()[0].t_s).margin(1e-9));
+    CHECK(*b.exposure_s == Approx(*a.exposure_s).margin(1e-9));
+    CHECK(*b.readout_s == Approx(*a.readout_s).margin(1e-9));
+    CHECK(b.ffc == a.ffc);
+  }
+  CHECK(out.info().width == 24);
+  CHECK(fs::exists(tmp / "out" / "capture.json"));
+}
+
+TEST_CASE("capture: --frames stops early; the source ending first is reported", "[cli][capture]") {
+  TempDir tmp;
+  SmallRecording::write(tmp / "rec");
+  CliResult r = run_bolo({"capture", "--device", "file:" + (tmp / "rec").string(), "--out",
+                          (tmp / "five").string(), "--frames", "5"});
+  REQUIRE(r.code == 0);
+  CHECK(rec::Recording(tmp / "five").frame_count() == 5);
+  r = run_bolo({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", (tmp / "all").string(),
+                "--frames", "50"});
+  REQUIRE(r.code == 0);
+  CHECK(has(r.out, "the source ended after 12 of 50 frames"));
+}
+
+TEST_CASE("capture: the real FLIR ONE transfer log gives the shared recording", "[cli][capture][real]") {
+  const fs::path log = fs::path(BOLO_SHARED_DATA) / "usb" / "flirone-pro";
+  const fs::path ref = shared_recording("flirone-lepton-telemetry");
+  if (ref.empty() || !fs::exists(log / "1.txt")) return;
+  TempDir tmp;
+  const CliResult r = run_bolo({"capture", "--device", "flirone-log:" + log.string(), "--out", (tmp / "out").string()});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(has(r.out, "captured 20 frames (80x60)"));
+  CHECK(has(r.out, "duplicates 2"));
+  CHECK(read_text(tmp / "out" / "frames.npy") == read_text(ref / "frames.npy"));  // byte for byte
+  rec::Recording out(tmp / "out"), expected(ref);
+  for (std::uint64_t i = 0; i < 20; ++i) {
+    const rec::FrameRow& a = expected.rows()[i];
+    const rec::FrameRow& b = out.rows()[i];
+    CHECK(*b.t_s == Approx(*a.t_s).margin(1e-9));
+    CHECK(*b.fpa_temp_c == Approx(*a.fpa_temp_c).margin(1e-9));
+    CHECK(*b.housing_temp_c == Approx(*a.housing_temp_c).margin(1e-9));
+    CHECK(b.ffc == a.ffc);
+  }
+}
+
+TEST_CASE("capture: refusals name the device, flag or file and leave nothing behind", "[cli][capture]") {
+  TempDir tmp;
+  SmallRecording::write(tmp / "rec");
+  const auto before = entries(tmp.path());
+  const std::string out = (tmp / "out").string();
+  CHECK(has(refused({"capture", "--device", "webcam", "--out", out, "--frames", "1"}),
+            "--device webcam: unknown device (expected v4l2:/dev/videoN, usb:flirone, usb:seek, file:REC or flirone-log:DIR)"));
+  CHECK(has(refused({"capture", "--device", "usb:boson", "--out", out, "--frames", "1"}),
+            "--device usb:boson: unknown USB camera 'boson'"));
+  CHECK(has(refused({"capture", "--device", "v4l2:", "--out", out, "--frames", "1"}),
+            "--device v4l2:: v4l2: needs a device node"));
+  CHECK(has(refused({"capture", "--device", "file:", "--out", out}), "--device file:: file: needs a recording folder"));
+  CHECK(has(refused({"capture", "--device", "flirone-log:", "--out", out}),
+            "--device flirone-log:: flirone-log: needs a transfer-log folder"));
+  CHECK(has(refused({"capture", "--device", "v4l2:/dev/null", "--out", out}),
+            "--frames: required for a live camera (v4l2:/dev/null)"));
+  CHECK(has(refused({"capture", "--device", "v4l2:/dev/null", "--out", out, "--frames", "3"}),
+            "--device v4l2:/dev/null: /dev/null: not a V4L2 device"));
+  CHECK(has(refused({"capture", "--device", "v4l2:/nonexistent/video3", "--out", out, "--frames", "3"}),
+            "/nonexistent/video3: cannot open: No such file or directory"));
+  const std::string usb = refused({"capture", "--device", "usb:flirone", "--out", out, "--frames", "3"});
+#if defined(BOLO_HAVE_LIBUSB)
+  CHECK(has(usb, "--device usb:flirone: usb 09cb:1996: no device"));
+  CHECK(has(refused({"capture", "--device", "usb:seek", "--out", out, "--frames", "3"}),
+            "--device usb:seek: usb 289d:0010/0011: no device"));
+#else
+  CHECK(has(usb, "this build has no USB backend"));
+#endif
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "none").string(), "--out", out}), "none"));
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", (tmp / "rec").string()}),
+            "exists (use --overwrite to replace it)"));
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio", "gpiochip0"}),
+            "--gpio gpiochip0: no lines given"));
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
+                     "gpiochip0:sync=x"}),
+            "--gpio gpiochip0:sync=x: sync=x: expected a line number 0..4095"));
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
+                     "gpiochip0:led=3"}),
+            "'led=3': expected sync=N, shutter=N or imminent=N"));
+  CHECK(entries(tmp.path()) == before);
+}
+
+TEST_CASE("capture: transfer logs that are not logs, and a device that only faults", "[cli][capture]") {
+  TempDir tmp;
+  const std::string out = (tmp / "out").string();
+  fs::create_directories(tmp / "empty");
+  CHECK(has(refused({"capture", "--device", "flirone-log:" + (tmp / "empty").string(), "--out", out}),
+            "no transfer files (1.txt, 2.txt, ...)"));
+  fs::create_directories(tmp / "gap");
+  std::ofstream(tmp / "gap" / "1.txt") << "efbe";
+  std::ofstream(tmp / "gap" / "3.txt") << "efbe";
+  CHECK(has(refused({"capture", "--device", "flirone-log:" + (tmp / "gap").string(), "--out", out}),
+            "transfer 2.txt missing"));
+  fs::create_directories(tmp / "nothex");
+  std::ofstream(tmp / "nothex" / "1.txt") << "efbe00zz";
+  CHECK(has(refused({"capture", "--device", "flirone-log:" + (tmp / "nothex").string(), "--out", out}),
+            "1.txt: offset 6: not a hex digit"));
+  write_log(tmp / "bad", 6, true);
+  CHECK(has(refused({"capture", "--device", "flirone-log:" + (tmp / "bad").string(), "--out", out,
+                     "--max-faults", "3"}),
+            "gave up after 3 faults in a row, 0 frames captured, nothing written (timeouts 0, short 0, corrupt 4"));
+  write_log(tmp / "worse", 2, true);
+  CHECK(has(refused({"capture", "--device", "flirone-log:" + (tmp / "worse").string(), "--out", out}),
+            "delivered no frames, nothing written"));
+  CHECK_FALSE(fs::exists(out));
+  // Good frames around faults: captured, faults counted.
+  write_log(tmp / "good", 3, false);
+  const CliResult r = run_bolo({"capture", "--device", "flirone-log:" + (tmp / "good").string(), "--out", out});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(has(r.out, "captured 3 frames (80x60)"));
+  // The synthetic frames all carry the same camera time: kept, their t_s left empty.
+  CHECK(has(r.out, "2 frames with a time stamp not after the previous one: t_s left empty"));
+  rec::Recording rec(out);
+  CHECK(rec.rows()[0].t_s == 0.0);
+  CHECK_FALSE(rec.rows()[1].t_s.has_value());
+}
+
+TEST_CASE("devices: lists the three kinds and says which backends this build has", "[cli][devices]") {
+  CliResult r = run_bolo({"devices"});
+  REQUIRE(r.code == 0);
+  CHECK(has(r.out, "V4L2 (Y16):"));
+  CHECK(has(r.out, "USB:"));
+  CHECK(has(r.out, "GPIO:"));
+  r = run_bolo({"devices", "--json"});
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["backends"]["v4l2"] == true);
+#if defined(BOLO_HAVE_LIBUSB)
+  CHECK(j["backends"]["usb"] == true);
+#else
+  CHECK(j["backends"]["usb"] == false);
+#endif
+  CHECK(j["v4l2"].is_array());
+  r = run_bolo({"devices", "--help"});
+  CHECK(r.code == 0);
+  CHECK(has(r.out, "compiled out"));
+  r = run_bolo({"capture", "--help"});
+  CHECK(r.code == 0);
+  CHECK(has(r.out, "flirone-log:DIR"));
+}

@@ -1,0 +1,86 @@
+#pragma once
+// Builds FLIR ONE Pro frames byte by byte as the camera sends them (header, 63 VoSPI packets
+// with valid CRCs, JPEG, JSON), for tests that need frames the capture does not contain.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bolo/hal/flirone_reassembler.hpp"
+#include "bolo/hal/vospi_crc.hpp"
+
+namespace bolo::test {
+
+struct FlirOneFrameSpec {
+  std::uint16_t base = 3000;  // pixel (x, y) = base + x + 80 * y
+  std::uint32_t frame_counter = 100;
+  std::uint32_t last_ffc_ms = 5000;
+  std::uint16_t fpa_ck = 32000, housing_ck = 32009;
+  std::uint32_t status = 0x838;
+  std::size_t jpeg_bytes = 300;
+  std::string json = R"({"shutterState":"ON","shutterTemperature":320.5,"usbNotifiedTimestamp":100.25,"ffcState":"FFC_VALID_RAD"})";
+};
+
+inline void put_le16(std::vector<std::uint8_t>& b, std::size_t at, std::uint16_t v) {
+  b[at] = static_cast<std::uint8_t>(v & 0xFF);
+  b[at + 1] = static_cast<std::uint8_t>(v >> 8);
+}
+inline void put_le32(std::vector<std::uint8_t>& b, std::size_t at, std::uint32_t v) {
+  put_le16(b, at, static_cast<std::uint16_t>(v & 0xFFFF));
+  put_le16(b, at + 2, static_cast<std::uint16_t>(v >> 16));
+}
+
+// Recomputes packet p's CRC (after a test changed its bytes on purpose and wants it to verify).
+inline void fix_crc(std::vector<std::uint8_t>& frame, std::size_t p) {
+  const std::size_t at = hal::flirone::kHeaderBytes + p * hal::flirone::kPacketBytes;
+  put_le16(frame, at + 2, hal::vospi_crc_le_words({frame.data() + at, hal::flirone::kPacketBytes}));
+}
+
+inline std::vector<std::uint8_t> make_flirone_frame(const FlirOneFrameSpec& s = {}) {
+  using namespace hal::flirone;
+  const std::size_t json_bytes = s.json.size() + 1;  // the camera sends a NUL after the text
+  const std::size_t total = kThermalBytes + s.jpeg_bytes + json_bytes;
+  std::vector<std::uint8_t> b(kHeaderBytes + total, 0);
+  put_le32(b, 0, kMagic);
+  put_le32(b, 4, 1);
+  put_le32(b, 8, static_cast<std::uint32_t>(total));
+  put_le32(b, 12, static_cast<std::uint32_t>(kThermalBytes));
+  put_le32(b, 16, static_cast<std::uint32_t>(s.jpeg_bytes));
+  put_le32(b, 20, static_cast<std::uint32_t>(json_bytes));
+  put_le32(b, 24, 0x12345678);
+  for (std::size_t p = 0; p < kPackets; ++p) {
+    const std::size_t at = kHeaderBytes + p * kPacketBytes;
+    put_le16(b, at, static_cast<std::uint16_t>(p == 0 ? 0x6000 : p));  // row 0 carries a T-number
+    std::uint16_t words[kWidth] = {};
+    if (p < kHeight) {
+      for (std::size_t x = 0; x < kWidth; ++x) words[x] = static_cast<std::uint16_t>(s.base + x + 80 * p);
+    } else if (p == kHeight) {  // telemetry row A
+      words[0] = 14;
+      words[3] = static_cast<std::uint16_t>(s.status & 0xFFFF);
+      words[4] = static_cast<std::uint16_t>(s.status >> 16);
+      words[20] = static_cast<std::uint16_t>(s.frame_counter & 0xFFFF);
+      words[21] = static_cast<std::uint16_t>(s.frame_counter >> 16);
+      words[24] = s.fpa_ck;
+      words[26] = s.housing_ck;
+      words[30] = static_cast<std::uint16_t>(s.last_ffc_ms & 0xFFFF);
+      words[31] = static_cast<std::uint16_t>(s.last_ffc_ms >> 16);
+    }
+    for (std::size_t x = 0; x < kWidth; ++x) put_le16(b, at + 4 + 2 * x, words[x]);
+    fix_crc(b, p);
+  }
+  const std::size_t jpeg_at = kHeaderBytes + kThermalBytes;
+  for (std::size_t i = 0; i < s.jpeg_bytes; ++i) b[jpeg_at + i] = static_cast<std::uint8_t>(i * 7);
+  for (std::size_t i = 0; i < s.json.size(); ++i)
+    b[jpeg_at + s.jpeg_bytes + i] = static_cast<std::uint8_t>(s.json[i]);
+  return b;
+}
+
+// Cuts `bytes` into transfers of at most `chunk` bytes, appending them to `out`.
+inline void split_into_transfers(const std::vector<std::uint8_t>& bytes, std::size_t chunk,
+                                 std::vector<std::vector<std::uint8_t>>& out) {
+  for (std::size_t at = 0; at < bytes.size(); at += chunk)
+    out.emplace_back(bytes.begin() + static_cast<std::ptrdiff_t>(at),
+                     bytes.begin() + static_cast<std::ptrdiff_t>(std::min(bytes.size(), at + chunk)));
+}
+
+}  // namespace bolo::test

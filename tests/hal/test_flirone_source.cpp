@@ -1,0 +1,132 @@
+// FlirOneSource over a scripted transport: timeouts, failed transfers, corrupt frames and an
+// unplug/replug are counted, never crash, leave a sequence gap, and streaming goes on.
+
+#include <catch2/catch.hpp>
+
+#include <deque>
+
+#include "../firmware/frame_collector.hpp"
+#include "bolo/hal/flirone_source.hpp"
+#include "flirone_frames.hpp"
+
+using namespace bolo;
+
+namespace {
+
+// Replays a script of transfers and transport events.
+class ScriptedTransport final : public hal::BulkInTransport {
+ public:
+  struct Step {
+    hal::TransferStatus status = hal::TransferStatus::ok;
+    std::vector<std::uint8_t> bytes;
+  };
+  void frame(const std::vector<std::uint8_t>& bytes, std::size_t chunk = 16384) {
+    std::vector<std::vector<std::uint8_t>> parts;
+    test::split_into_transfers(bytes, chunk, parts);
+    for (auto& p : parts) steps.push_back({hal::TransferStatus::ok, std::move(p)});
+  }
+  void event(hal::TransferStatus s) { steps.push_back({s, {}}); }
+
+  hal::Transfer next(std::span<std::uint8_t> buffer, std::uint32_t) override {
+    hal::Transfer t;
+    if (steps.empty()) {
+      t.status = hal::TransferStatus::end;
+      return t;
+    }
+    Step s = std::move(steps.front());
+    steps.pop_front();
+    t.status = s.status;
+    t.bytes = s.bytes.size();
+    t.arrival_ns = ++clock * 1000;
+    std::copy(s.bytes.begin(), s.bytes.end(), buffer.begin());
+    return t;
+  }
+  bool reconnect(std::uint32_t) override {
+    ++reconnects;
+    return replug;
+  }
+  std::deque<Step> steps;
+  std::int64_t clock = 0;
+  int reconnects = 0;
+  bool replug = true;
+};
+
+std::vector<hal::StreamStatus> run(hal::FlirOneSource& source, test::FrameCollector& sink,
+                                   std::vector<std::uint64_t>& sequences) {
+  std::vector<hal::StreamStatus> out;
+  for (hal::StreamStatus s; (s = source.stream_frame(sink)) != hal::StreamStatus::end_of_stream;) {
+    out.push_back(s);
+    if (s == hal::StreamStatus::frame) sequences.push_back(sink.header().sequence);
+    REQUIRE(out.size() < 100);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("flirone source: faults are counted, lost frames leave sequence gaps", "[hal][flirone]") {
+  using S = hal::StreamStatus;
+  using T = hal::TransferStatus;
+  ScriptedTransport usb;
+  usb.frame(test::make_flirone_frame({.frame_counter = 3}));            // seq 0
+  usb.event(T::timeout);                                                 // nothing lost mid-frame
+  auto bad = test::make_flirone_frame({.frame_counter = 6});
+  bad[5000] ^= 0x80;
+  usb.frame(bad);                                                        // seq 1 lost: CRC
+  usb.frame(test::make_flirone_frame({.frame_counter = 9}));            // seq 2
+  auto part = test::make_flirone_frame({.frame_counter = 12});
+  part.resize(5000);
+  usb.frame(part);
+  usb.event(T::error);                                                   // seq 3 lost mid-frame
+  usb.frame(test::make_flirone_frame({.frame_counter = 15}));           // seq 4
+  usb.frame(std::vector<std::uint8_t>(part.begin(), part.begin() + 4000));
+  usb.event(T::disconnected);                                            // unplug, replug
+  usb.frame(test::make_flirone_frame({.frame_counter = 1, .last_ffc_ms = 9000}));  // seq 5
+  usb.frame(test::make_flirone_frame({.frame_counter = 4, .last_ffc_ms = 9500}));  // seq 6: FFC
+
+  hal::FlirOneSource source(usb, {.clock = hal::FlirOneClock::host});
+  test::FrameCollector sink(80, 60);
+  std::vector<std::uint64_t> seq;
+  const auto statuses = run(source, sink, seq);
+  CHECK(statuses == std::vector<S>{S::frame, S::fault, S::fault, S::frame, S::fault, S::frame,
+                                   S::fault, S::frame, S::frame});
+  CHECK(seq == std::vector<std::uint64_t>{0, 2, 4, 6, 7});
+  const hal::SourceStats st = source.stats();
+  CHECK(st.frames_delivered == 5);
+  CHECK(st.timeouts == 1);
+  CHECK(st.corrupt_transfers == 2);  // the CRC failure and the failed transfer
+  CHECK(st.disconnects == 1);
+  CHECK(st.reconnects == 1);
+  CHECK(usb.reconnects == 1);
+  CHECK(sink.header().ffc == fw::FfcState::completed);  // last-FFC time moved
+  CHECK(sink.header().timestamp_valid);
+  CHECK(sink.header().fpa_temp_mc == 46850);
+}
+
+TEST_CASE("flirone source: the first frame after a replug is not an FFC, a new FFC stamp is", "[hal][flirone]") {
+  ScriptedTransport usb;
+  usb.frame(test::make_flirone_frame({.frame_counter = 3, .last_ffc_ms = 1}));
+  usb.frame(test::make_flirone_frame({.frame_counter = 6, .last_ffc_ms = 1}));
+  usb.frame(test::make_flirone_frame({.frame_counter = 9, .last_ffc_ms = 2}));
+  hal::FlirOneSource source(usb);
+  test::FrameCollector sink(80, 60);
+  std::vector<fw::FfcState> ffc;
+  while (source.stream_frame(sink) == hal::StreamStatus::frame) ffc.push_back(sink.header().ffc);
+  CHECK(ffc == std::vector<fw::FfcState>{fw::FfcState::none, fw::FfcState::none, fw::FfcState::completed});
+  // Camera clock: the JSON's usbNotifiedTimestamp.
+  CHECK(sink.header().timestamp_ns == 100'250'000'000);
+}
+
+TEST_CASE("flirone source: a device that stays away keeps reporting faults, never a frame", "[hal][flirone]") {
+  ScriptedTransport usb;
+  usb.replug = false;
+  for (int i = 0; i < 3; ++i) usb.event(hal::TransferStatus::disconnected);
+  hal::FlirOneSource source(usb);
+  test::FrameCollector sink(80, 60);
+  std::vector<std::uint64_t> seq;
+  const auto statuses = run(source, sink, seq);
+  CHECK(statuses.size() == 3);
+  CHECK(source.stats().disconnects == 3);
+  CHECK(source.stats().reconnects == 0);
+  CHECK(sink.frames() == 0);
+}

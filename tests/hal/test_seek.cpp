@@ -1,0 +1,140 @@
+// SeekFrameParser and SeekSource against a scripted Seek device: start-up sequence, frame types,
+// dead-pixel map from the start-up frame, shutter frames as FFC events, faults counted.
+
+#include <catch2/catch.hpp>
+
+#include "../firmware/frame_collector.hpp"
+#include "bolo/hal/seek_source.hpp"
+#include "seek_device.hpp"
+
+using namespace bolo;
+using hal::SeekFrameKind;
+
+TEST_CASE("seek parser: frame types, counter, dead pixels for both models", "[hal][seek]") {
+  for (const hal::SeekModel& m : {hal::kSeekCompact, hal::kSeekCompactPro}) {
+    INFO(m.name);
+    hal::SeekFrameParser p(m);
+    const auto startup = test::make_seek_frame(m, 4, 7, 2000, {0, 5, 999, m.width * m.image_height() - 1});
+    hal::SeekFrameInfo info;
+    REQUIRE(p.parse(startup, info));
+    CHECK(info.kind == SeekFrameKind::startup);
+    CHECK(info.counter == 7);
+    CHECK(info.dead_pixels == 4);
+    CHECK(p.dead_map_count() == 4);
+    CHECK(p.dead_map()[5] == 1);
+    CHECK(p.dead_map()[6] == 0);
+    CHECK(p.dead_map().back() == 1);
+    // An image frame counts its dead pixels but leaves the map alone.
+    REQUIRE(p.parse(test::make_seek_frame(m, 3, 8, 2000, {1}), info));
+    CHECK(info.kind == SeekFrameKind::image);
+    CHECK(info.dead_pixels == 1);
+    CHECK(p.dead_map_count() == 4);
+    CHECK(p.image_row(0).size() == m.width);
+    CHECK_FALSE(p.parse(std::span<const std::uint8_t>(startup).first(startup.size() - 2), info));
+  }
+  CHECK(hal::seek_frame_kind(1) == SeekFrameKind::shutter);
+  CHECK(hal::seek_frame_kind(6) == SeekFrameKind::before_calibration);
+  CHECK(hal::seek_frame_kind(20) == SeekFrameKind::after_calibration);
+  CHECK(hal::seek_frame_kind(8) == SeekFrameKind::startup_calibration);
+  CHECK(hal::seek_frame_kind(7) == SeekFrameKind::startup_calibration);
+  CHECK(hal::seek_frame_kind(25) == SeekFrameKind::other);
+}
+
+TEST_CASE("seek parser: chunks assemble a frame; a zero-length or overlong read gives it up", "[hal][seek]") {
+  const hal::SeekModel m = hal::kSeekCompact;
+  hal::SeekFrameParser p(m);
+  const auto frame = test::make_seek_frame(m, 3, 1);
+  p.begin();
+  CHECK(p.add_chunk({frame.data(), 16224}) == hal::SeekChunk::need_more);
+  CHECK(p.add_chunk({frame.data() + 16224, 16224 * 3}) == hal::SeekChunk::complete);
+  hal::SeekFrameInfo info;
+  CHECK(p.parse_received(info));
+  p.begin();
+  CHECK(p.add_chunk({}) == hal::SeekChunk::aborted);
+  CHECK(p.add_chunk({frame.data(), 16224}) == hal::SeekChunk::need_more);
+  std::vector<std::uint8_t> big(frame.size(), 0);
+  CHECK(p.add_chunk(big) == hal::SeekChunk::overflow);
+  CHECK(p.received() == 0);
+}
+
+TEST_CASE("seek source: boot frames consumed, dead map taken, shutter frames mark the next image", "[hal][seek]") {
+  for (const hal::SeekModel& m : {hal::kSeekCompact, hal::kSeekCompactPro}) {
+    INFO(m.name);
+    test::FakeSeek cam(m);
+    for (std::uint16_t t : {4, 9, 14, 25, 26, 27, 28, 8, 7, 6, 1, 20, 3, 3, 6, 1, 20, 3})
+      cam.plan.push_back({t});
+    cam.dead_in_startup = {3, 11, 20};  // clear of the Compact's metadata words 10 and 40
+    {
+      hal::SeekSource source(cam, m);
+      CHECK(source.format().width == m.width);
+      CHECK(source.format().height == m.image_height());
+      test::FrameCollector sink(m.width, m.image_height());
+      std::vector<fw::FfcState> ffc;
+      for (int i = 0; i < 4; ++i) {
+        REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);
+        ffc.push_back(sink.header().ffc);
+        CHECK(sink.header().sequence == static_cast<std::uint64_t>(i));
+        CHECK(sink.lines() == m.image_height());
+      }
+      CHECK(ffc == std::vector<fw::FfcState>{fw::FfcState::completed, fw::FfcState::none,
+                                            fw::FfcState::completed, fw::FfcState::none});
+      CHECK(source.counters().shutter_frames == 2);
+      CHECK(source.counters().startup_frames == 1);
+      CHECK(source.dead_pixels() == 3);
+      CHECK(source.dead_map()[11] == 1);
+      CHECK(cam.requested_pixels == m.pixels());
+      CHECK(source.stats().frames_delivered == 4);
+      // Start-up sequence as the facts doc orders it.
+      const std::vector<std::uint8_t> start(cam.log.begin(), cam.log.begin() + 6);
+      CHECK(start == std::vector<std::uint8_t>{84, 60, 78, 54, 62, 60});
+    }
+    CHECK(cam.log.back() == hal::seek::kSetOperationMode);  // closed on destruction
+  }
+}
+
+TEST_CASE("seek source: a failed first write is retried after a close", "[hal][seek]") {
+  test::FakeSeek cam(hal::kSeekCompact);
+  cam.fail_first_write = true;
+  hal::SeekSource source(cam, hal::kSeekCompact);
+  test::FrameCollector sink(208, 156);
+  CHECK(source.stream_frame(sink) == hal::StreamStatus::frame);
+  const std::vector<std::uint8_t> start(cam.log.begin(), cam.log.begin() + 3);
+  CHECK(start == std::vector<std::uint8_t>{84, 60, 84});
+}
+
+TEST_CASE("seek source: zero-length reads, timeouts, errors and an unplug are counted and survived", "[hal][seek]") {
+  using F = test::FakeSeek::Fault;
+  const hal::SeekModel m = hal::kSeekCompact;
+  test::FakeSeek cam(m);
+  cam.plan = {{3}, {3, F::zero_length}, {3}, {3, F::timeout}, {3, F::error}, {3}, {3, F::unplug}, {3}, {3}};
+  hal::SeekSource source(cam, m);
+  test::FrameCollector sink(m.width, m.height);
+  using S = hal::StreamStatus;
+  std::vector<S> statuses;
+  std::vector<std::uint64_t> seq;
+  for (int i = 0; i < 9; ++i) {
+    statuses.push_back(source.stream_frame(sink));
+    if (statuses.back() == S::frame) seq.push_back(sink.header().sequence);
+  }
+  CHECK(statuses == std::vector<S>{S::frame, S::fault, S::frame, S::fault, S::fault, S::frame,
+                                   S::fault, S::frame, S::frame});
+  CHECK(seq == std::vector<std::uint64_t>{0, 2, 5, 7, 8});
+  const hal::SourceStats st = source.stats();
+  CHECK(st.short_transfers == 1);
+  CHECK(st.timeouts == 1);
+  CHECK(st.corrupt_transfers == 1);
+  CHECK(st.disconnects == 1);
+  CHECK(st.reconnects == 1);
+  CHECK(st.frames_delivered == 5);
+  // After the replug the start-up sequence ran again.
+  CHECK(std::count(cam.log.begin(), cam.log.end(), std::uint8_t{84}) == 2);
+}
+
+TEST_CASE("seek source: a camera that never sends an image gives faults, not a hang", "[hal][seek]") {
+  test::FakeSeek cam(hal::kSeekCompact);
+  for (int i = 0; i < 200; ++i) cam.plan.push_back({6});
+  hal::SeekSource source(cam, hal::kSeekCompact, {.max_frames_without_image = 16});
+  test::FrameCollector sink(208, 156);
+  CHECK(source.stream_frame(sink) == hal::StreamStatus::fault);
+  CHECK(source.counters().calibration_frames == 16);
+}

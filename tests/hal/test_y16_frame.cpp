@@ -1,0 +1,90 @@
+// Y16 frames as V4L2 hands them over (padding, telemetry rows, short buffers), and the V4L2
+// source's refusals of nodes that are not Y16 cameras.
+
+#include <catch2/catch.hpp>
+
+#include <vector>
+
+#include "bolo/hal/v4l2_source.hpp"
+#include "bolo/hal/y16_frame.hpp"
+
+using namespace bolo::hal;
+
+namespace {
+
+// A 160x122 PureThermal frame: pixel (x, y) = 100 * y + x, row A telemetry in row 120,
+// each row padded to `stride` bytes.
+std::vector<std::uint8_t> lepton_buffer(std::uint32_t stride, std::uint32_t last_ffc_ms) {
+  std::vector<std::uint8_t> b(std::size_t{stride} * 122, 0xEE);
+  auto put = [&](std::uint32_t row, std::uint32_t x, std::uint16_t v) {
+    b[std::size_t{row} * stride + 2 * x] = static_cast<std::uint8_t>(v & 0xFF);
+    b[std::size_t{row} * stride + 2 * x + 1] = static_cast<std::uint8_t>(v >> 8);
+  };
+  for (std::uint32_t y = 0; y < 120; ++y)
+    for (std::uint32_t x = 0; x < 160; ++x) put(y, x, static_cast<std::uint16_t>(100 * y + x));
+  for (std::uint32_t x = 0; x < 160; ++x) {
+    put(120, x, 0);
+    put(121, x, 0);
+  }
+  put(120, 3, 3u << 4);  // FFC complete
+  put(120, 20, 77);
+  put(120, 24, 30615);
+  put(120, 26, 30500);
+  put(120, 30, static_cast<std::uint16_t>(last_ffc_ms & 0xFFFF));
+  put(120, 31, static_cast<std::uint16_t>(last_ffc_ms >> 16));
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("y16: padded rows, telemetry row A decoded from the first telemetry row", "[hal][v4l2]") {
+  for (std::uint32_t stride : {320u, 384u}) {
+    INFO("stride " << stride);
+    const auto buf = lepton_buffer(stride, 123456);
+    const Y16Layout layout{160, 120, 2, stride};
+    REQUIRE(Y16Frame::check(buf, layout) == Y16Check::ok);
+    const Y16Frame f(buf, layout);
+    std::vector<std::uint16_t> row(160);
+    f.image_row(119, row);
+    CHECK(row[0] == 11900);
+    CHECK(row[159] == 12059);
+    LeptonTelemetry t;
+    REQUIRE(f.telemetry(t));
+    CHECK(t.ffc_state == LeptonFfcState::complete);
+    CHECK(t.frame_counter == 77);
+    CHECK(t.fpa_temp_ck == 30615);
+    CHECK(t.housing_temp_ck == 30500);
+    CHECK(t.time_at_last_ffc_ms == 123456);
+  }
+}
+
+TEST_CASE("y16: short buffers and impossible layouts are refused; no telemetry without its rows", "[hal][v4l2]") {
+  const auto buf = lepton_buffer(320, 0);
+  // The last row needs no padding after it.
+  CHECK(Y16Frame::check({buf.data(), 121 * 384 + 320}, Y16Layout{160, 120, 2, 384}) == Y16Check::ok);
+  CHECK(Y16Frame::check({buf.data(), 121 * 384 + 319}, Y16Layout{160, 120, 2, 384}) == Y16Check::short_frame);
+  CHECK(Y16Frame::check({buf.data(), buf.size() - 1}, Y16Layout{160, 120, 2, 320}) == Y16Check::short_frame);
+  CHECK(Y16Frame::check(buf, Y16Layout{160, 120, 2, 100}) == Y16Check::bad_layout);
+  CHECK(Y16Frame::check(buf, Y16Layout{0, 120, 2, 0}) == Y16Check::bad_layout);
+  CHECK(Y16Frame::check(buf, Y16Layout{160, 0, 2, 0}) == Y16Check::bad_layout);
+  const Y16Layout plain{160, 120, 0, 0};
+  REQUIRE(Y16Frame::check(buf, plain) == Y16Check::ok);
+  LeptonTelemetry t;
+  CHECK_FALSE(Y16Frame(buf, plain).telemetry(t));
+  const Y16Layout narrow{40, 30, 2, 0};  // a telemetry row narrower than 80 words
+  REQUIRE(Y16Frame::check(buf, narrow) == Y16Check::ok);
+  CHECK_FALSE(Y16Frame(buf, narrow).telemetry(t));
+}
+
+TEST_CASE("v4l2: nodes that are not Y16 capture devices are refused by name", "[hal][v4l2]") {
+  auto refused = [](const std::string& path) {
+    try {
+      V4l2Source source(V4l2Config{.path = path});
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK(refused("/dev/null") == "/dev/null: not a V4L2 device");
+  CHECK(refused("/nonexistent/video9").rfind("/nonexistent/video9: cannot open: ", 0) == 0);
+}

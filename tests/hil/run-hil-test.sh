@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# ctest's entry to a HIL scenario: checks what the VM needs, then boots it (toolchain/vm/hil-vm.sh).
+# With BOLO_HIL_DEVICE set (usb:flirone, usb:seek, v4l2:/dev/videoN) the scenario's host-side test
+# runs here against that real camera instead; without it and without qemu, the test is skipped
+# with the reason. Exit 77 = skipped.
+#
+#   run-hil-test.sh --arch A --scenario S --shared-data DIR [--sysroot DIR] --file F...
+set -uo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+repo="$(cd "$here/../.." && pwd)"
+arch="" scenario="" shared="" sysroot=""
+files=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --arch) arch="$2"; shift 2 ;;
+    --scenario) scenario="$2"; shift 2 ;;
+    --shared-data) shared="$2"; shift 2 ;;
+    --sysroot) sysroot="$2"; shift 2 ;;
+    --file) files+=("$2"); shift 2 ;;
+    *) echo "run-hil-test: unknown argument '$1'" >&2; exit 2 ;;
+  esac
+done
+skip() { echo "SKIP: $*"; exit 77; }
+
+capture="$shared/usb/flirone-pro"
+[ -d "$capture" ] || skip "no FLIR ONE capture at $capture (../shared/data is absent)"
+
+if [ -n "${BOLO_HIL_DEVICE:-}" ]; then
+  # A real camera on this machine: the host-side program of the scenario's device, no VM.
+  scenario_device="$(sed -n 's/^# device: //p' "$scenario")"
+  [ "$BOLO_HIL_DEVICE" = "$scenario_device" ] ||
+    skip "BOLO_HIL_DEVICE=$BOLO_HIL_DEVICE; this scenario needs $scenario_device"
+  real_command="$(sed -n 's/^# real: //p' "$scenario")"
+  for f in "${files[@]}"; do PATH="$(dirname "$f"):$PATH"; done
+  export PATH
+  echo "run-hil-test: real device $BOLO_HIL_DEVICE: $real_command"
+  eval "$real_command"
+  exit $?
+fi
+
+qemu=qemu-system-x86_64
+[ "$arch" = aarch64 ] && qemu=qemu-system-aarch64
+command -v "$qemu" >/dev/null || skip "$qemu is not installed (scripts/deps.sh installs it)"
+command -v busybox >/dev/null || [ "$arch" != x86_64 ] || skip "busybox-static is not installed"
+if [ "$arch" = aarch64 ] && [ -z "$sysroot" ]; then
+  skip "no BOLO_HIL_SYSROOT with the arm64 runtime libraries (toolchain/vm/arm64-sysroot.sh)"
+fi
+
+args=(--arch "$arch" --scenario "$scenario" --file "$capture")
+[ -n "$sysroot" ] && args+=(--sysroot "$sysroot")
+for f in "${files[@]}"; do args+=(--file "$f"); done
+exec "$repo/toolchain/vm/hil-vm.sh" "${args[@]}"

@@ -1,0 +1,26 @@
+#!/bin/sh
+# HIL scenario, run inside the VM: the FLIR ONE emulator on FunctionFS (dummy_hcd), the host
+# side through libusb. 1) the real capture replayed, delivered bit-exactly; 2) simulated frames
+# without faults: nothing lost; 3) the same with 1 % injected faults: every fault counted,
+# every good frame delivered, replug recovered within 2 s.
+# device: usb:flirone
+# real: hil_flirone --real --frames ${BOLO_HIL_FRAMES:-10000}
+frames="${BOLO_HIL_FRAMES:-10000}"
+failed=0
+
+run() {  # name, emulator arguments, host arguments
+  name="$1"
+  echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
+  ./flirone_emulator --name "$name" --capture flirone-pro --log "/tmp/$name.log" \
+    --ready "/tmp/$name.ready" --done "/tmp/$name.done" --finished "/tmp/$name.finished" $2 &
+  emulator=$!
+  ./hil_flirone --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 || failed=1
+  touch "/tmp/$name.finished"
+  wait $emulator || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+  echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+}
+
+run replay "--replay" "--capture flirone-pro"
+run clean "--frames $frames --jpeg-bytes 0" "--min-frames $frames"
+run faults "--frames $frames --jpeg-bytes 0 --fault-rate 0.01 --faults all --seed 7" "--min-frames $((frames * 9 / 10))"
+exit $failed

@@ -1,0 +1,113 @@
+# Sourced by hil-vm.sh: Debian's kernel, busybox and runtime libraries for the VM, fetched with
+# `apt-get download` and unpacked into the cache (never installed into the system).
+
+hil_triplet() {
+  case "$1" in
+    x86_64) echo x86_64-linux-gnu ;;
+    aarch64) echo aarch64-linux-gnu ;;
+  esac
+}
+
+hil_debarch() {
+  case "$1" in
+    x86_64) echo amd64 ;;
+    aarch64) echo arm64 ;;
+  esac
+}
+
+# Downloads PACKAGE (with :arch qualifier when foreign) into $cache/deb and unpacks it into DEST.
+hil_fetch_deb() {
+  local package="$1" dest="$2" cache="$3"
+  mkdir -p "$cache/deb" "$dest"
+  local name="${package%%:*}"
+  local deb
+  deb="$(ls "$cache/deb/${name}_"*.deb 2>/dev/null | head -1 || true)"
+  if [ -z "$deb" ]; then
+    echo "hil-vm: downloading $package" >&2
+    (cd "$cache/deb" && apt-get download -qq "$package" 2>&1 | grep -v 'unsandboxed' >&2) || true
+    deb="$(ls "$cache/deb/${name}_"*.deb 2>/dev/null | head -1 || true)"
+    [ -n "$deb" ] || { echo "hil-vm: apt-get download $package failed" >&2; return 1; }
+  fi
+  dpkg-deb -x "$deb" "$dest"
+}
+
+# Prints the folder holding boot/vmlinuz, lib/modules/<version> (with modules.dep) and a version
+# file for ARCH; Debian's current 6.1 kernel for that architecture.
+hil_kernel_dir() {
+  local arch="$1" cache="$2" debarch meta image dir
+  debarch="$(hil_debarch "$arch")"
+  meta="linux-image-$debarch"
+  [ "$arch" = x86_64 ] || meta="$meta:$debarch"
+  image="$(apt-cache depends "$meta" 2>/dev/null | awk '/Depends: linux-image-/ { print $2; exit }')"
+  image="${image%%:*}"
+  [ -n "$image" ] || { echo "hil-vm: apt-cache knows no $meta (for arm64: dpkg --add-architecture arm64; apt-get update)" >&2; return 1; }
+  dir="$cache/$arch/$image"
+  if [ ! -f "$dir/version" ]; then
+    rm -rf "$dir"
+    local qualified="$image"
+    [ "$arch" = x86_64 ] || qualified="$image:$debarch"
+    hil_fetch_deb "$qualified" "$dir" "$cache" || return 1
+    local kver
+    kver="$(ls "$dir/lib/modules" | head -1)"
+    depmod -b "$dir" "$kver"
+    ln -sf "vmlinuz-$kver" "$dir/boot/vmlinuz"
+    echo "$kver" >"$dir/version"
+  fi
+  echo "$dir"
+}
+
+hil_busybox() {
+  local arch="$1" cache="$2"
+  if [ "$arch" = x86_64 ]; then
+    command -v busybox >/dev/null && file_is_static /bin/busybox && { echo /bin/busybox; return; }
+  fi
+  local dir="$cache/$arch/busybox"
+  [ -x "$dir/bin/busybox" ] || hil_fetch_deb "busybox-static:$(hil_debarch "$arch")" "$dir" "$cache" >&2
+  echo "$dir/bin/busybox"
+}
+
+file_is_static() {
+  ! readelf -l "$1" 2>/dev/null | grep -q 'program interpreter'
+}
+
+# Copies every shared library the ELF files among FILES need (recursively) into ROOT/lib, and
+# their program interpreter to the path it is requested at. SYSROOT (may be empty) holds
+# extracted foreign-architecture packages.
+hil_copy_libraries() {
+  local arch="$1" root="$2" sysroot="$3"
+  shift 3
+  local triplet dirs=() queue=() done_libs=" " f
+  triplet="$(hil_triplet "$arch")"
+  if [ "$arch" = x86_64 ]; then
+    dirs=("/lib/$triplet" "/usr/lib/$triplet")
+  else
+    dirs=("/usr/$triplet/lib")
+  fi
+  [ -n "$sysroot" ] && dirs=("$sysroot/lib/$triplet" "$sysroot/usr/lib/$triplet" "${dirs[@]}")
+  for f in "$@"; do
+    [ -f "$f" ] && readelf -h "$f" >/dev/null 2>&1 && queue+=("$f")
+  done
+  while [ ${#queue[@]} -gt 0 ]; do
+    f="${queue[0]}"
+    queue=("${queue[@]:1}")
+    local interp
+    interp="$(readelf -l "$f" 2>/dev/null | sed -n 's/.*Requesting program interpreter: \(.*\)]/\1/p')"
+    if [ -n "$interp" ] && [ ! -e "$root$interp" ]; then
+      local src=""
+      for d in "${dirs[@]}"; do [ -e "$d/$(basename "$interp")" ] && { src="$d/$(basename "$interp")"; break; }; done
+      [ -n "$src" ] || { echo "hil-vm: no interpreter $interp" >&2; return 1; }
+      mkdir -p "$root$(dirname "$interp")"
+      cp -L "$src" "$root$interp"
+    fi
+    local lib
+    for lib in $(readelf -d "$f" 2>/dev/null | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p'); do
+      case "$done_libs" in *" $lib "*) continue ;; esac
+      done_libs="$done_libs$lib "
+      local found=""
+      for d in "${dirs[@]}"; do [ -e "$d/$lib" ] && { found="$d/$lib"; break; }; done
+      [ -n "$found" ] || { echo "hil-vm: $f needs $lib, not found in ${dirs[*]}" >&2; return 1; }
+      cp -L "$found" "$root/lib/$lib"
+      queue+=("$found")
+    done
+  done
+}
