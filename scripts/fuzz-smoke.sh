@@ -17,8 +17,11 @@ work=$(mktemp -d)
 # BOLO_FUZZ_LOGS=DIR keeps each target's libFuzzer log and its grown corpus (long runs).
 trap '[ -n "${BOLO_FUZZ_LOGS:-}" ] && mkdir -p "$BOLO_FUZZ_LOGS" && cp -r "$work"/. "$BOLO_FUZZ_LOGS"/; rm -rf "$work"' EXIT
 targets=()
+# BOLO_FUZZ_TARGETS="a b" runs only those targets.
 for bin in build-fuzz/fuzz/fuzz_*; do
-  [ -x "$bin" ] && targets+=("${bin##*/fuzz_}")
+  t=${bin##*/fuzz_}
+  [ -x "$bin" ] || continue
+  [ -z "${BOLO_FUZZ_TARGETS:-}" ] || [[ " $BOLO_FUZZ_TARGETS " == *" $t "* ]] && targets+=("$t")
 done
 [ ${#targets[@]} -gt 0 ] || { echo "fuzz-smoke: no fuzz targets built" >&2; exit 1; }
 
