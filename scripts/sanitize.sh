@@ -1,9 +1,17 @@
 #!/usr/bin/env bash
 # Sanitizer run for CI: builds the `asan` preset (gcc, AddressSanitizer + UndefinedBehaviorSanitizer,
 # RelWithDebInfo, errors fatal) into build-asan and runs the whole host test suite there, the
-# fuzz corpus and regression replays included. See docs/hardening.md.
+# fuzz corpus and regression replays included; then the `tsan` preset (ThreadSanitizer) on the
+# threaded code. See docs/hardening.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --preset asan >/dev/null
 cmake --build --preset asan -j "$(nproc)"
-ctest --preset asan -j "$(nproc)"
+status=0
+ctest --preset asan -j "$(nproc)" || status=1
+# ThreadSanitizer on the code that starts threads (the scene renderer's pool; its tests render
+# with 1 to 7 threads and compare bit for bit). Everything else is single-threaded.
+cmake --preset tsan >/dev/null
+cmake --build --preset tsan -j "$(nproc)"
+ctest --preset tsan -j "$(nproc)" || status=1
+exit $status
