@@ -21,8 +21,22 @@ BadPixelStage::BadPixelStage(const BadPixelConfig& config, std::span<Pixel> stor
   out_line_ = storage.subspan(std::size_t{width_} * 6, width_);
 }
 
+BadPixelStage::BadPixelStage(const BadPixelConfig& config, const NucTables& input_nuc,
+                             std::span<Pixel> storage, LineSink& next)
+    : BadPixelStage(config, storage, next) {
+  const std::size_t frame = std::size_t{width_} * height_;
+  if (width_ == 0 || input_nuc.gain_q14.size() < frame || input_nuc.offset.size() < frame) {
+    width_ = 0;
+    height_ = 0;
+    return;
+  }
+  nuc_tables_ = input_nuc;
+  nuc_ = &nuc_tables_;
+}
+
 void BadPixelStage::begin_frame(const FrameHeader& header) {
   active_ = width_ != 0 && header.width == width_ && header.height == height_;
+  nuc_frame_ = active_ && nuc_ != nullptr;
   rows_in_ = 0;
   stats_ = BadPixelFrameStats{};
   next().begin_frame(header);
@@ -30,44 +44,57 @@ void BadPixelStage::begin_frame(const FrameHeader& header) {
 
 namespace {
 
-// Copies a raw line into the ring and flags its bad pixels (1 = bad, 0 = good); returns how many
-// it flagged. One loop per configuration so each one vectorises (no per-pixel tests of the
-// configuration, and no reloads of it through the aliasing `Pixel*` stores).
-BOLO_KERNEL_CLONES
-std::uint32_t copy_and_flag(const Pixel* __restrict in, const std::uint8_t* __restrict mask,
-                            bool detect_stuck, Pixel stuck_low, Pixel stuck_high,
-                            Pixel* __restrict ring, Pixel* __restrict flags, std::size_t width) {
+// Copies an input line into the ring (through the NUC when `gain` is set) and flags its bad
+// pixels (1 = bad, 0 = good); returns how many it flagged. Stuck pixels are judged on the value
+// that enters the ring. Each configuration is its own loop so it vectorises (no per-pixel tests
+// of the configuration, no reloads of it through the aliasing `Pixel*` stores).
+template <bool kNuc, bool kStuck, bool kMask>
+inline __attribute__((always_inline)) std::uint32_t ingest_loop(
+    const Pixel* __restrict in, const std::uint16_t* __restrict gain,
+    const std::int16_t* __restrict offset, const std::uint8_t* __restrict mask, Pixel stuck_low,
+    Pixel stuck_high, Pixel* __restrict ring, Pixel* __restrict flags, std::size_t width) {
   std::uint32_t count = 0;
-  if (detect_stuck && mask != nullptr) {
-    for (std::size_t x = 0; x < width; ++x) {
-      const Pixel v = in[x];
-      ring[x] = v;
-      const Pixel f = static_cast<Pixel>((v == stuck_low) | (v == stuck_high) | (mask[x] != 0));
-      flags[x] = f;
-      count += f;
-    }
-  } else if (detect_stuck) {
-    for (std::size_t x = 0; x < width; ++x) {
-      const Pixel v = in[x];
-      ring[x] = v;
-      const Pixel f = static_cast<Pixel>((v == stuck_low) | (v == stuck_high));
-      flags[x] = f;
-      count += f;
-    }
-  } else if (mask != nullptr) {
-    for (std::size_t x = 0; x < width; ++x) {
-      ring[x] = in[x];
-      const Pixel f = static_cast<Pixel>(mask[x] != 0);
-      flags[x] = f;
-      count += f;
-    }
-  } else {
-    for (std::size_t x = 0; x < width; ++x) {
-      ring[x] = in[x];
-      flags[x] = 0;
-    }
+  for (std::size_t x = 0; x < width; ++x) {
+    Pixel v = in[x];
+    if constexpr (kNuc) v = nuc_pixel(v, gain[x], offset[x]);
+    ring[x] = v;
+    Pixel f = 0;
+    if constexpr (kStuck) f = static_cast<Pixel>((v == stuck_low) | (v == stuck_high));
+    if constexpr (kMask) f = static_cast<Pixel>(f | (mask[x] != 0));
+    flags[x] = f;
+    count += f;
   }
   return count;
+}
+
+template <bool kNuc>
+inline __attribute__((always_inline)) std::uint32_t ingest_any(
+    const Pixel* in, const std::uint16_t* gain, const std::int16_t* offset,
+    const std::uint8_t* mask, bool detect_stuck, Pixel stuck_low, Pixel stuck_high, Pixel* ring,
+    Pixel* flags, std::size_t width) {
+  if (detect_stuck && mask != nullptr)
+    return ingest_loop<kNuc, true, true>(in, gain, offset, mask, stuck_low, stuck_high, ring, flags, width);
+  if (detect_stuck)
+    return ingest_loop<kNuc, true, false>(in, gain, offset, mask, stuck_low, stuck_high, ring, flags, width);
+  if (mask != nullptr)
+    return ingest_loop<kNuc, false, true>(in, gain, offset, mask, stuck_low, stuck_high, ring, flags, width);
+  return ingest_loop<kNuc, false, false>(in, gain, offset, mask, stuck_low, stuck_high, ring, flags, width);
+}
+
+BOLO_KERNEL_CLONES
+std::uint32_t copy_and_flag(const Pixel* in, const std::uint8_t* mask, bool detect_stuck,
+                            Pixel stuck_low, Pixel stuck_high, Pixel* ring, Pixel* flags,
+                            std::size_t width) {
+  return ingest_any<false>(in, nullptr, nullptr, mask, detect_stuck, stuck_low, stuck_high, ring,
+                           flags, width);
+}
+
+BOLO_KERNEL_CLONES
+std::uint32_t nuc_and_flag(const Pixel* in, const std::uint16_t* gain, const std::int16_t* offset,
+                           const std::uint8_t* mask, bool detect_stuck, Pixel stuck_low,
+                           Pixel stuck_high, Pixel* ring, Pixel* flags, std::size_t width) {
+  return ingest_any<true>(in, gain, offset, mask, detect_stuck, stuck_low, stuck_high, ring,
+                          flags, width);
 }
 
 constexpr std::uint32_t kBlock = 32;  // flag scan: pixels tested together in emit()
@@ -94,13 +121,18 @@ void BadPixelStage::push_line(std::uint32_t row, LineView line) {
     // but still deliver what is buffered in order.
     if (active_ && rows_in_ > 0) emit(rows_in_ - 1);
     active_ = false;
-    next().push_line(row, line);
+    pass_through(row, line);
     return;
   }
-  const std::uint8_t* mask =
-      config_.mask.empty() ? nullptr : config_.mask.data() + std::size_t{row} * width_;
-  flag_count_[row % 3] = copy_and_flag(line.data(), mask, config_.detect_stuck, config_.stuck_low,
-                                       config_.stuck_high, ring_line(row), ring_flags(row), width_);
+  const std::size_t at = std::size_t{row} * width_;
+  const std::uint8_t* mask = config_.mask.empty() ? nullptr : config_.mask.data() + at;
+  flag_count_[row % 3] =
+      nuc_ != nullptr
+          ? nuc_and_flag(line.data(), nuc_->gain_q14.data() + at, nuc_->offset.data() + at, mask,
+                         config_.detect_stuck, config_.stuck_low, config_.stuck_high,
+                         ring_line(row), ring_flags(row), width_)
+          : copy_and_flag(line.data(), mask, config_.detect_stuck, config_.stuck_low,
+                          config_.stuck_high, ring_line(row), ring_flags(row), width_);
   rows_in_ = row + 1;
   if (row >= kRadius) emit(row - kRadius);
 }
@@ -147,6 +179,19 @@ void BadPixelStage::emit(std::uint32_t row) {
     }
   }
   next().push_line(row, LineView(out_line_.data(), width_));
+}
+
+// A line the neighbourhood rule does not take: unchanged, or only through the NUC where a
+// NucStage in front would have applied it (a line of this frame's size, within its height).
+void BadPixelStage::pass_through(std::uint32_t row, LineView line) {
+  if (nuc_frame_ && row < height_ && line.size() == width_) {
+    const std::size_t at = std::size_t{row} * width_;
+    nuc_line(line.data(), nuc_->gain_q14.data() + at, nuc_->offset.data() + at, out_line_.data(),
+             width_);
+    next().push_line(row, LineView(out_line_.data(), width_));
+    return;
+  }
+  next().push_line(row, line);
 }
 
 void BadPixelStage::end_frame() {

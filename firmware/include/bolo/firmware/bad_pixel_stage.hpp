@@ -3,11 +3,15 @@
 // source) or stuck (reads exactly the low or high rail) is replaced by the rounded mean of its
 // good neighbours. Holds three input lines in a ring, so row r leaves when row r+1 arrives.
 // A row without a flagged pixel is handed on straight from the ring, without a copy.
+// Optionally the stage applies a NUC to each input line on its way into the ring: the output is
+// that of NucStage -> BadPixelStage, in one pass over the line instead of two (Pipeline uses it
+// when both stages are enabled).
 
 #include <cstddef>
 #include <cstdint>
 #include <span>
 
+#include "bolo/firmware/nuc_stage.hpp"
 #include "bolo/firmware/stage.hpp"
 
 namespace bolo::fw {
@@ -32,6 +36,10 @@ class BadPixelStage final : public Stage {
   // Three input lines, their bad flags (as pixels), and one output line.
   static constexpr std::size_t storage_pixels(std::uint32_t width) { return std::size_t{width} * 7; }
   BadPixelStage(const BadPixelConfig& config, std::span<Pixel> storage, LineSink& next);
+  // With NUC on input. Tables shorter than a frame are a configuration bug: the stage then
+  // passes every frame through untouched, as a misconfigured NucStage and BadPixelStage do.
+  BadPixelStage(const BadPixelConfig& config, const NucTables& input_nuc,
+                std::span<Pixel> storage, LineSink& next);
 
   void begin_frame(const FrameHeader& header) override;
   void push_line(std::uint32_t row, LineView line) override;
@@ -43,10 +51,14 @@ class BadPixelStage final : public Stage {
   Pixel* ring_line(std::uint32_t row) { return ring_.data() + std::size_t{row % 3} * width_; }
   Pixel* ring_flags(std::uint32_t row) { return flags_.data() + std::size_t{row % 3} * width_; }
   void emit(std::uint32_t row);
+  void pass_through(std::uint32_t row, LineView line);
 
   BadPixelConfig config_;
   std::uint32_t width_, height_;
   std::span<Pixel> ring_, flags_, out_line_;
+  const NucTables* nuc_ = nullptr;  // &nuc_tables_ when NUC is applied on input
+  NucTables nuc_tables_;
+  bool nuc_frame_ = false;  // this frame gets the NUC (its size is the configured one)
   std::uint32_t rows_in_ = 0;
   std::uint32_t flag_count_[3] = {};  // flagged pixels of each ring line
   bool active_ = false;
