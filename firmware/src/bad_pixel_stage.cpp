@@ -17,7 +17,10 @@ BadPixelStage::BadPixelStage(const BadPixelConfig& config, std::span<Pixel> stor
     return;
   }
   ring_ = storage.subspan(0, std::size_t{width_} * 3);
-  flags_ = storage.subspan(std::size_t{width_} * 3, std::size_t{width_} * 3);
+  // Flags are bytes (half the stores of pixel-sized ones) in the part of the storage that
+  // storage_pixels() sets aside for them.
+  flags_ = std::span<std::uint8_t>(reinterpret_cast<std::uint8_t*>(storage.data() + std::size_t{width_} * 3),
+                                   std::size_t{width_} * 3);
   out_line_ = storage.subspan(std::size_t{width_} * 6, width_);
 }
 
@@ -52,15 +55,15 @@ template <bool kNuc, bool kStuck, bool kMask>
 inline __attribute__((always_inline)) std::uint32_t ingest_loop(
     const Pixel* __restrict in, const std::uint16_t* __restrict gain,
     const std::int16_t* __restrict offset, const std::uint8_t* __restrict mask, Pixel stuck_low,
-    Pixel stuck_high, Pixel* __restrict ring, Pixel* __restrict flags, std::size_t width) {
+    Pixel stuck_high, Pixel* __restrict ring, std::uint8_t* __restrict flags, std::size_t width) {
   std::uint32_t count = 0;
   for (std::size_t x = 0; x < width; ++x) {
     Pixel v = in[x];
     if constexpr (kNuc) v = nuc_pixel(v, gain[x], offset[x]);
     ring[x] = v;
-    Pixel f = 0;
-    if constexpr (kStuck) f = static_cast<Pixel>((v == stuck_low) | (v == stuck_high));
-    if constexpr (kMask) f = static_cast<Pixel>(f | (mask[x] != 0));
+    std::uint8_t f = 0;
+    if constexpr (kStuck) f = static_cast<std::uint8_t>((v == stuck_low) | (v == stuck_high));
+    if constexpr (kMask) f = static_cast<std::uint8_t>(f | (mask[x] != 0));
     flags[x] = f;
     count += f;
   }
@@ -71,7 +74,7 @@ template <bool kNuc>
 inline __attribute__((always_inline)) std::uint32_t ingest_any(
     const Pixel* in, const std::uint16_t* gain, const std::int16_t* offset,
     const std::uint8_t* mask, bool detect_stuck, Pixel stuck_low, Pixel stuck_high, Pixel* ring,
-    Pixel* flags, std::size_t width) {
+    std::uint8_t* flags, std::size_t width) {
   if (detect_stuck && mask != nullptr)
     return ingest_loop<kNuc, true, true>(in, gain, offset, mask, stuck_low, stuck_high, ring, flags, width);
   if (detect_stuck)
@@ -83,7 +86,7 @@ inline __attribute__((always_inline)) std::uint32_t ingest_any(
 
 BOLO_KERNEL_CLONES
 std::uint32_t copy_and_flag(const Pixel* in, const std::uint8_t* mask, bool detect_stuck,
-                            Pixel stuck_low, Pixel stuck_high, Pixel* ring, Pixel* flags,
+                            Pixel stuck_low, Pixel stuck_high, Pixel* ring, std::uint8_t* flags,
                             std::size_t width) {
   return ingest_any<false>(in, nullptr, nullptr, mask, detect_stuck, stuck_low, stuck_high, ring,
                            flags, width);
@@ -92,7 +95,7 @@ std::uint32_t copy_and_flag(const Pixel* in, const std::uint8_t* mask, bool dete
 BOLO_KERNEL_CLONES
 std::uint32_t nuc_and_flag(const Pixel* in, const std::uint16_t* gain, const std::int16_t* offset,
                            const std::uint8_t* mask, bool detect_stuck, Pixel stuck_low,
-                           Pixel stuck_high, Pixel* ring, Pixel* flags, std::size_t width) {
+                           Pixel stuck_high, Pixel* ring, std::uint8_t* flags, std::size_t width) {
   return ingest_any<true>(in, gain, offset, mask, detect_stuck, stuck_low, stuck_high, ring,
                           flags, width);
 }
@@ -100,16 +103,16 @@ std::uint32_t nuc_and_flag(const Pixel* in, const std::uint16_t* gain, const std
 constexpr std::uint32_t kBlock = 32;  // flag scan: pixels tested together in emit()
 
 // Whether any of `n` flags is set; a whole block is read as 64-bit words (flags are 0 or 1).
-inline bool block_has_flag(const Pixel* flags, std::uint32_t n) {
+inline bool block_has_flag(const std::uint8_t* flags, std::uint32_t n) {
   if (n == kBlock) {
-    std::uint64_t words[kBlock * sizeof(Pixel) / sizeof(std::uint64_t)];
+    std::uint64_t words[kBlock / sizeof(std::uint64_t)];
     std::memcpy(words, flags, sizeof words);
     std::uint64_t any = 0;
     for (std::uint64_t w : words) any |= w;
     return any != 0;
   }
-  Pixel any = 0;
-  for (std::uint32_t x = 0; x < n; ++x) any = static_cast<Pixel>(any | flags[x]);
+  std::uint8_t any = 0;
+  for (std::uint32_t x = 0; x < n; ++x) any = static_cast<std::uint8_t>(any | flags[x]);
   return any != 0;
 }
 
@@ -137,8 +140,10 @@ void BadPixelStage::push_line(std::uint32_t row, LineView line) {
   if (row >= kRadius) emit(row - kRadius);
 }
 
+// Repairs in place in the ring: a repaired pixel is flagged, and flagged pixels are never read as
+// neighbours, so the rows still to come see the same neighbourhoods as with a copy.
 void BadPixelStage::emit(std::uint32_t row) {
-  const Pixel* centre = ring_line(row);
+  Pixel* centre = ring_line(row);
   std::uint32_t remaining = flag_count_[row % 3];
   if (remaining == 0) {
     // Nothing to repair: the ring line itself goes on (it is not touched before the next push).
@@ -147,8 +152,7 @@ void BadPixelStage::emit(std::uint32_t row) {
   }
   const std::uint32_t first = row == 0 ? 0 : row - 1;
   const std::uint32_t last = std::min(row + 1, rows_in_ - 1);
-  const Pixel* centre_flags = ring_flags(row);
-  std::copy(centre, centre + width_, out_line_.data());
+  const std::uint8_t* centre_flags = ring_flags(row);
   // Only flagged pixels change; whole blocks without a flag are skipped.
   for (std::uint32_t block = 0; block < width_ && remaining != 0; block += kBlock) {
     const std::uint32_t end = std::min(block + kBlock, width_);
@@ -162,7 +166,7 @@ void BadPixelStage::emit(std::uint32_t row) {
       std::uint32_t count = 0;
       for (std::uint32_t r = first; r <= last; ++r) {
         const Pixel* values = ring_line(r);
-        const Pixel* flags = ring_flags(r);
+        const std::uint8_t* flags = ring_flags(r);
         for (std::uint32_t c = x0; c <= x1; ++c) {
           if (flags[c] == 0) {
             sum += values[c];
@@ -171,14 +175,14 @@ void BadPixelStage::emit(std::uint32_t row) {
         }
       }
       if (count == 0) {
-        ++stats_.unrepairable;  // passed through: out_line_ already holds the centre value
+        ++stats_.unrepairable;  // passed through unchanged
       } else {
-        out_line_[x] = static_cast<Pixel>((sum + count / 2) / count);  // nearest, ties up
+        centre[x] = static_cast<Pixel>((sum + count / 2) / count);  // nearest, ties up
         ++stats_.replaced;
       }
     }
   }
-  next().push_line(row, LineView(out_line_.data(), width_));
+  next().push_line(row, LineView(centre, width_));
 }
 
 // A line the neighbourhood rule does not take: unchanged, or only through the NUC where a

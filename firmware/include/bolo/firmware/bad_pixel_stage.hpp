@@ -2,7 +2,7 @@
 // Bad-pixel replacement over a 3x3 neighbourhood: a pixel marked bad (static mask from the
 // source) or stuck (reads exactly the low or high rail) is replaced by the rounded mean of its
 // good neighbours. Holds three input lines in a ring, so row r leaves when row r+1 arrives.
-// A row without a flagged pixel is handed on straight from the ring, without a copy.
+// Rows are handed on straight from the ring, repaired in place, without a copy.
 // Optionally the stage applies a NUC to each input line on its way into the ring: the output is
 // that of NucStage -> BadPixelStage, in one pass over the line instead of two (Pipeline uses it
 // when both stages are enabled).
@@ -33,7 +33,8 @@ struct BadPixelFrameStats {
 class BadPixelStage final : public Stage {
  public:
   static constexpr std::uint32_t kRadius = 1;
-  // Three input lines, their bad flags (as pixels), and one output line.
+  // Three input lines, their bad flags (bytes, in the room of three lines), and one line for
+  // the input NUC of lines passed through.
   static constexpr std::size_t storage_pixels(std::uint32_t width) { return std::size_t{width} * 7; }
   BadPixelStage(const BadPixelConfig& config, std::span<Pixel> storage, LineSink& next);
   // With NUC on input. Tables shorter than a frame are a configuration bug: the stage then
@@ -49,13 +50,14 @@ class BadPixelStage final : public Stage {
 
  private:
   Pixel* ring_line(std::uint32_t row) { return ring_.data() + std::size_t{row % 3} * width_; }
-  Pixel* ring_flags(std::uint32_t row) { return flags_.data() + std::size_t{row % 3} * width_; }
+  std::uint8_t* ring_flags(std::uint32_t row) { return flags_.data() + std::size_t{row % 3} * width_; }
   void emit(std::uint32_t row);
   void pass_through(std::uint32_t row, LineView line);
 
   BadPixelConfig config_;
   std::uint32_t width_, height_;
-  std::span<Pixel> ring_, flags_, out_line_;
+  std::span<Pixel> ring_, out_line_;
+  std::span<std::uint8_t> flags_;
   const NucTables* nuc_ = nullptr;  // &nuc_tables_ when NUC is applied on input
   NucTables nuc_tables_;
   bool nuc_frame_ = false;  // this frame gets the NUC (its size is the configured one)
