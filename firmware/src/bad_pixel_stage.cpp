@@ -48,15 +48,15 @@ void BadPixelStage::begin_frame(const FrameHeader& header) {
 namespace {
 
 // Copies an input line into the ring (through the NUC when `gain` is set) and flags its bad
-// pixels (1 = bad, 0 = good); returns how many it flagged. Stuck pixels are judged on the value
+// pixels (1 = bad, 0 = good); returns whether it flagged any. Stuck pixels are judged on the value
 // that enters the ring. Each configuration is its own loop so it vectorises (no per-pixel tests
 // of the configuration, no reloads of it through the aliasing `Pixel*` stores).
 template <bool kNuc, bool kStuck, bool kMask>
-inline __attribute__((always_inline)) std::uint32_t ingest_loop(
+inline __attribute__((always_inline)) bool ingest_loop(
     const Pixel* __restrict in, const std::uint16_t* __restrict gain,
     const std::int16_t* __restrict offset, const std::uint8_t* __restrict mask, Pixel stuck_low,
     Pixel stuck_high, Pixel* __restrict ring, std::uint8_t* __restrict flags, std::size_t width) {
-  std::uint32_t count = 0;
+  std::uint8_t any = 0;  // an OR, not a count: it vectorises without widening
   for (std::size_t x = 0; x < width; ++x) {
     Pixel v = in[x];
     if constexpr (kNuc) v = nuc_pixel(v, gain[x], offset[x]);
@@ -65,13 +65,13 @@ inline __attribute__((always_inline)) std::uint32_t ingest_loop(
     if constexpr (kStuck) f = static_cast<std::uint8_t>((v == stuck_low) | (v == stuck_high));
     if constexpr (kMask) f = static_cast<std::uint8_t>(f | (mask[x] != 0));
     flags[x] = f;
-    count += f;
+    any = static_cast<std::uint8_t>(any | f);
   }
-  return count;
+  return any != 0;
 }
 
 template <bool kNuc>
-inline __attribute__((always_inline)) std::uint32_t ingest_any(
+inline __attribute__((always_inline)) bool ingest_any(
     const Pixel* in, const std::uint16_t* gain, const std::int16_t* offset,
     const std::uint8_t* mask, bool detect_stuck, Pixel stuck_low, Pixel stuck_high, Pixel* ring,
     std::uint8_t* flags, std::size_t width) {
@@ -85,7 +85,7 @@ inline __attribute__((always_inline)) std::uint32_t ingest_any(
 }
 
 BOLO_KERNEL_CLONES
-std::uint32_t copy_and_flag(const Pixel* in, const std::uint8_t* mask, bool detect_stuck,
+bool copy_and_flag(const Pixel* in, const std::uint8_t* mask, bool detect_stuck,
                             Pixel stuck_low, Pixel stuck_high, Pixel* ring, std::uint8_t* flags,
                             std::size_t width) {
   return ingest_any<false>(in, nullptr, nullptr, mask, detect_stuck, stuck_low, stuck_high, ring,
@@ -93,7 +93,7 @@ std::uint32_t copy_and_flag(const Pixel* in, const std::uint8_t* mask, bool dete
 }
 
 BOLO_KERNEL_CLONES
-std::uint32_t nuc_and_flag(const Pixel* in, const std::uint16_t* gain, const std::int16_t* offset,
+bool nuc_and_flag(const Pixel* in, const std::uint16_t* gain, const std::int16_t* offset,
                            const std::uint8_t* mask, bool detect_stuck, Pixel stuck_low,
                            Pixel stuck_high, Pixel* ring, std::uint8_t* flags, std::size_t width) {
   return ingest_any<true>(in, gain, offset, mask, detect_stuck, stuck_low, stuck_high, ring,
@@ -129,7 +129,7 @@ void BadPixelStage::push_line(std::uint32_t row, LineView line) {
   }
   const std::size_t at = std::size_t{row} * width_;
   const std::uint8_t* mask = config_.mask.empty() ? nullptr : config_.mask.data() + at;
-  flag_count_[row % 3] =
+  row_flagged_[row % 3] =
       nuc_ != nullptr
           ? nuc_and_flag(line.data(), nuc_->gain_q14.data() + at, nuc_->offset.data() + at, mask,
                          config_.detect_stuck, config_.stuck_low, config_.stuck_high,
@@ -144,8 +144,7 @@ void BadPixelStage::push_line(std::uint32_t row, LineView line) {
 // neighbours, so the rows still to come see the same neighbourhoods as with a copy.
 void BadPixelStage::emit(std::uint32_t row) {
   Pixel* centre = ring_line(row);
-  std::uint32_t remaining = flag_count_[row % 3];
-  if (remaining == 0) {
+  if (!row_flagged_[row % 3]) {
     // Nothing to repair: the ring line itself goes on (it is not touched before the next push).
     next().push_line(row, LineView(centre, width_));
     return;
@@ -154,12 +153,11 @@ void BadPixelStage::emit(std::uint32_t row) {
   const std::uint32_t last = std::min(row + 1, rows_in_ - 1);
   const std::uint8_t* centre_flags = ring_flags(row);
   // Only flagged pixels change; whole blocks without a flag are skipped.
-  for (std::uint32_t block = 0; block < width_ && remaining != 0; block += kBlock) {
+  for (std::uint32_t block = 0; block < width_; block += kBlock) {
     const std::uint32_t end = std::min(block + kBlock, width_);
     if (!block_has_flag(centre_flags + block, end - block)) continue;
     for (std::uint32_t x = block; x < end; ++x) {
       if (centre_flags[x] == 0) continue;
-      --remaining;
       const std::uint32_t x0 = x == 0 ? 0 : x - 1;
       const std::uint32_t x1 = std::min(x + 1, width_ - 1);
       std::uint32_t sum = 0;

@@ -62,7 +62,7 @@ class BadPixelStage final : public Stage {
   NucTables nuc_tables_;
   bool nuc_frame_ = false;  // this frame gets the NUC (its size is the configured one)
   std::uint32_t rows_in_ = 0;
-  std::uint32_t flag_count_[3] = {};  // flagged pixels of each ring line
+  bool row_flagged_[3] = {};  // whether each ring line has a flagged pixel
   bool active_ = false;
   BadPixelFrameStats stats_{};
 };
