@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include "multiversion.hpp"
+#include "bolo/firmware/detail/kernels.hpp"
 
 namespace bolo::fw {
 
@@ -47,59 +47,6 @@ void BadPixelStage::begin_frame(const FrameHeader& header) {
 
 namespace {
 
-// Copies an input line into the ring (through the NUC when `gain` is set) and flags its bad
-// pixels (1 = bad, 0 = good); returns whether it flagged any. Stuck pixels are judged on the value
-// that enters the ring. Each configuration is its own loop so it vectorises (no per-pixel tests
-// of the configuration, no reloads of it through the aliasing `Pixel*` stores).
-template <bool kNuc, bool kStuck, bool kMask>
-inline __attribute__((always_inline)) bool ingest_loop(
-    const Pixel* __restrict in, const std::uint16_t* __restrict gain,
-    const std::int16_t* __restrict offset, const std::uint8_t* __restrict mask, Pixel stuck_low,
-    Pixel stuck_high, Pixel* __restrict ring, std::uint8_t* __restrict flags, std::size_t width) {
-  std::uint8_t any = 0;  // an OR, not a count: it vectorises without widening
-  for (std::size_t x = 0; x < width; ++x) {
-    Pixel v = in[x];
-    if constexpr (kNuc) v = nuc_pixel(v, gain[x], offset[x]);
-    ring[x] = v;
-    std::uint8_t f = 0;
-    if constexpr (kStuck) f = static_cast<std::uint8_t>((v == stuck_low) | (v == stuck_high));
-    if constexpr (kMask) f = static_cast<std::uint8_t>(f | (mask[x] != 0));
-    flags[x] = f;
-    any = static_cast<std::uint8_t>(any | f);
-  }
-  return any != 0;
-}
-
-template <bool kNuc>
-inline __attribute__((always_inline)) bool ingest_any(
-    const Pixel* in, const std::uint16_t* gain, const std::int16_t* offset,
-    const std::uint8_t* mask, bool detect_stuck, Pixel stuck_low, Pixel stuck_high, Pixel* ring,
-    std::uint8_t* flags, std::size_t width) {
-  if (detect_stuck && mask != nullptr)
-    return ingest_loop<kNuc, true, true>(in, gain, offset, mask, stuck_low, stuck_high, ring, flags, width);
-  if (detect_stuck)
-    return ingest_loop<kNuc, true, false>(in, gain, offset, mask, stuck_low, stuck_high, ring, flags, width);
-  if (mask != nullptr)
-    return ingest_loop<kNuc, false, true>(in, gain, offset, mask, stuck_low, stuck_high, ring, flags, width);
-  return ingest_loop<kNuc, false, false>(in, gain, offset, mask, stuck_low, stuck_high, ring, flags, width);
-}
-
-BOLO_KERNEL_CLONES
-bool copy_and_flag(const Pixel* in, const std::uint8_t* mask, bool detect_stuck,
-                            Pixel stuck_low, Pixel stuck_high, Pixel* ring, std::uint8_t* flags,
-                            std::size_t width) {
-  return ingest_any<false>(in, nullptr, nullptr, mask, detect_stuck, stuck_low, stuck_high, ring,
-                           flags, width);
-}
-
-BOLO_KERNEL_CLONES
-bool nuc_and_flag(const Pixel* in, const std::uint16_t* gain, const std::int16_t* offset,
-                           const std::uint8_t* mask, bool detect_stuck, Pixel stuck_low,
-                           Pixel stuck_high, Pixel* ring, std::uint8_t* flags, std::size_t width) {
-  return ingest_any<true>(in, gain, offset, mask, detect_stuck, stuck_low, stuck_high, ring,
-                          flags, width);
-}
-
 constexpr std::uint32_t kBlock = 32;  // flag scan: pixels tested together in emit()
 
 // Whether any of `n` flags is set; a whole block is read as 64-bit words (flags are 0 or 1).
@@ -129,13 +76,14 @@ void BadPixelStage::push_line(std::uint32_t row, LineView line) {
   }
   const std::size_t at = std::size_t{row} * width_;
   const std::uint8_t* mask = config_.mask.empty() ? nullptr : config_.mask.data() + at;
-  row_flagged_[row % 3] =
-      nuc_ != nullptr
-          ? nuc_and_flag(line.data(), nuc_->gain_q14.data() + at, nuc_->offset.data() + at, mask,
-                         config_.detect_stuck, config_.stuck_low, config_.stuck_high,
-                         ring_line(row), ring_flags(row), width_)
-          : copy_and_flag(line.data(), mask, config_.detect_stuck, config_.stuck_low,
-                          config_.stuck_high, ring_line(row), ring_flags(row), width_);
+  detail::IngestLine job{line.data(), nullptr, nullptr, mask, config_.detect_stuck,
+                         config_.stuck_low, config_.stuck_high, ring_line(row), ring_flags(row),
+                         width_};
+  if (nuc_ != nullptr) {
+    job.gain_q14 = nuc_->gain_q14.data() + at;
+    job.offset = nuc_->offset.data() + at;
+  }
+  row_flagged_[row % 3] = detail::ingest_line(job);
   rows_in_ = row + 1;
   if (row >= kRadius) emit(row - kRadius);
 }
