@@ -121,7 +121,8 @@ BOLO_AVX512 inline __attribute__((always_inline)) __mmask32 ingest_avx512_step(
 }
 
 template <bool kNuc, bool kMask>
-BOLO_AVX512 bool ingest_avx512_loop(const IngestLine& j) {
+BOLO_AVX512 bool ingest_avx512_loop(const IngestLine& job) {
+  const IngestLine j = job;  // a local copy: the stores below cannot alias it, so no reloads
   const Avx512IngestConstants k{_mm512_set1_epi32(1 << (kNucGainFractionBits - 1)),
                                 _mm512_set1_epi16(static_cast<short>(j.stuck_low)),
                                 _mm512_set1_epi16(static_cast<short>(j.stuck_high)),

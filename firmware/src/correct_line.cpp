@@ -163,7 +163,9 @@ BOLO_AVX2 void correct_avx2(const Pixel* __restrict current, Pixel* __restrict p
 //   G*cur - A*prev + 2^23 = 2^28 P2 + 2^14 P1 + P0 + K, and for integers
 //   floor((2^28 P2 + 2^14 P1 + P0 + K) / 2^24) = Kh + 16 P2 + ((P1 + ((P0 + Kl) >> 14)) >> 10)
 // with arithmetic shifts (nested floor divisions), every term inside int32. That is exactly the
-// portable loop's `value`. unpacklo/hi_epi16 and packus_epi32 both work within 128-bit lanes and
+// portable loop's `value`. When G and A are below 2^28 (g < 16, every realistic exposure) g2 and
+// a2 are 0 and the P2 term is left out: two multiply-adds per pair instead of three.
+// unpacklo/hi_epi16 and packus_epi32 both work within 128-bit lanes and
 // undo each other's order, so the packed result is in pixel order; packus is the clamp.
 struct MaddCoefficients {
   std::uint32_t digit0, digit1, digit2x16;  // lanes: low 16 bits g_k, high 16 bits -a_k
@@ -189,18 +191,21 @@ struct Avx512Constants {
   __m512i flip, d0, d1, d2, k_high, k_low, above16, max_out;
 };
 
-// The value (as the portable loop's) of the pixels interleaved in `pairs`.
+// The value (as the portable loop's) of the pixels interleaved in `pairs`. `kWide`: G or A is
+// 2^28 or more, so the third digit counts.
+template <bool kWide>
 BOLO_AVX512 inline __attribute__((always_inline)) __m512i avx512_values(__m512i pairs,
                                                                         const Avx512Constants& k) {
   const __m512i t0 = _mm512_srai_epi32(_mm512_add_epi32(_mm512_madd_epi16(pairs, k.d0), k.k_low), 14);
   const __m512i t1 = _mm512_srai_epi32(_mm512_add_epi32(_mm512_madd_epi16(pairs, k.d1), t0), 10);
-  return _mm512_add_epi32(_mm512_add_epi32(_mm512_madd_epi16(pairs, k.d2), k.k_high), t1);
+  if constexpr (kWide) return _mm512_add_epi32(_mm512_add_epi32(_mm512_madd_epi16(pairs, k.d2), k.k_high), t1);
+  return _mm512_add_epi32(t1, k.k_high);
 }
 
 // One step of 32 pixels; `m` selects the pixels that exist (all but in the last step).
 // Missing pixels load as 0 for both frames and give value floor(2^23 / 2^24) = 0: they count
 // nowhere and are never stored.
-template <bool kStore>
+template <bool kStore, bool kWide>
 BOLO_AVX512 inline __attribute__((always_inline)) void avx512_step(
     const Pixel* __restrict current, Pixel* __restrict previous, Pixel* __restrict out,
     std::size_t x, __mmask32 m, const Avx512Constants& k, std::uint32_t& n_low,
@@ -210,8 +215,8 @@ BOLO_AVX512 inline __attribute__((always_inline)) void avx512_step(
   if constexpr (kStore) _mm512_mask_storeu_epi16(previous + x, m, cur);
   const __m512i cs = _mm512_xor_si512(cur, k.flip);
   const __m512i ps = _mm512_xor_si512(prev, k.flip);
-  const __m512i vlo = avx512_values(_mm512_unpacklo_epi16(cs, ps), k);  // pixels 8j + 0..3
-  const __m512i vhi = avx512_values(_mm512_unpackhi_epi16(cs, ps), k);  // pixels 8j + 4..7
+  const __m512i vlo = avx512_values<kWide>(_mm512_unpacklo_epi16(cs, ps), k);  // pixels 8j + 0..3
+  const __m512i vhi = avx512_values<kWide>(_mm512_unpackhi_epi16(cs, ps), k);  // pixels 8j + 4..7
   // A value outside [0, 65535] has a bit set above bit 15 (negative ones: the sign). Rare, so one
   // test per step, and the exact counts only where it fires.
   if (_mm512_test_epi32_mask(_mm512_or_si512(vlo, vhi), k.above16) != 0) [[unlikely]] {
@@ -222,6 +227,23 @@ BOLO_AVX512 inline __attribute__((always_inline)) void avx512_step(
               popcount16(_mm512_cmpgt_epi32_mask(vhi, k.max_out));
   }
   _mm512_mask_storeu_epi16(out + x, m, _mm512_packus_epi32(vlo, vhi));
+}
+
+template <bool kStore, bool kWide>
+BOLO_AVX512 void correct_avx512_loop(const Pixel* __restrict current, Pixel* __restrict previous,
+                                     const Avx512Constants& k, Pixel* __restrict out,
+                                     std::size_t width, std::uint32_t& low, std::uint32_t& high) {
+  std::uint32_t n_low = 0;
+  std::uint32_t n_high = 0;
+  std::size_t x = 0;
+  for (; x + 32 <= width; x += 32)
+    avx512_step<kStore, kWide>(current, previous, out, x, ~__mmask32{0}, k, n_low, n_high);
+  if (x < width)
+    avx512_step<kStore, kWide>(current, previous, out, x,
+                               static_cast<__mmask32>((std::uint32_t{1} << (width - x)) - 1u), k,
+                               n_low, n_high);
+  low += n_low;
+  high += n_high;
 }
 
 template <bool kStore>
@@ -237,17 +259,10 @@ BOLO_AVX512 void correct_avx512(const Pixel* __restrict current, Pixel* __restri
                           _mm512_set1_epi32(mc.k_low),
                           _mm512_set1_epi32(static_cast<int>(0xFFFF0000u)),
                           _mm512_set1_epi32(kMaxOut)};
-  std::uint32_t n_low = 0;
-  std::uint32_t n_high = 0;
-  std::size_t x = 0;
-  for (; x + 32 <= width; x += 32)
-    avx512_step<kStore>(current, previous, out, x, ~__mmask32{0}, k, n_low, n_high);
-  if (x < width)
-    avx512_step<kStore>(current, previous, out, x,
-                        static_cast<__mmask32>((std::uint32_t{1} << (width - x)) - 1u), k, n_low,
-                        n_high);
-  low += n_low;
-  high += n_high;
+  if (mc.digit2x16 != 0)
+    correct_avx512_loop<kStore, true>(current, previous, k, out, width, low, high);
+  else
+    correct_avx512_loop<kStore, false>(current, previous, k, out, width, low, high);
 }
 
 void correct_line_avx2(const Pixel* current, const Pixel* previous, CorrectorCoefficients c,
