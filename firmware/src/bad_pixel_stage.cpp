@@ -47,20 +47,14 @@ void BadPixelStage::begin_frame(const FrameHeader& header) {
 
 namespace {
 
-constexpr std::uint32_t kBlock = 32;  // flag scan: pixels tested together in emit()
+constexpr std::uint32_t kWord = 8;  // flags tested together in emit(): one 64-bit load
 
-// Whether any of `n` flags is set; a whole block is read as 64-bit words (flags are 0 or 1).
-inline bool block_has_flag(const std::uint8_t* flags, std::uint32_t n) {
-  if (n == kBlock) {
-    std::uint64_t words[kBlock / sizeof(std::uint64_t)];
-    std::memcpy(words, flags, sizeof words);
-    std::uint64_t any = 0;
-    for (std::uint64_t w : words) any |= w;
-    return any != 0;
-  }
-  std::uint8_t any = 0;
-  for (std::uint32_t x = 0; x < n; ++x) any = static_cast<std::uint8_t>(any | flags[x]);
-  return any != 0;
+// Whether any of the 8 flags from `flags` is set. One load, straight into a register (flags are
+// 0 or 1); a word-sized array on the stack would cost a store-forwarding stall.
+inline bool word_has_flag(const std::uint8_t* flags) {
+  std::uint64_t word;
+  std::memcpy(&word, flags, sizeof word);
+  return word != 0;
 }
 
 }  // namespace
@@ -100,11 +94,11 @@ void BadPixelStage::emit(std::uint32_t row) {
   const std::uint32_t first = row == 0 ? 0 : row - 1;
   const std::uint32_t last = std::min(row + 1, rows_in_ - 1);
   const std::uint8_t* centre_flags = ring_flags(row);
-  // Only flagged pixels change; whole blocks without a flag are skipped.
-  for (std::uint32_t block = 0; block < width_; block += kBlock) {
-    const std::uint32_t end = std::min(block + kBlock, width_);
-    if (!block_has_flag(centre_flags + block, end - block)) continue;
-    for (std::uint32_t x = block; x < end; ++x) {
+  // Only flagged pixels change; words of eight flags without one are skipped.
+  for (std::uint32_t word = 0; word < width_; word += kWord) {
+    const std::uint32_t end = std::min(word + kWord, width_);
+    if (end - word == kWord && !word_has_flag(centre_flags + word)) continue;
+    for (std::uint32_t x = word; x < end; ++x) {
       if (centre_flags[x] == 0) continue;
       const std::uint32_t x0 = x == 0 ? 0 : x - 1;
       const std::uint32_t x1 = std::min(x + 1, width_ - 1);
