@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include "bolo/firmware/detail/kernels.hpp"
 #include "bolo/firmware/nuc_stage.hpp"
@@ -22,22 +23,29 @@ namespace bolo::fw::detail {
 namespace {
 
 // One loop per configuration so each vectorises: no per-pixel tests of the configuration, no
-// reloads of it through the aliasing `Pixel*` stores.
+// reloads of it through the aliasing `Pixel*` stores. Flags are gathered 32 to a word.
 template <bool kNuc, bool kStuck, bool kMask>
 inline __attribute__((always_inline)) bool ingest_loop(
     const Pixel* __restrict in, const std::uint16_t* __restrict gain,
     const std::int16_t* __restrict offset, const std::uint8_t* __restrict mask, Pixel stuck_low,
-    Pixel stuck_high, Pixel* __restrict ring, std::uint8_t* __restrict flags, std::size_t width) {
-  std::uint8_t any = 0;  // an OR, not a count: it vectorises without widening
-  for (std::size_t x = 0; x < width; ++x) {
-    Pixel v = in[x];
-    if constexpr (kNuc) v = nuc_pixel(v, gain[x], offset[x]);
-    ring[x] = v;
-    std::uint8_t f = 0;
-    if constexpr (kStuck) f = static_cast<std::uint8_t>((v == stuck_low) | (v == stuck_high));
-    if constexpr (kMask) f = static_cast<std::uint8_t>(f | (mask[x] != 0));
-    flags[x] = f;
-    any = static_cast<std::uint8_t>(any | f);
+    Pixel stuck_high, Pixel* __restrict ring, std::uint8_t* __restrict flag_bits,
+    std::size_t width) {
+  std::uint32_t any = 0;
+  for (std::size_t base = 0; base < width; base += 32) {
+    const std::size_t n = width - base < 32 ? width - base : 32;
+    std::uint32_t bits = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t x = base + i;
+      Pixel v = in[x];
+      if constexpr (kNuc) v = nuc_pixel(v, gain[x], offset[x]);
+      ring[x] = v;
+      std::uint32_t f = 0;
+      if constexpr (kStuck) f = static_cast<std::uint32_t>((v == stuck_low) | (v == stuck_high));
+      if constexpr (kMask) f |= mask[x] != 0 ? 1u : 0u;
+      bits |= f << i;
+    }
+    std::memcpy(flag_bits + base / 8, &bits, sizeof bits);
+    any |= bits;
   }
   return any != 0;
 }
@@ -46,15 +54,15 @@ template <bool kNuc>
 inline __attribute__((always_inline)) bool ingest_any(const IngestLine& j) {
   if (j.detect_stuck && j.mask != nullptr)
     return ingest_loop<kNuc, true, true>(j.in, j.gain_q14, j.offset, j.mask, j.stuck_low,
-                                         j.stuck_high, j.ring, j.flags, j.width);
+                                         j.stuck_high, j.ring, j.flag_bits, j.width);
   if (j.detect_stuck)
     return ingest_loop<kNuc, true, false>(j.in, j.gain_q14, j.offset, j.mask, j.stuck_low,
-                                          j.stuck_high, j.ring, j.flags, j.width);
+                                          j.stuck_high, j.ring, j.flag_bits, j.width);
   if (j.mask != nullptr)
     return ingest_loop<kNuc, false, true>(j.in, j.gain_q14, j.offset, j.mask, j.stuck_low,
-                                          j.stuck_high, j.ring, j.flags, j.width);
+                                          j.stuck_high, j.ring, j.flag_bits, j.width);
   return ingest_loop<kNuc, false, false>(j.in, j.gain_q14, j.offset, j.mask, j.stuck_low,
-                                         j.stuck_high, j.ring, j.flags, j.width);
+                                         j.stuck_high, j.ring, j.flag_bits, j.width);
 }
 
 BOLO_KERNEL_CLONES
@@ -72,7 +80,6 @@ bool ingest_portable(const IngestLine& job) {
 // < 2^32, so the logical shift is exact.
 struct Avx512IngestConstants {
   __m512i half, low, high;
-  __m256i one;
   __mmask32 stuck_on;
 };
 
@@ -111,12 +118,8 @@ BOLO_AVX512 inline __attribute__((always_inline)) __mmask32 ingest_avx512_step(
     f |= _mm256_test_epi8_mask(bad, bad);
   }
   f &= m;
-  const __m256i bytes = _mm256_maskz_mov_epi8(f, k.one);
-  if constexpr (kTail) {
-    _mm256_mask_storeu_epi8(j.flags + x, m, bytes);
-  } else {
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(j.flags + x), bytes);
-  }
+  const std::uint32_t bits = f;
+  std::memcpy(j.flag_bits + x / 8, &bits, sizeof bits);
   return f;
 }
 
@@ -126,7 +129,6 @@ BOLO_AVX512 bool ingest_avx512_loop(const IngestLine& job) {
   const Avx512IngestConstants k{_mm512_set1_epi32(1 << (kNucGainFractionBits - 1)),
                                 _mm512_set1_epi16(static_cast<short>(j.stuck_low)),
                                 _mm512_set1_epi16(static_cast<short>(j.stuck_high)),
-                                _mm256_set1_epi8(1),
                                 j.detect_stuck ? ~__mmask32{0} : __mmask32{0}};
   __mmask32 any = 0;
   std::size_t x = 0;

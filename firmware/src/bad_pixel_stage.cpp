@@ -1,6 +1,7 @@
 #include "bolo/firmware/bad_pixel_stage.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
 #include "bolo/firmware/detail/kernels.hpp"
@@ -17,11 +18,11 @@ BadPixelStage::BadPixelStage(const BadPixelConfig& config, std::span<Pixel> stor
     return;
   }
   ring_ = storage.subspan(0, std::size_t{width_} * 3);
-  // Flags are bytes (half the stores of pixel-sized ones) in the part of the storage that
-  // storage_pixels() sets aside for them.
-  flags_ = std::span<std::uint8_t>(reinterpret_cast<std::uint8_t*>(storage.data() + std::size_t{width_} * 3),
-                                   std::size_t{width_} * 3);
-  out_line_ = storage.subspan(std::size_t{width_} * 6, width_);
+  out_line_ = storage.subspan(std::size_t{width_} * 3, width_);
+  // Flag bits in the room storage_pixels() sets aside after the lines, accessed as bytes.
+  flags_ = std::span<std::uint8_t>(
+      reinterpret_cast<std::uint8_t*>(storage.data() + std::size_t{width_} * 4),
+      3 * flag_words(width_) * 4);
 }
 
 BadPixelStage::BadPixelStage(const BadPixelConfig& config, const NucTables& input_nuc,
@@ -47,14 +48,15 @@ void BadPixelStage::begin_frame(const FrameHeader& header) {
 
 namespace {
 
-constexpr std::uint32_t kWord = 8;  // flags tested together in emit(): one 64-bit load
+// The 32 flag bits of pixels x & ~31 ... (x & ~31) + 31 of a row.
+inline std::uint32_t flag_word(const std::uint8_t* row_flags, std::uint32_t x) {
+  std::uint32_t word;
+  std::memcpy(&word, row_flags + (x / 32) * 4, sizeof word);
+  return word;
+}
 
-// Whether any of the 8 flags from `flags` is set. One load, straight into a register (flags are
-// 0 or 1); a word-sized array on the stack would cost a store-forwarding stall.
-inline bool word_has_flag(const std::uint8_t* flags) {
-  std::uint64_t word;
-  std::memcpy(&word, flags, sizeof word);
-  return word != 0;
+inline bool flagged(const std::uint8_t* row_flags, std::uint32_t x) {
+  return ((flag_word(row_flags, x) >> (x % 32)) & 1u) != 0;
 }
 
 }  // namespace
@@ -94,12 +96,10 @@ void BadPixelStage::emit(std::uint32_t row) {
   const std::uint32_t first = row == 0 ? 0 : row - 1;
   const std::uint32_t last = std::min(row + 1, rows_in_ - 1);
   const std::uint8_t* centre_flags = ring_flags(row);
-  // Only flagged pixels change; words of eight flags without one are skipped.
-  for (std::uint32_t word = 0; word < width_; word += kWord) {
-    const std::uint32_t end = std::min(word + kWord, width_);
-    if (end - word == kWord && !word_has_flag(centre_flags + word)) continue;
-    for (std::uint32_t x = word; x < end; ++x) {
-      if (centre_flags[x] == 0) continue;
+  // Only flagged pixels change: the set bits of each flag word, lowest first.
+  for (std::uint32_t base = 0; base < width_; base += 32) {
+    for (std::uint32_t bits = flag_word(centre_flags, base); bits != 0; bits &= bits - 1) {
+      const std::uint32_t x = base + static_cast<std::uint32_t>(std::countr_zero(bits));
       const std::uint32_t x0 = x == 0 ? 0 : x - 1;
       const std::uint32_t x1 = std::min(x + 1, width_ - 1);
       std::uint32_t sum = 0;
@@ -108,7 +108,7 @@ void BadPixelStage::emit(std::uint32_t row) {
         const Pixel* values = ring_line(r);
         const std::uint8_t* flags = ring_flags(r);
         for (std::uint32_t c = x0; c <= x1; ++c) {
-          if (flags[c] == 0) {
+          if (!flagged(flags, c)) {
             sum += values[c];
             ++count;
           }

@@ -33,9 +33,12 @@ struct BadPixelFrameStats {
 class BadPixelStage final : public Stage {
  public:
   static constexpr std::uint32_t kRadius = 1;
-  // Three input lines, their bad flags (bytes, in the room of three lines), and one line for
-  // the input NUC of lines passed through.
-  static constexpr std::size_t storage_pixels(std::uint32_t width) { return std::size_t{width} * 7; }
+  // Three input lines, one line for the input NUC of lines passed through, and the three lines'
+  // bad flags as bits (32-bit words, two pixels of room each).
+  static constexpr std::size_t flag_words(std::uint32_t width) { return (std::size_t{width} + 31) / 32; }
+  static constexpr std::size_t storage_pixels(std::uint32_t width) {
+    return std::size_t{width} * 4 + 3 * 2 * flag_words(width);
+  }
   BadPixelStage(const BadPixelConfig& config, std::span<Pixel> storage, LineSink& next);
   // With NUC on input. Tables shorter than a frame are a configuration bug: the stage then
   // passes every frame through untouched, as a misconfigured NucStage and BadPixelStage do.
@@ -50,7 +53,10 @@ class BadPixelStage final : public Stage {
 
  private:
   Pixel* ring_line(std::uint32_t row) { return ring_.data() + std::size_t{row % 3} * width_; }
-  std::uint8_t* ring_flags(std::uint32_t row) { return flags_.data() + std::size_t{row % 3} * width_; }
+  // Row's flag bits: 32-bit words in native byte order, read and written with memcpy.
+  std::uint8_t* ring_flags(std::uint32_t row) {
+    return flags_.data() + std::size_t{row % 3} * flag_words(width_) * 4;
+  }
   void emit(std::uint32_t row);
   void pass_through(std::uint32_t row, LineView line);
 

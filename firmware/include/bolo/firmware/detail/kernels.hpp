@@ -35,8 +35,10 @@ CorrectLineFn correct_line_kernel(KernelPath path);
 CorrectUpdateFn correct_update_kernel(KernelPath path);
 
 // The bad-pixel stage's intake of one line: `in` into the ring line (through the NUC when
-// `gain_q14` is set), each pixel flagged 1 if the mask marks it (when `mask` is set) or, with
-// `detect_stuck`, its ring value is stuck_low or stuck_high; 0 otherwise.
+// `gain_q14` is set), each pixel flagged if the mask marks it (when `mask` is set) or, with
+// `detect_stuck`, its ring value is stuck_low or stuck_high. Flags are bits: pixel x is bit
+// x % 32 of the 32-bit word at byte x / 32 * 4 of `flag_bits` (native byte order, unaligned;
+// bits past the width are 0).
 struct IngestLine {
   const Pixel* in;
   const std::uint16_t* gain_q14;  // nullptr: no NUC
@@ -45,7 +47,7 @@ struct IngestLine {
   bool detect_stuck;
   Pixel stuck_low, stuck_high;
   Pixel* ring;
-  std::uint8_t* flags;
+  std::uint8_t* flag_bits;
   std::size_t width;
 };
 // Returns whether any pixel was flagged.
