@@ -88,41 +88,42 @@ void BadPixelStage::push_line(std::uint32_t row, LineView line) {
 // neighbours, so the rows still to come see the same neighbourhoods as with a copy.
 void BadPixelStage::emit(std::uint32_t row) {
   Pixel* centre = ring_line(row);
-  if (!row_flagged_[row % 3]) {
-    // Nothing to repair: the ring line itself goes on (it is not touched before the next push).
-    next().push_line(row, LineView(centre, width_));
-    return;
+  if (row_flagged_[row % 3]) {
+    const std::uint8_t* centre_flags = ring_flags(row);
+    // Only flagged pixels change: the set bits of each flag word, lowest first. The scan stays
+    // a tight loop; the (rare) repair is a call.
+    for (std::uint32_t base = 0; base < width_; base += 32) {
+      for (std::uint32_t bits = flag_word(centre_flags, base); bits != 0; bits &= bits - 1)
+        repair(row, base + static_cast<std::uint32_t>(std::countr_zero(bits)));
+    }
   }
+  // The ring line itself goes on: it is not touched before the next push.
+  next().push_line(row, LineView(centre, width_));
+}
+
+void BadPixelStage::repair(std::uint32_t row, std::uint32_t x) {
   const std::uint32_t first = row == 0 ? 0 : row - 1;
   const std::uint32_t last = std::min(row + 1, rows_in_ - 1);
-  const std::uint8_t* centre_flags = ring_flags(row);
-  // Only flagged pixels change: the set bits of each flag word, lowest first.
-  for (std::uint32_t base = 0; base < width_; base += 32) {
-    for (std::uint32_t bits = flag_word(centre_flags, base); bits != 0; bits &= bits - 1) {
-      const std::uint32_t x = base + static_cast<std::uint32_t>(std::countr_zero(bits));
-      const std::uint32_t x0 = x == 0 ? 0 : x - 1;
-      const std::uint32_t x1 = std::min(x + 1, width_ - 1);
-      std::uint32_t sum = 0;
-      std::uint32_t count = 0;
-      for (std::uint32_t r = first; r <= last; ++r) {
-        const Pixel* values = ring_line(r);
-        const std::uint8_t* flags = ring_flags(r);
-        for (std::uint32_t c = x0; c <= x1; ++c) {
-          if (!flagged(flags, c)) {
-            sum += values[c];
-            ++count;
-          }
-        }
-      }
-      if (count == 0) {
-        ++stats_.unrepairable;  // passed through unchanged
-      } else {
-        centre[x] = static_cast<Pixel>((sum + count / 2) / count);  // nearest, ties up
-        ++stats_.replaced;
+  const std::uint32_t x0 = x == 0 ? 0 : x - 1;
+  const std::uint32_t x1 = std::min(x + 1, width_ - 1);
+  std::uint32_t sum = 0;
+  std::uint32_t count = 0;
+  for (std::uint32_t r = first; r <= last; ++r) {
+    const Pixel* values = ring_line(r);
+    const std::uint8_t* flags = ring_flags(r);
+    for (std::uint32_t c = x0; c <= x1; ++c) {
+      if (!flagged(flags, c)) {
+        sum += values[c];
+        ++count;
       }
     }
   }
-  next().push_line(row, LineView(centre, width_));
+  if (count == 0) {
+    ++stats_.unrepairable;  // passed through unchanged
+  } else {
+    ring_line(row)[x] = static_cast<Pixel>((sum + count / 2) / count);  // nearest, ties up
+    ++stats_.replaced;
+  }
 }
 
 // A line the neighbourhood rule does not take: unchanged, or only through the NUC where a

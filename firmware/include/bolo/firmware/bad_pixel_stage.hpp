@@ -58,6 +58,8 @@ class BadPixelStage final : public Stage {
     return flags_.data() + std::size_t{row % 3} * flag_words(width_) * 4;
   }
   void emit(std::uint32_t row);
+  // Replaces flagged pixel x of `row` by the rounded mean of its good 3x3 neighbours.
+  [[gnu::noinline]] void repair(std::uint32_t row, std::uint32_t x);
   void pass_through(std::uint32_t row, LineView line);
 
   BadPixelConfig config_;
