@@ -3,6 +3,7 @@
 // GCC an AVX-512 version, tested against them (tests/firmware/test_ingest.cpp), is picked at run
 // time.
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -22,6 +23,36 @@
 namespace bolo::fw::detail {
 namespace {
 
+// Eight flag bytes (0 or 1) in memory order -> bits 0..7. The multiply moves byte i's bit to bit
+// 56 + i, every other partial product to a distinct lower or discarded bit, so nothing carries.
+inline std::uint32_t pack_flag_bytes(const std::uint8_t* bytes) {
+  std::uint64_t word;
+  std::memcpy(&word, bytes, sizeof word);
+  if constexpr (std::endian::native == std::endian::big) word = __builtin_bswap64(word);
+  return static_cast<std::uint32_t>((word * 0x0102040810204080ull) >> 56);
+}
+
+// `n` <= 32 pixels from `x`: values into the ring, flags as bytes into a local block (a loop the
+// compiler vectorises; with n = 32 a constant), then packed to a word.
+template <bool kNuc, bool kStuck, bool kMask>
+inline __attribute__((always_inline)) std::uint32_t ingest_block(
+    const Pixel* __restrict in, const std::uint16_t* __restrict gain,
+    const std::int16_t* __restrict offset, const std::uint8_t* __restrict mask, Pixel stuck_low,
+    Pixel stuck_high, Pixel* __restrict ring, std::size_t n) {
+  std::uint8_t f[32] = {};
+  for (std::size_t i = 0; i < n; ++i) {
+    Pixel v = in[i];
+    if constexpr (kNuc) v = nuc_pixel(v, gain[i], offset[i]);
+    ring[i] = v;
+    std::uint8_t bad = 0;
+    if constexpr (kStuck) bad = static_cast<std::uint8_t>((v == stuck_low) | (v == stuck_high));
+    if constexpr (kMask) bad = static_cast<std::uint8_t>(bad | (mask[i] != 0));
+    f[i] = bad;
+  }
+  return pack_flag_bytes(f) | pack_flag_bytes(f + 8) << 8 | pack_flag_bytes(f + 16) << 16 |
+         pack_flag_bytes(f + 24) << 24;
+}
+
 // One loop per configuration so each vectorises: no per-pixel tests of the configuration, no
 // reloads of it through the aliasing `Pixel*` stores. Flags are gathered 32 to a word.
 template <bool kNuc, bool kStuck, bool kMask>
@@ -33,17 +64,14 @@ inline __attribute__((always_inline)) bool ingest_loop(
   std::uint32_t any = 0;
   for (std::size_t base = 0; base < width; base += 32) {
     const std::size_t n = width - base < 32 ? width - base : 32;
-    std::uint32_t bits = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t x = base + i;
-      Pixel v = in[x];
-      if constexpr (kNuc) v = nuc_pixel(v, gain[x], offset[x]);
-      ring[x] = v;
-      std::uint32_t f = 0;
-      if constexpr (kStuck) f = static_cast<std::uint32_t>((v == stuck_low) | (v == stuck_high));
-      if constexpr (kMask) f |= mask[x] != 0 ? 1u : 0u;
-      bits |= f << i;
-    }
+    const std::uint16_t* g = kNuc ? gain + base : nullptr;
+    const std::int16_t* o = kNuc ? offset + base : nullptr;
+    const std::uint8_t* m = kMask ? mask + base : nullptr;
+    const std::uint32_t bits =
+        n == 32 ? ingest_block<kNuc, kStuck, kMask>(in + base, g, o, m, stuck_low, stuck_high,
+                                                    ring + base, 32)
+                : ingest_block<kNuc, kStuck, kMask>(in + base, g, o, m, stuck_low, stuck_high,
+                                                    ring + base, n);
     std::memcpy(flag_bits + base / 8, &bits, sizeof bits);
     any |= bits;
   }
