@@ -48,6 +48,16 @@ void BadPixelStage::begin_frame(const FrameHeader& header) {
 
 namespace {
 
+// n / d for d in 1..8 and n < 2^20 (at most 8 neighbours of 16 bits) by a reciprocal: with
+// r = ceil(2^32 / d) = (2^32 + e) / d, e < d, the error n*e / (d*2^32) stays below 1/d because
+// n*e < 2^32, so the floor is exact. A hardware divide costs more than the rest of a repair.
+inline std::uint32_t divide_small(std::uint32_t n, std::uint32_t d) {
+  static constexpr std::uint64_t kReciprocal[9] = {
+      0, 0x100000000, 0x80000000, 0x55555556, 0x40000000, 0x33333334, 0x2AAAAAAB, 0x24924925,
+      0x20000000};
+  return static_cast<std::uint32_t>((n * kReciprocal[d]) >> 32);
+}
+
 // The 32 flag bits of pixels x & ~31 ... (x & ~31) + 31 of a row.
 inline std::uint32_t flag_word(const std::uint8_t* row_flags, std::uint32_t x) {
   std::uint32_t word;
@@ -121,7 +131,7 @@ void BadPixelStage::repair(std::uint32_t row, std::uint32_t x) {
   if (count == 0) {
     ++stats_.unrepairable;  // passed through unchanged
   } else {
-    ring_line(row)[x] = static_cast<Pixel>((sum + count / 2) / count);  // nearest, ties up
+    ring_line(row)[x] = static_cast<Pixel>(divide_small(sum + count / 2, count));  // nearest, ties up
     ++stats_.replaced;
   }
 }
