@@ -1,9 +1,10 @@
 #include "bolo/firmware/bad_pixel_stage.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
-#include "multiversion.hpp"
+#include "bolo/firmware/detail/kernels.hpp"
 
 namespace bolo::fw {
 
@@ -17,12 +18,29 @@ BadPixelStage::BadPixelStage(const BadPixelConfig& config, std::span<Pixel> stor
     return;
   }
   ring_ = storage.subspan(0, std::size_t{width_} * 3);
-  flags_ = storage.subspan(std::size_t{width_} * 3, std::size_t{width_} * 3);
-  out_line_ = storage.subspan(std::size_t{width_} * 6, width_);
+  out_line_ = storage.subspan(std::size_t{width_} * 3, width_);
+  // Flag bits in the room storage_pixels() sets aside after the lines, accessed as bytes.
+  flags_ = std::span<std::uint8_t>(
+      reinterpret_cast<std::uint8_t*>(storage.data() + std::size_t{width_} * 4),
+      3 * flag_words(width_) * 4);
+}
+
+BadPixelStage::BadPixelStage(const BadPixelConfig& config, const NucTables& input_nuc,
+                             std::span<Pixel> storage, LineSink& next)
+    : BadPixelStage(config, storage, next) {
+  const std::size_t frame = std::size_t{width_} * height_;
+  if (width_ == 0 || input_nuc.gain_q14.size() < frame || input_nuc.offset.size() < frame) {
+    width_ = 0;
+    height_ = 0;
+    return;
+  }
+  nuc_tables_ = input_nuc;
+  nuc_ = &nuc_tables_;
 }
 
 void BadPixelStage::begin_frame(const FrameHeader& header) {
   active_ = width_ != 0 && header.width == width_ && header.height == height_;
+  nuc_frame_ = active_ && nuc_ != nullptr;
   rows_in_ = 0;
   stats_ = BadPixelFrameStats{};
   next().begin_frame(header);
@@ -30,60 +48,25 @@ void BadPixelStage::begin_frame(const FrameHeader& header) {
 
 namespace {
 
-// Copies a raw line into the ring and flags its bad pixels (1 = bad, 0 = good); returns how many
-// it flagged. One loop per configuration so each one vectorises (no per-pixel tests of the
-// configuration, and no reloads of it through the aliasing `Pixel*` stores).
-BOLO_KERNEL_CLONES
-std::uint32_t copy_and_flag(const Pixel* __restrict in, const std::uint8_t* __restrict mask,
-                            bool detect_stuck, Pixel stuck_low, Pixel stuck_high,
-                            Pixel* __restrict ring, Pixel* __restrict flags, std::size_t width) {
-  std::uint32_t count = 0;
-  if (detect_stuck && mask != nullptr) {
-    for (std::size_t x = 0; x < width; ++x) {
-      const Pixel v = in[x];
-      ring[x] = v;
-      const Pixel f = static_cast<Pixel>((v == stuck_low) | (v == stuck_high) | (mask[x] != 0));
-      flags[x] = f;
-      count += f;
-    }
-  } else if (detect_stuck) {
-    for (std::size_t x = 0; x < width; ++x) {
-      const Pixel v = in[x];
-      ring[x] = v;
-      const Pixel f = static_cast<Pixel>((v == stuck_low) | (v == stuck_high));
-      flags[x] = f;
-      count += f;
-    }
-  } else if (mask != nullptr) {
-    for (std::size_t x = 0; x < width; ++x) {
-      ring[x] = in[x];
-      const Pixel f = static_cast<Pixel>(mask[x] != 0);
-      flags[x] = f;
-      count += f;
-    }
-  } else {
-    for (std::size_t x = 0; x < width; ++x) {
-      ring[x] = in[x];
-      flags[x] = 0;
-    }
-  }
-  return count;
+// n / d for d in 1..8 and n < 2^20 (at most 8 neighbours of 16 bits) by a reciprocal: with
+// r = ceil(2^32 / d) = (2^32 + e) / d, e < d, the error n*e / (d*2^32) stays below 1/d because
+// n*e < 2^32, so the floor is exact. A hardware divide costs more than the rest of a repair.
+inline std::uint32_t divide_small(std::uint32_t n, std::uint32_t d) {
+  static constexpr std::uint64_t kReciprocal[9] = {
+      0, 0x100000000, 0x80000000, 0x55555556, 0x40000000, 0x33333334, 0x2AAAAAAB, 0x24924925,
+      0x20000000};
+  return static_cast<std::uint32_t>((n * kReciprocal[d]) >> 32);
 }
 
-constexpr std::uint32_t kBlock = 32;  // flag scan: pixels tested together in emit()
+// The 32 flag bits of pixels x & ~31 ... (x & ~31) + 31 of a row.
+inline std::uint32_t flag_word(const std::uint8_t* row_flags, std::uint32_t x) {
+  std::uint32_t word;
+  std::memcpy(&word, row_flags + (x / 32) * 4, sizeof word);
+  return word;
+}
 
-// Whether any of `n` flags is set; a whole block is read as 64-bit words (flags are 0 or 1).
-inline bool block_has_flag(const Pixel* flags, std::uint32_t n) {
-  if (n == kBlock) {
-    std::uint64_t words[kBlock * sizeof(Pixel) / sizeof(std::uint64_t)];
-    std::memcpy(words, flags, sizeof words);
-    std::uint64_t any = 0;
-    for (std::uint64_t w : words) any |= w;
-    return any != 0;
-  }
-  Pixel any = 0;
-  for (std::uint32_t x = 0; x < n; ++x) any = static_cast<Pixel>(any | flags[x]);
-  return any != 0;
+inline bool flagged(const std::uint8_t* row_flags, std::uint32_t x) {
+  return ((flag_word(row_flags, x) >> (x % 32)) & 1u) != 0;
 }
 
 }  // namespace
@@ -94,59 +77,76 @@ void BadPixelStage::push_line(std::uint32_t row, LineView line) {
     // but still deliver what is buffered in order.
     if (active_ && rows_in_ > 0) emit(rows_in_ - 1);
     active_ = false;
-    next().push_line(row, line);
+    pass_through(row, line);
     return;
   }
-  const std::uint8_t* mask =
-      config_.mask.empty() ? nullptr : config_.mask.data() + std::size_t{row} * width_;
-  flag_count_[row % 3] = copy_and_flag(line.data(), mask, config_.detect_stuck, config_.stuck_low,
-                                       config_.stuck_high, ring_line(row), ring_flags(row), width_);
+  const std::size_t at = std::size_t{row} * width_;
+  const std::uint8_t* mask = config_.mask.empty() ? nullptr : config_.mask.data() + at;
+  detail::IngestLine job{line.data(), nullptr, nullptr, mask, config_.detect_stuck,
+                         config_.stuck_low, config_.stuck_high, ring_line(row), ring_flags(row),
+                         width_};
+  if (nuc_ != nullptr) {
+    job.gain_q14 = nuc_->gain_q14.data() + at;
+    job.offset = nuc_->offset.data() + at;
+  }
+  row_flagged_[row % 3] = detail::ingest_line(job);
   rows_in_ = row + 1;
   if (row >= kRadius) emit(row - kRadius);
 }
 
+// Repairs in place in the ring: a repaired pixel is flagged, and flagged pixels are never read as
+// neighbours, so the rows still to come see the same neighbourhoods as with a copy.
 void BadPixelStage::emit(std::uint32_t row) {
-  const Pixel* centre = ring_line(row);
-  std::uint32_t remaining = flag_count_[row % 3];
-  if (remaining == 0) {
-    // Nothing to repair: the ring line itself goes on (it is not touched before the next push).
-    next().push_line(row, LineView(centre, width_));
-    return;
+  Pixel* centre = ring_line(row);
+  if (row_flagged_[row % 3]) {
+    const std::uint8_t* centre_flags = ring_flags(row);
+    // Only flagged pixels change: the set bits of each flag word, lowest first. The scan stays
+    // a tight loop; the (rare) repair is a call.
+    for (std::uint32_t base = 0; base < width_; base += 32) {
+      for (std::uint32_t bits = flag_word(centre_flags, base); bits != 0; bits &= bits - 1)
+        repair(row, base + static_cast<std::uint32_t>(std::countr_zero(bits)));
+    }
   }
+  // The ring line itself goes on: it is not touched before the next push.
+  next().push_line(row, LineView(centre, width_));
+}
+
+void BadPixelStage::repair(std::uint32_t row, std::uint32_t x) {
   const std::uint32_t first = row == 0 ? 0 : row - 1;
   const std::uint32_t last = std::min(row + 1, rows_in_ - 1);
-  const Pixel* centre_flags = ring_flags(row);
-  std::copy(centre, centre + width_, out_line_.data());
-  // Only flagged pixels change; whole blocks without a flag are skipped.
-  for (std::uint32_t block = 0; block < width_ && remaining != 0; block += kBlock) {
-    const std::uint32_t end = std::min(block + kBlock, width_);
-    if (!block_has_flag(centre_flags + block, end - block)) continue;
-    for (std::uint32_t x = block; x < end; ++x) {
-      if (centre_flags[x] == 0) continue;
-      --remaining;
-      const std::uint32_t x0 = x == 0 ? 0 : x - 1;
-      const std::uint32_t x1 = std::min(x + 1, width_ - 1);
-      std::uint32_t sum = 0;
-      std::uint32_t count = 0;
-      for (std::uint32_t r = first; r <= last; ++r) {
-        const Pixel* values = ring_line(r);
-        const Pixel* flags = ring_flags(r);
-        for (std::uint32_t c = x0; c <= x1; ++c) {
-          if (flags[c] == 0) {
-            sum += values[c];
-            ++count;
-          }
-        }
-      }
-      if (count == 0) {
-        ++stats_.unrepairable;  // passed through: out_line_ already holds the centre value
-      } else {
-        out_line_[x] = static_cast<Pixel>((sum + count / 2) / count);  // nearest, ties up
-        ++stats_.replaced;
+  const std::uint32_t x0 = x == 0 ? 0 : x - 1;
+  const std::uint32_t x1 = std::min(x + 1, width_ - 1);
+  std::uint32_t sum = 0;
+  std::uint32_t count = 0;
+  for (std::uint32_t r = first; r <= last; ++r) {
+    const Pixel* values = ring_line(r);
+    const std::uint8_t* flags = ring_flags(r);
+    for (std::uint32_t c = x0; c <= x1; ++c) {
+      if (!flagged(flags, c)) {
+        sum += values[c];
+        ++count;
       }
     }
   }
-  next().push_line(row, LineView(out_line_.data(), width_));
+  if (count == 0) {
+    ++stats_.unrepairable;  // passed through unchanged
+  } else {
+    ring_line(row)[x] = static_cast<Pixel>(divide_small(sum + count / 2, count));  // nearest, ties up
+    ++stats_.replaced;
+  }
+}
+
+// A line the neighbourhood rule does not take: unchanged, or only through the NUC where a
+// NucStage in front would have applied it (a line of this frame's size, within its height).
+void BadPixelStage::pass_through(std::uint32_t row, LineView line) {
+  if (nuc_frame_ && row < height_ && line.size() == width_) {
+    const std::size_t at = std::size_t{row} * width_;
+    nuc_line(line.data(), nuc_->gain_q14.data() + at, nuc_->offset.data() + at, out_line_.data(),
+             width_);
+    next().push_line(row, LineView(out_line_.data(), width_));
+    return;
+  }
+  next().push_line(row, line);
 }
 
 void BadPixelStage::end_frame() {

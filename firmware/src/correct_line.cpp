@@ -3,7 +3,7 @@
 // The portable loop is the definition: unsigned 64-bit products of u16 x u32, a bias that keeps
 // the difference non-negative so a logical shift does the rounding division, then 32-bit
 // clamping. On x86-64 (GCC) hand-written AVX2 and AVX-512 versions are picked at run time; they
-// compute the same integers in a different lane layout (see "SIMD layout" below) and
+// compute the same integers with 16-bit multiply-adds (see "16-bit multiply-adds" below) and
 // tests/firmware/test_kernels.cpp checks every one against the portable loop, output and counts.
 
 #include <cstddef>
@@ -73,22 +73,9 @@ void correct_update_portable(const Pixel* current, Pixel* previous, CorrectorCoe
 }
 
 #if BOLO_X86_KERNELS
-// ---- SIMD layout (AVX2 and AVX-512 alike) ----
-// A vector of u16 pixels is read as 32-bit lanes: `lane & 0xFFFF` holds the even pixels,
-// `lane >> 16` the odd ones. (v)pmuludq multiplies the low 32 bits of each 64-bit lane, so the
-// even pixels of the even/odd 32-bit lanes, and the same for the odd pixels, give four exact
-// u16 x u32 -> u64 products per operand: pixels 4k, 4k+1, 4k+2, 4k+3.
-// The bias is 2^56 + 2^23 instead of 2^48 + 2^23: 2^56 is a multiple of 2^24, so
-// (d + 2^56 + 2^23) >> 24 = floor((d + 2^23) / 2^24) + 2^32, whose low 32 bits are the portable
-// loop's `value` as a two's-complement int32 (|value| < 2^25), with no subtraction. The sum
-// stays in (2^56 - 2^48, 2^56 + 2^49), so it never wraps.
-// Narrowing: >> 24 leaves pixel 4k's value in the low half of its 64-bit lane; << 8 puts pixel
-// 4k+2's into the high half; a 32-bit blend makes the lanes [v0, v2, v4, ...] (and [v1, v3, ...]
-// from the odd products). packus_epi32 saturates int32 to [0, 65535] (exactly the clamp) and
-// interleaves per 128-bit lane as [v0 v2 v4 v6 v1 v3 v5 v7]; a byte shuffle restores the order.
+// ---- SIMD kernels (AVX2 and AVX-512 alike): see "16-bit multiply-adds" below ----
 // Counts: value < 0 and value > 65535 on the int32 lanes, as in the portable loop; computed only
 // for the steps where some lane has a bit set above bit 15 (a value outside [0, 65535]).
-constexpr std::uint64_t kSimdBias = (std::uint64_t{1} << 56) + kHalf;
 
 #define BOLO_AVX2 __attribute__((target("avx2")))
 
@@ -100,18 +87,137 @@ inline std::uint32_t popcount16(__mmask16 bits) {
 }
 #define BOLO_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq,avx2")))
 
+// ---- 16-bit multiply-adds on the natural pixel layout (AVX-512 and AVX2) ----
+// (v)pmaddwd multiplies signed 16-bit pairs and adds each pair into a 32-bit lane, 32 products
+// per instruction without splitting pixels into wider lanes. The pixels are made signed by
+// flipping bit 15 (p' = p - 32768) and interleaved as (cur', prev') pairs; G and A are cut into
+// digits G = g2*2^28 + g1*2^14 + g0 (g0, g1 < 2^14, g2 < 16), so each pair sum
+//   P_k = g_k*cur' - a_k*prev'   has |P_k| < 2^30: no overflow.
+// With K = 32768*(G - A) + 2^23 = Kh*2^24 + Kl (0 <= Kl < 2^24):
+//   G*cur - A*prev + 2^23 = 2^28 P2 + 2^14 P1 + P0 + K, and for integers
+//   floor((2^28 P2 + 2^14 P1 + P0 + K) / 2^24) = Kh + 16 P2 + ((P1 + ((P0 + Kl) >> 14)) >> 10)
+// with arithmetic shifts (nested floor divisions), every term inside int32. That is exactly the
+// portable loop's `value`. When G and A are below 2^28 (g < 16, every realistic exposure) g2 and
+// a2 are 0 and the P2 term is left out: two multiply-adds per pair instead of three.
+// unpacklo/hi_epi16 and packus_epi32 both work within 128-bit lanes and
+// undo each other's order, so the packed result is in pixel order; packus is the clamp.
+struct MaddCoefficients {
+  std::uint32_t digit0, digit1, digit2x16;  // lanes: low 16 bits g_k, high 16 bits -a_k
+  std::int32_t k_high, k_low;
+};
+
+inline std::uint32_t digit_pair(std::uint32_t g, std::uint32_t a) {
+  const auto minus_a = static_cast<std::uint16_t>(0u - a);  // -a as int16 bits, a < 2^14 * 16
+  return g | (std::uint32_t{minus_a} << 16);
+}
+
+inline MaddCoefficients madd_coefficients(CorrectorCoefficients c) {
+  constexpr std::uint32_t kDigit = (1u << 14) - 1;
+  const std::uint32_t g = c.gain_q24, a = c.carry_q24;
+  const std::int64_t k = std::int64_t{32768} * (std::int64_t{g} - std::int64_t{a}) +
+                         static_cast<std::int64_t>(kHalf);
+  return {digit_pair(g & kDigit, a & kDigit), digit_pair((g >> 14) & kDigit, (a >> 14) & kDigit),
+          digit_pair((g >> 28) << 4, (a >> 28) << 4), static_cast<std::int32_t>(k >> kShift),
+          static_cast<std::int32_t>(k & ((std::int64_t{1} << kShift) - 1))};
+}
+
+struct Avx512Constants {
+  __m512i flip, d0, d1, d2, k_high, k_low, above16, max_out;
+};
+
+// The value (as the portable loop's) of the pixels interleaved in `pairs`. `kWide`: G or A is
+// 2^28 or more, so the third digit counts.
+template <bool kWide>
+BOLO_AVX512 inline __attribute__((always_inline)) __m512i avx512_values(__m512i pairs,
+                                                                        const Avx512Constants& k) {
+  const __m512i t0 = _mm512_srai_epi32(_mm512_add_epi32(_mm512_madd_epi16(pairs, k.d0), k.k_low), 14);
+  const __m512i t1 = _mm512_srai_epi32(_mm512_add_epi32(_mm512_madd_epi16(pairs, k.d1), t0), 10);
+  if constexpr (kWide) return _mm512_add_epi32(_mm512_add_epi32(_mm512_madd_epi16(pairs, k.d2), k.k_high), t1);
+  return _mm512_add_epi32(t1, k.k_high);
+}
+
+// One step of 32 pixels; `m` selects the pixels that exist (all but in the last step).
+// Missing pixels load as 0 for both frames and give value floor(2^23 / 2^24) = 0: they count
+// nowhere and are never stored.
+template <bool kStore, bool kWide>
+BOLO_AVX512 inline __attribute__((always_inline)) void avx512_step(
+    const Pixel* __restrict current, Pixel* __restrict previous, Pixel* __restrict out,
+    std::size_t x, __mmask32 m, const Avx512Constants& k, std::uint32_t& n_low,
+    std::uint32_t& n_high) {
+  const __m512i cur = _mm512_maskz_loadu_epi16(m, current + x);
+  const __m512i prev = _mm512_maskz_loadu_epi16(m, previous + x);
+  if constexpr (kStore) _mm512_mask_storeu_epi16(previous + x, m, cur);
+  const __m512i cs = _mm512_xor_si512(cur, k.flip);
+  const __m512i ps = _mm512_xor_si512(prev, k.flip);
+  const __m512i vlo = avx512_values<kWide>(_mm512_unpacklo_epi16(cs, ps), k);  // pixels 8j + 0..3
+  const __m512i vhi = avx512_values<kWide>(_mm512_unpackhi_epi16(cs, ps), k);  // pixels 8j + 4..7
+  // A value outside [0, 65535] has a bit set above bit 15 (negative ones: the sign). Rare, so one
+  // test per step, and the exact counts only where it fires.
+  if (_mm512_test_epi32_mask(_mm512_or_si512(vlo, vhi), k.above16) != 0) [[unlikely]] {
+    const __m512i zero = _mm512_setzero_si512();
+    n_low += popcount16(_mm512_cmplt_epi32_mask(vlo, zero)) +
+             popcount16(_mm512_cmplt_epi32_mask(vhi, zero));
+    n_high += popcount16(_mm512_cmpgt_epi32_mask(vlo, k.max_out)) +
+              popcount16(_mm512_cmpgt_epi32_mask(vhi, k.max_out));
+  }
+  _mm512_mask_storeu_epi16(out + x, m, _mm512_packus_epi32(vlo, vhi));
+}
+
+template <bool kStore, bool kWide>
+BOLO_AVX512 void correct_avx512_loop(const Pixel* __restrict current, Pixel* __restrict previous,
+                                     const Avx512Constants& k, Pixel* __restrict out,
+                                     std::size_t width, std::uint32_t& low, std::uint32_t& high) {
+  std::uint32_t n_low = 0;
+  std::uint32_t n_high = 0;
+  std::size_t x = 0;
+  for (; x + 32 <= width; x += 32)
+    avx512_step<kStore, kWide>(current, previous, out, x, ~__mmask32{0}, k, n_low, n_high);
+  if (x < width)
+    avx512_step<kStore, kWide>(current, previous, out, x,
+                               static_cast<__mmask32>((std::uint32_t{1} << (width - x)) - 1u), k,
+                               n_low, n_high);
+  low += n_low;
+  high += n_high;
+}
+
 template <bool kStore>
-BOLO_AVX2 void correct_avx2(const Pixel* __restrict current, Pixel* __restrict previous,
-                            CorrectorCoefficients c, Pixel* __restrict out, std::size_t width,
-                            std::uint32_t& low, std::uint32_t& high) {
-  const __m256i g = _mm256_set1_epi64x(static_cast<long long>(c.gain_q24));
-  const __m256i a = _mm256_set1_epi64x(static_cast<long long>(c.carry_q24));
-  const __m256i bias = _mm256_set1_epi64x(static_cast<long long>(kSimdBias));
-  const __m256i low16 = _mm256_set1_epi32(0xFFFF);
-  const __m256i max_out = _mm256_set1_epi32(kMaxOut);
-  const __m256i above16 = _mm256_set1_epi32(static_cast<int>(0xFFFF0000u));
-  const __m256i order = _mm256_setr_epi8(0, 1, 8, 9, 2, 3, 10, 11, 4, 5, 12, 13, 6, 7, 14, 15,
-                                         0, 1, 8, 9, 2, 3, 10, 11, 4, 5, 12, 13, 6, 7, 14, 15);
+BOLO_AVX512 void correct_avx512(const Pixel* __restrict current, Pixel* __restrict previous,
+                                CorrectorCoefficients c, Pixel* __restrict out, std::size_t width,
+                                std::uint32_t& low, std::uint32_t& high) {
+  const MaddCoefficients mc = madd_coefficients(c);
+  const Avx512Constants k{_mm512_set1_epi16(static_cast<short>(0x8000)),
+                          _mm512_set1_epi32(static_cast<int>(mc.digit0)),
+                          _mm512_set1_epi32(static_cast<int>(mc.digit1)),
+                          _mm512_set1_epi32(static_cast<int>(mc.digit2x16)),
+                          _mm512_set1_epi32(mc.k_high),
+                          _mm512_set1_epi32(mc.k_low),
+                          _mm512_set1_epi32(static_cast<int>(0xFFFF0000u)),
+                          _mm512_set1_epi32(kMaxOut)};
+  if (mc.digit2x16 != 0)
+    correct_avx512_loop<kStore, true>(current, previous, k, out, width, low, high);
+  else
+    correct_avx512_loop<kStore, false>(current, previous, k, out, width, low, high);
+}
+
+// ---- AVX2: the same multiply-add scheme on 256-bit vectors, 16 pixels per step ----
+struct Avx2Constants {
+  __m256i flip, d0, d1, d2, k_high, k_low, above16, max_out;
+};
+
+template <bool kWide>
+BOLO_AVX2 inline __attribute__((always_inline)) __m256i avx2_values(__m256i pairs,
+                                                                   const Avx2Constants& k) {
+  const __m256i t0 = _mm256_srai_epi32(_mm256_add_epi32(_mm256_madd_epi16(pairs, k.d0), k.k_low), 14);
+  const __m256i t1 = _mm256_srai_epi32(_mm256_add_epi32(_mm256_madd_epi16(pairs, k.d1), t0), 10);
+  if constexpr (kWide) return _mm256_add_epi32(_mm256_add_epi32(_mm256_madd_epi16(pairs, k.d2), k.k_high), t1);
+  return _mm256_add_epi32(t1, k.k_high);
+}
+
+template <bool kStore, bool kWide>
+BOLO_AVX2 void correct_avx2_loop(const Pixel* __restrict current, Pixel* __restrict previous,
+                                 const Avx2Constants& k, CorrectorCoefficients c,
+                                 Pixel* __restrict out, std::size_t width, std::uint32_t& low,
+                                 std::uint32_t& high) {
   std::uint32_t n_low = 0;
   std::uint32_t n_high = 0;
   std::size_t x = 0;
@@ -119,110 +225,41 @@ BOLO_AVX2 void correct_avx2(const Pixel* __restrict current, Pixel* __restrict p
     const __m256i cur = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(current + x));
     const __m256i prev = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(previous + x));
     if constexpr (kStore) _mm256_storeu_si256(reinterpret_cast<__m256i*>(previous + x), cur);
-    const __m256i ce = _mm256_and_si256(cur, low16);   // pixels 2i
-    const __m256i co = _mm256_srli_epi32(cur, 16);     // pixels 2i+1
-    const __m256i pe = _mm256_and_si256(prev, low16);
-    const __m256i po = _mm256_srli_epi32(prev, 16);
-    const __m256i b0 = _mm256_sub_epi64(_mm256_add_epi64(_mm256_mul_epu32(ce, g), bias),
-                                        _mm256_mul_epu32(pe, a));  // pixels 4k
-    const __m256i b1 = _mm256_sub_epi64(_mm256_add_epi64(_mm256_mul_epu32(co, g), bias),
-                                        _mm256_mul_epu32(po, a));  // 4k+1
-    const __m256i b2 = _mm256_sub_epi64(
-        _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(ce, 32), g), bias),
-        _mm256_mul_epu32(_mm256_srli_epi64(pe, 32), a));  // 4k+2
-    const __m256i b3 = _mm256_sub_epi64(
-        _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(co, 32), g), bias),
-        _mm256_mul_epu32(_mm256_srli_epi64(po, 32), a));  // 4k+3
-    const __m256i ve = _mm256_blend_epi32(_mm256_srli_epi64(b0, kShift),
-                                          _mm256_slli_epi64(b2, 32 - kShift), 0xAA);
-    const __m256i vo = _mm256_blend_epi32(_mm256_srli_epi64(b1, kShift),
-                                          _mm256_slli_epi64(b3, 32 - kShift), 0xAA);
-    // A value outside [0, 65535] has a bit set above bit 15 (negative ones: the sign). Rare, so
-    // one test per step, and the exact counts only where it fires.
-    if (!_mm256_testz_si256(_mm256_or_si256(ve, vo), above16)) [[unlikely]] {
-      n_low += popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(ve))) +
-               popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(vo)));
-      n_high += popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(ve, max_out)))) +
-                popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(vo, max_out))));
+    const __m256i cs = _mm256_xor_si256(cur, k.flip);
+    const __m256i ps = _mm256_xor_si256(prev, k.flip);
+    const __m256i vlo = avx2_values<kWide>(_mm256_unpacklo_epi16(cs, ps), k);  // pixels 8j + 0..3
+    const __m256i vhi = avx2_values<kWide>(_mm256_unpackhi_epi16(cs, ps), k);  // pixels 8j + 4..7
+    // As in the AVX-512 kernel: one test per step, exact counts only where a value is out of range.
+    if (!_mm256_testz_si256(_mm256_or_si256(vlo, vhi), k.above16)) [[unlikely]] {
+      n_low += popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(vlo))) +
+               popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(vhi)));
+      n_high += popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(vlo, k.max_out)))) +
+                popcount8(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(vhi, k.max_out))));
     }
-    const __m256i packed = _mm256_shuffle_epi8(_mm256_packus_epi32(ve, vo), order);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), packed);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), _mm256_packus_epi32(vlo, vhi));
   }
   low += n_low;
   high += n_high;
   correct_portable<kStore>(current + x, previous + x, c, out + x, width - x, low, high);
 }
 
-// One step of 32 pixels; `m` selects the pixels that exist (all but in the last step).
-// Missing pixels load as 0 and give value 0: they count nowhere and are never stored.
-struct Avx512Constants {
-  __m512i g, a, bias, low16, max_out, above16, order;
-};
-
 template <bool kStore>
-BOLO_AVX512 inline __attribute__((always_inline)) void avx512_step(
-    const Pixel* __restrict current, Pixel* __restrict previous, Pixel* __restrict out,
-    std::size_t x, __mmask32 m, const Avx512Constants& k, std::uint32_t& n_low,
-    std::uint32_t& n_high) {
-  const __m512i g = k.g, a = k.a, bias = k.bias, low16 = k.low16, max_out = k.max_out,
-                above16 = k.above16, order = k.order;
-  const __m512i cur = _mm512_maskz_loadu_epi16(m, current + x);
-  const __m512i prev = _mm512_maskz_loadu_epi16(m, previous + x);
-  if constexpr (kStore) _mm512_mask_storeu_epi16(previous + x, m, cur);
-  const __m512i ce = _mm512_and_si512(cur, low16);
-  const __m512i co = _mm512_srli_epi32(cur, 16);
-  const __m512i pe = _mm512_and_si512(prev, low16);
-  const __m512i po = _mm512_srli_epi32(prev, 16);
-  const __m512i b0 = _mm512_sub_epi64(_mm512_add_epi64(_mm512_mul_epu32(ce, g), bias),
-                                      _mm512_mul_epu32(pe, a));
-  const __m512i b1 = _mm512_sub_epi64(_mm512_add_epi64(_mm512_mul_epu32(co, g), bias),
-                                      _mm512_mul_epu32(po, a));
-  const __m512i b2 = _mm512_sub_epi64(
-      _mm512_add_epi64(_mm512_mul_epu32(_mm512_srli_epi64(ce, 32), g), bias),
-      _mm512_mul_epu32(_mm512_srli_epi64(pe, 32), a));
-  const __m512i b3 = _mm512_sub_epi64(
-      _mm512_add_epi64(_mm512_mul_epu32(_mm512_srli_epi64(co, 32), g), bias),
-      _mm512_mul_epu32(_mm512_srli_epi64(po, 32), a));
-  const __m512i ve = _mm512_mask_blend_epi32(0xAAAA, _mm512_srli_epi64(b0, kShift),
-                                             _mm512_slli_epi64(b2, 32 - kShift));
-  const __m512i vo = _mm512_mask_blend_epi32(0xAAAA, _mm512_srli_epi64(b1, kShift),
-                                             _mm512_slli_epi64(b3, 32 - kShift));
-  // As in the AVX2 kernel: one test per step, exact counts only where a value is out of range.
-  if (_mm512_test_epi32_mask(_mm512_or_si512(ve, vo), above16) != 0) [[unlikely]] {
-    const __m512i zero = _mm512_setzero_si512();
-    n_low += popcount16(_mm512_cmplt_epi32_mask(ve, zero)) +
-             popcount16(_mm512_cmplt_epi32_mask(vo, zero));
-    n_high += popcount16(_mm512_cmpgt_epi32_mask(ve, max_out)) +
-              popcount16(_mm512_cmpgt_epi32_mask(vo, max_out));
-  }
-  const __m512i packed = _mm512_shuffle_epi8(_mm512_packus_epi32(ve, vo), order);
-  _mm512_mask_storeu_epi16(out + x, m, packed);
-}
-
-template <bool kStore>
-BOLO_AVX512 void correct_avx512(const Pixel* __restrict current, Pixel* __restrict previous,
-                                CorrectorCoefficients c, Pixel* __restrict out, std::size_t width,
-                                std::uint32_t& low, std::uint32_t& high) {
-  const __m512i g = _mm512_set1_epi64(static_cast<long long>(c.gain_q24));
-  const __m512i a = _mm512_set1_epi64(static_cast<long long>(c.carry_q24));
-  const __m512i bias = _mm512_set1_epi64(static_cast<long long>(kSimdBias));
-  const __m512i low16 = _mm512_set1_epi32(0xFFFF);
-  const __m512i max_out = _mm512_set1_epi32(kMaxOut);
-  const __m512i above16 = _mm512_set1_epi32(static_cast<int>(0xFFFF0000u));
-  const __m512i order = _mm512_broadcast_i32x4(
-      _mm_setr_epi8(0, 1, 8, 9, 2, 3, 10, 11, 4, 5, 12, 13, 6, 7, 14, 15));
-  std::uint32_t n_low = 0;
-  std::uint32_t n_high = 0;
-  std::size_t x = 0;
-  const Avx512Constants k{g, a, bias, low16, max_out, above16, order};
-  for (; x + 32 <= width; x += 32)
-    avx512_step<kStore>(current, previous, out, x, ~__mmask32{0}, k, n_low, n_high);
-  if (x < width)
-    avx512_step<kStore>(current, previous, out, x,
-                        static_cast<__mmask32>((std::uint32_t{1} << (width - x)) - 1u), k, n_low,
-                        n_high);
-  low += n_low;
-  high += n_high;
+BOLO_AVX2 void correct_avx2(const Pixel* __restrict current, Pixel* __restrict previous,
+                            CorrectorCoefficients c, Pixel* __restrict out, std::size_t width,
+                            std::uint32_t& low, std::uint32_t& high) {
+  const MaddCoefficients mc = madd_coefficients(c);
+  const Avx2Constants k{_mm256_set1_epi16(static_cast<short>(0x8000)),
+                        _mm256_set1_epi32(static_cast<int>(mc.digit0)),
+                        _mm256_set1_epi32(static_cast<int>(mc.digit1)),
+                        _mm256_set1_epi32(static_cast<int>(mc.digit2x16)),
+                        _mm256_set1_epi32(mc.k_high),
+                        _mm256_set1_epi32(mc.k_low),
+                        _mm256_set1_epi32(static_cast<int>(0xFFFF0000u)),
+                        _mm256_set1_epi32(kMaxOut)};
+  if (mc.digit2x16 != 0)
+    correct_avx2_loop<kStore, true>(current, previous, k, c, out, width, low, high);
+  else
+    correct_avx2_loop<kStore, false>(current, previous, k, c, out, width, low, high);
 }
 
 void correct_line_avx2(const Pixel* current, const Pixel* previous, CorrectorCoefficients c,

@@ -9,16 +9,7 @@ namespace bolo::fw {
 BOLO_KERNEL_CLONES
 void nuc_line(const Pixel* __restrict in, const std::uint16_t* __restrict gain_q14,
               const std::int16_t* __restrict offset, Pixel* __restrict out, std::size_t width) {
-  constexpr std::int32_t kHalf = 1 << (kNucGainFractionBits - 1);
-  for (std::size_t x = 0; x < width; ++x) {
-    // in * gain + half < 2^32: no overflow in 32 bits; values are non-negative so +half then shift
-    // rounds to nearest with ties away from zero.
-    const std::int32_t scaled =
-        static_cast<std::int32_t>((std::uint32_t{in[x]} * gain_q14[x] + kHalf) >>
-                                  kNucGainFractionBits);
-    const std::int32_t value = scaled + offset[x];
-    out[x] = static_cast<Pixel>(std::clamp(value, 0, 0xFFFF));
-  }
+  for (std::size_t x = 0; x < width; ++x) out[x] = nuc_pixel(in[x], gain_q14[x], offset[x]);
 }
 
 NucStage::NucStage(std::uint32_t width, std::uint32_t height, NucTables tables,

@@ -2,11 +2,25 @@
 
 namespace bolo::fw {
 
+namespace {
+
+// NUC and bad pixels run as one stage (NUC on the bad-pixel stage's input) when both are enabled
+// and both configurations are usable; a misconfigured one keeps its own stage, which passes
+// frames through untouched while the other still works.
+bool fuse_nuc_into_bad_pixels(const PipelineConfig& config) {
+  const std::size_t frame = std::size_t{config.corrector.width} * config.corrector.height;
+  return config.use_nuc && config.use_bad_pixels && config.nuc.gain_q14.size() >= frame &&
+         config.nuc.offset.size() >= frame &&
+         (config.bad_pixels.mask.empty() || config.bad_pixels.mask.size() >= frame);
+}
+
+}  // namespace
+
 std::size_t Pipeline::arena_pixels(const PipelineConfig& config) {
   const std::uint32_t w = config.corrector.width;
   std::size_t pixels = TwoFrameCorrector::storage_pixels(w, config.corrector.height);
   if (config.use_bad_pixels) pixels += BadPixelStage::storage_pixels(w);
-  if (config.use_nuc) pixels += NucStage::storage_pixels(w);
+  if (config.use_nuc && !fuse_nuc_into_bad_pixels(config)) pixels += NucStage::storage_pixels(w);
   return pixels;
 }
 
@@ -27,6 +41,11 @@ Pipeline::Pipeline(const PipelineConfig& config, std::span<Pixel> arena, LineSin
     BadPixelConfig bad = config.bad_pixels;
     bad.width = w;
     bad.height = h;
+    if (fuse_nuc_into_bad_pixels(config)) {
+      bad_pixels_.emplace(bad, config.nuc, take(BadPixelStage::storage_pixels(w)), *input_);
+      input_ = &*bad_pixels_;
+      return;
+    }
     bad_pixels_.emplace(bad, take(BadPixelStage::storage_pixels(w)), *input_);
     input_ = &*bad_pixels_;
   }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "bolo/firmware/detail/kernels.hpp"
+
 namespace bolo::fw {
 
 const char* to_string(CarryOver reason) {
@@ -22,7 +24,9 @@ const char* to_string(CarryOver reason) {
 
 TwoFrameCorrector::TwoFrameCorrector(const CorrectorConfig& config, std::span<Pixel> storage,
                                      LineSink& next)
-    : Stage(next), config_(config) {
+    : Stage(next),
+      config_(config),
+      update_(detail::correct_update_kernel(detail::selected_kernel_path())) {
   const std::size_t frame = std::size_t{config.width} * config.height;
   // A short arena is a configuration bug; use what fits so nothing writes past it, and let
   // every frame fail the size check below.
@@ -148,8 +152,8 @@ void TwoFrameCorrector::push_line(std::uint32_t row, LineView line) {
   // The raw line becomes the next frame's predecessor: the model ghosts raw values, not outputs.
   switch (mode_) {
     case Mode::full:  // reads the stored row and replaces it with this line in one pass
-      correct_line_update(line.data(), stored, frame_stats_.coefficients, out_line_.data(),
-                          line.size(), frame_stats_.saturated_low, frame_stats_.saturated_high);
+      update_(line.data(), stored, frame_stats_.coefficients, out_line_.data(), line.size(),
+              frame_stats_.saturated_low, frame_stats_.saturated_high);
       break;
     case Mode::gain_only:
       scale_line(line.data(), frame_stats_.coefficients.gain_q24, out_line_.data(), line.size(),

@@ -97,7 +97,13 @@ class TwoFrameCorrector final : public Stage {
 
   enum class Mode : std::uint8_t { full, gain_only, pass_through };
 
+  using UpdateKernel = void (*)(const Pixel*, Pixel*, CorrectorCoefficients, Pixel*, std::size_t,
+                                std::uint32_t&, std::uint32_t&);
+
   CorrectorConfig config_;
+  // correct_line_update's implementation for this CPU, looked up once: a 160-pixel line is short
+  // enough for the per-call dispatch to show.
+  UpdateKernel update_;
   std::span<Pixel> store_;     // previous raw frame, row-major
   std::span<Pixel> out_line_;  // one corrected line
   FrameHeader header_{};

@@ -34,4 +34,28 @@ using CorrectUpdateFn = void (*)(const Pixel* current, Pixel* previous, Correcto
 CorrectLineFn correct_line_kernel(KernelPath path);
 CorrectUpdateFn correct_update_kernel(KernelPath path);
 
+// The bad-pixel stage's intake of one line: `in` into the ring line (through the NUC when
+// `gain_q14` is set), each pixel flagged if the mask marks it (when `mask` is set) or, with
+// `detect_stuck`, its ring value is stuck_low or stuck_high. Flags are bits: pixel x is bit
+// x % 32 of the 32-bit word at byte x / 32 * 4 of `flag_bits` (native byte order, unaligned;
+// bits past the width are 0).
+struct IngestLine {
+  const Pixel* in;
+  const std::uint16_t* gain_q14;  // nullptr: no NUC
+  const std::int16_t* offset;
+  const std::uint8_t* mask;  // nullptr: no mask
+  bool detect_stuck;
+  Pixel stuck_low, stuck_high;
+  Pixel* ring;
+  std::uint8_t* flag_bits;
+  std::size_t width;
+};
+// Returns whether any pixel was flagged.
+using IngestFn = bool (*)(const IngestLine& job);
+// Portable (the C++ loops, compiler-vectorised) or AVX-512; nullptr for a path not available or
+// without its own version (AVX2 CPUs run the portable loops' AVX2 clone).
+IngestFn ingest_kernel(KernelPath path);
+// The best available one.
+bool ingest_line(const IngestLine& job);
+
 }  // namespace bolo::fw::detail

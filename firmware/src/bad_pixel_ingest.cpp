@@ -1,0 +1,206 @@
+// The bad-pixel stage's intake of a line (see detail::IngestLine): copy or NUC into the ring and
+// flag. The C++ loops are the definition, compiled as clones for the x86-64 levels; on x86-64 with
+// GCC an AVX-512 version, tested against them (tests/firmware/test_ingest.cpp), is picked at run
+// time.
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#include "bolo/firmware/detail/kernels.hpp"
+#include "bolo/firmware/nuc_stage.hpp"
+#include "multiversion.hpp"
+
+#if BOLO_X86_KERNELS
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <immintrin.h>
+#pragma GCC diagnostic pop
+#endif
+
+namespace bolo::fw::detail {
+namespace {
+
+// Eight flag bytes (0 or 1) in memory order -> bits 0..7. The multiply moves byte i's bit to bit
+// 56 + i, every other partial product to a distinct lower or discarded bit, so nothing carries.
+inline std::uint32_t pack_flag_bytes(const std::uint8_t* bytes) {
+  std::uint64_t word;
+  std::memcpy(&word, bytes, sizeof word);
+  if constexpr (std::endian::native == std::endian::big) word = __builtin_bswap64(word);
+  return static_cast<std::uint32_t>((word * 0x0102040810204080ull) >> 56);
+}
+
+// `n` <= 32 pixels from `x`: values into the ring, flags as bytes into a local block (a loop the
+// compiler vectorises; with n = 32 a constant), then packed to a word.
+template <bool kNuc, bool kStuck, bool kMask>
+inline __attribute__((always_inline)) std::uint32_t ingest_block(
+    const Pixel* __restrict in, const std::uint16_t* __restrict gain,
+    const std::int16_t* __restrict offset, const std::uint8_t* __restrict mask, Pixel stuck_low,
+    Pixel stuck_high, Pixel* __restrict ring, std::size_t n) {
+  std::uint8_t f[32] = {};
+  for (std::size_t i = 0; i < n; ++i) {
+    Pixel v = in[i];
+    if constexpr (kNuc) v = nuc_pixel(v, gain[i], offset[i]);
+    ring[i] = v;
+    std::uint8_t bad = 0;
+    if constexpr (kStuck) bad = static_cast<std::uint8_t>((v == stuck_low) | (v == stuck_high));
+    if constexpr (kMask) bad = static_cast<std::uint8_t>(bad | (mask[i] != 0));
+    f[i] = bad;
+  }
+  return pack_flag_bytes(f) | pack_flag_bytes(f + 8) << 8 | pack_flag_bytes(f + 16) << 16 |
+         pack_flag_bytes(f + 24) << 24;
+}
+
+// One loop per configuration so each vectorises: no per-pixel tests of the configuration, no
+// reloads of it through the aliasing `Pixel*` stores. Flags are gathered 32 to a word.
+template <bool kNuc, bool kStuck, bool kMask>
+inline __attribute__((always_inline)) bool ingest_loop(
+    const Pixel* __restrict in, const std::uint16_t* __restrict gain,
+    const std::int16_t* __restrict offset, const std::uint8_t* __restrict mask, Pixel stuck_low,
+    Pixel stuck_high, Pixel* __restrict ring, std::uint8_t* __restrict flag_bits,
+    std::size_t width) {
+  std::uint32_t any = 0;
+  for (std::size_t base = 0; base < width; base += 32) {
+    const std::size_t n = width - base < 32 ? width - base : 32;
+    const std::uint16_t* g = kNuc ? gain + base : nullptr;
+    const std::int16_t* o = kNuc ? offset + base : nullptr;
+    const std::uint8_t* m = kMask ? mask + base : nullptr;
+    const std::uint32_t bits =
+        n == 32 ? ingest_block<kNuc, kStuck, kMask>(in + base, g, o, m, stuck_low, stuck_high,
+                                                    ring + base, 32)
+                : ingest_block<kNuc, kStuck, kMask>(in + base, g, o, m, stuck_low, stuck_high,
+                                                    ring + base, n);
+    std::memcpy(flag_bits + base / 8, &bits, sizeof bits);
+    any |= bits;
+  }
+  return any != 0;
+}
+
+template <bool kNuc>
+inline __attribute__((always_inline)) bool ingest_any(const IngestLine& j) {
+  if (j.detect_stuck && j.mask != nullptr)
+    return ingest_loop<kNuc, true, true>(j.in, j.gain_q14, j.offset, j.mask, j.stuck_low,
+                                         j.stuck_high, j.ring, j.flag_bits, j.width);
+  if (j.detect_stuck)
+    return ingest_loop<kNuc, true, false>(j.in, j.gain_q14, j.offset, j.mask, j.stuck_low,
+                                          j.stuck_high, j.ring, j.flag_bits, j.width);
+  if (j.mask != nullptr)
+    return ingest_loop<kNuc, false, true>(j.in, j.gain_q14, j.offset, j.mask, j.stuck_low,
+                                          j.stuck_high, j.ring, j.flag_bits, j.width);
+  return ingest_loop<kNuc, false, false>(j.in, j.gain_q14, j.offset, j.mask, j.stuck_low,
+                                         j.stuck_high, j.ring, j.flag_bits, j.width);
+}
+
+BOLO_KERNEL_CLONES
+bool ingest_portable(const IngestLine& job) {
+  return job.gain_q14 != nullptr ? ingest_any<true>(job) : ingest_any<false>(job);
+}
+
+#if BOLO_X86_KERNELS
+#define BOLO_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq,avx2")))
+
+// NUC in 16-bit lanes: mulhi/mullo give the u32 product in*gain as two halves; unpacklo/hi_epi16
+// assemble it in 32-bit lanes (pixels 8j+0..3 and 8j+4..7 of each 128-bit lane), the offset is
+// sign-extended the same way, and packus_epi32 (within 128-bit lanes again) restores pixel
+// order while saturating the int32 sum to [0, 65535]: exactly nuc_pixel's clamp. in*gain + 2^13
+// < 2^32, so the logical shift is exact.
+struct Avx512IngestConstants {
+  __m512i half, low, high;
+  __mmask32 stuck_on;
+};
+
+// 32 pixels from x; `kTail`: only those selected by `m` exist (masked loads and stores).
+template <bool kNuc, bool kMask, bool kTail>
+BOLO_AVX512 inline __attribute__((always_inline)) __mmask32 ingest_avx512_step(
+    const IngestLine& j, std::size_t x, __mmask32 m, const Avx512IngestConstants& k) {
+  __m512i v = kTail ? _mm512_maskz_loadu_epi16(m, j.in + x) : _mm512_loadu_si512(j.in + x);
+  if constexpr (kNuc) {
+    const __m512i g =
+        kTail ? _mm512_maskz_loadu_epi16(m, j.gain_q14 + x) : _mm512_loadu_si512(j.gain_q14 + x);
+    const __m512i o =
+        kTail ? _mm512_maskz_loadu_epi16(m, j.offset + x) : _mm512_loadu_si512(j.offset + x);
+    const __m512i hi = _mm512_mulhi_epu16(v, g);
+    const __m512i lo = _mm512_mullo_epi16(v, g);
+    const __m512i sign = _mm512_srai_epi16(o, 15);
+    const __m512i v0 = _mm512_add_epi32(
+        _mm512_srli_epi32(_mm512_add_epi32(_mm512_unpacklo_epi16(lo, hi), k.half),
+                          kNucGainFractionBits),
+        _mm512_unpacklo_epi16(o, sign));
+    const __m512i v1 = _mm512_add_epi32(
+        _mm512_srli_epi32(_mm512_add_epi32(_mm512_unpackhi_epi16(lo, hi), k.half),
+                          kNucGainFractionBits),
+        _mm512_unpackhi_epi16(o, sign));
+    v = _mm512_packus_epi32(v0, v1);
+  }
+  if constexpr (kTail) {
+    _mm512_mask_storeu_epi16(j.ring + x, m, v);
+  } else {
+    _mm512_storeu_si512(j.ring + x, v);
+  }
+  __mmask32 f = (_mm512_cmpeq_epi16_mask(v, k.low) | _mm512_cmpeq_epi16_mask(v, k.high)) & k.stuck_on;
+  if constexpr (kMask) {
+    const __m256i bad = kTail ? _mm256_maskz_loadu_epi8(m, j.mask + x)
+                              : _mm256_loadu_si256(reinterpret_cast<const __m256i*>(j.mask + x));
+    f |= _mm256_test_epi8_mask(bad, bad);
+  }
+  f &= m;
+  const std::uint32_t bits = f;
+  std::memcpy(j.flag_bits + x / 8, &bits, sizeof bits);
+  return f;
+}
+
+template <bool kNuc, bool kMask>
+BOLO_AVX512 bool ingest_avx512_loop(const IngestLine& job) {
+  const IngestLine j = job;  // a local copy: the stores below cannot alias it, so no reloads
+  const Avx512IngestConstants k{_mm512_set1_epi32(1 << (kNucGainFractionBits - 1)),
+                                _mm512_set1_epi16(static_cast<short>(j.stuck_low)),
+                                _mm512_set1_epi16(static_cast<short>(j.stuck_high)),
+                                j.detect_stuck ? ~__mmask32{0} : __mmask32{0}};
+  __mmask32 any = 0;
+  std::size_t x = 0;
+  for (; x + 32 <= j.width; x += 32)
+    any |= ingest_avx512_step<kNuc, kMask, false>(j, x, ~__mmask32{0}, k);
+  if (x < j.width)
+    any |= ingest_avx512_step<kNuc, kMask, true>(
+        j, x, static_cast<__mmask32>((std::uint32_t{1} << (j.width - x)) - 1u), k);
+  return any != 0;
+}
+
+BOLO_AVX512 bool ingest_avx512(const IngestLine& job) {
+  if (job.gain_q14 != nullptr)
+    return job.mask != nullptr ? ingest_avx512_loop<true, true>(job)
+                               : ingest_avx512_loop<true, false>(job);
+  return job.mask != nullptr ? ingest_avx512_loop<false, true>(job)
+                             : ingest_avx512_loop<false, false>(job);
+}
+#endif  // BOLO_X86_KERNELS
+
+IngestFn select_ingest() {
+#if BOLO_X86_KERNELS
+  if (kernel_path_available(KernelPath::avx512)) return ingest_avx512;
+#endif
+  return ingest_portable;
+}
+
+}  // namespace
+
+IngestFn ingest_kernel(KernelPath path) {
+  if (!kernel_path_available(path)) return nullptr;
+  switch (path) {
+    case KernelPath::portable: return ingest_portable;
+#if BOLO_X86_KERNELS
+    case KernelPath::avx512: return ingest_avx512;
+#endif
+    default: break;
+  }
+  return nullptr;
+}
+
+bool ingest_line(const IngestLine& job) {
+  static const IngestFn chosen = select_ingest();  // once; no allocation
+  return chosen(job);
+}
+
+}  // namespace bolo::fw::detail

@@ -1,0 +1,110 @@
+// Every compiled-in path of the bad-pixel stage's line intake (copy or NUC into the ring, flags)
+// against the portable loops: ring, flag bits, the "any flagged" answer, no write outside the line.
+
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <vector>
+
+#include "bolo/firmware/detail/kernels.hpp"
+#include "frame_collector.hpp"
+
+using namespace bolo;
+using bolo::test::SplitMix64;
+using fw::detail::KernelPath;
+
+namespace {
+
+constexpr std::size_t kGuard = 40;
+constexpr fw::Pixel kSentinel = 0xA5A5;
+constexpr std::uint8_t kFlagSentinel = 0x5A;
+
+struct Outcome {
+  std::vector<fw::Pixel> ring;
+  std::vector<std::uint8_t> flags;  // the flag words' bytes, with guards
+  bool any = false;
+};
+
+Outcome run(KernelPath path, fw::detail::IngestLine job) {
+  Outcome o;
+  o.ring.assign(job.width + 2 * kGuard, kSentinel);
+  o.flags.assign((job.width + 31) / 32 * 4 + 2 * kGuard, kFlagSentinel);
+  job.ring = o.ring.data() + kGuard;
+  job.flag_bits = o.flags.data() + kGuard;
+  const auto kernel = fw::detail::ingest_kernel(path);
+  REQUIRE(kernel != nullptr);
+  o.any = kernel(job);
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("every ingest path equals the portable loops", "[kernels][bad_pixel]") {
+  std::vector<KernelPath> paths;
+  for (KernelPath p : fw::detail::kKernelPaths) {
+    if (p != KernelPath::portable && fw::detail::ingest_kernel(p) != nullptr) paths.push_back(p);
+  }
+  if (paths.empty()) std::printf("ingest: only the portable path on this build/CPU\n");
+  const std::vector<fw::Pixel> edges = {0, 1, 2, 0x3FFE, 0x3FFF, 0x4000, 32767, 32768, 65534, 65535};
+  SplitMix64 rng(41);
+  for (std::size_t width : {0, 1, 2, 15, 16, 17, 31, 32, 33, 63, 64, 65, 160, 640, 1317}) {
+    for (std::size_t offset : {0, 1, 7}) {
+      const std::size_t n = offset + width;
+      std::vector<fw::Pixel> in(n);
+      std::vector<std::uint16_t> gain(n);
+      std::vector<std::int16_t> off(n);
+      std::vector<std::uint8_t> mask(n);
+      for (int round = 0; round < 16; ++round) {
+        for (std::size_t i = 0; i < n; ++i) {
+          const std::uint32_t roll = rng.below(8);
+          in[i] = roll == 0 ? edges[rng.below(static_cast<std::uint32_t>(edges.size()))]
+                            : static_cast<fw::Pixel>(round % 2 ? rng.next() : rng.next() & 0x3FFF);
+          gain[i] = rng.below(3) == 0 ? static_cast<std::uint16_t>(rng.next())
+                                      : static_cast<std::uint16_t>(16384 - 64 + rng.below(128));
+          if (rng.below(16) == 0) gain[i] = static_cast<std::uint16_t>(rng.below(2) ? 0xFFFF : 0);
+          off[i] = rng.below(3) == 0 ? static_cast<std::int16_t>(rng.next())
+                                     : static_cast<std::int16_t>(static_cast<int>(rng.below(7)) - 3);
+          mask[i] = rng.below(10) == 0 ? static_cast<std::uint8_t>(1 + rng.below(255)) : 0;
+        }
+        const bool nuc = round % 4 < 2;
+        fw::detail::IngestLine job{in.data() + offset,
+                                   nuc ? gain.data() + offset : nullptr,
+                                   nuc ? off.data() + offset : nullptr,
+                                   round % 3 != 0 ? mask.data() + offset : nullptr,
+                                   round % 5 != 4,
+                                   static_cast<fw::Pixel>(rng.below(3)),
+                                   static_cast<fw::Pixel>(round % 2 ? 0x3FFF : 65535 - rng.below(2)),
+                                   nullptr,
+                                   nullptr,
+                                   width};
+        const Outcome want = run(KernelPath::portable, job);
+        for (KernelPath path : paths) {
+          INFO("path " << fw::detail::to_string(path) << " width " << width << " offset " << offset
+                       << " round " << round);
+          const Outcome got = run(path, job);
+          CHECK(got.ring == want.ring);  // includes the guards: nothing written outside
+          CHECK(got.flags == want.flags);
+          CHECK(got.any == want.any);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("the portable ingest loops follow their definition", "[kernels][bad_pixel]") {
+  const std::vector<fw::Pixel> in = {0, 5, 0x3FFF, 100, 200, 65535};
+  const std::vector<std::uint16_t> gain = {16384, 32768, 16384, 16384, 8192, 16384};
+  const std::vector<std::int16_t> off = {0, 0, 0, -100, 1, 0};
+  const std::vector<std::uint8_t> mask = {0, 0, 0, 0, 7, 0};
+  std::vector<fw::Pixel> ring(in.size());
+  std::uint32_t flags = 0xFFFFFFFFu;
+  fw::detail::IngestLine job{in.data(), gain.data(), off.data(), mask.data(), true, 0, 0x3FFF,
+                             ring.data(), reinterpret_cast<std::uint8_t*>(&flags), in.size()};
+  CHECK(fw::detail::ingest_kernel(KernelPath::portable)(job));
+  CHECK(ring == std::vector<fw::Pixel>{0, 10, 0x3FFF, 0, 101, 65535});
+  CHECK(flags == 0b011101u);  // pixel x is bit x; bits past the width are 0
+  job.mask = nullptr;
+  job.detect_stuck = false;
+  CHECK_FALSE(fw::detail::ingest_kernel(KernelPath::portable)(job));
+  CHECK(flags == 0u);
+}
