@@ -171,6 +171,8 @@ Command add_simulate_command(CLI::App& parent) {
   app->add_option("--effect", o->effects, "Catalogue effect ID[:KEY=VALUE,...]; repeatable");
   app->add_option("--seed", o->seed, "Seed of noise, maps and scene")->check(not_negative())->capture_default_str();
   app->add_flag("--overwrite", o->overwrite, "Replace OUT if it is a recording");
+  // `option = value` lines (CLI11 config), e.g. the simulate.cfg that `bolo diagnose` writes.
+  app->set_config("--config", "", "Read options from FILE (option = value per line; flags given win)");
   return {app, [o, out_flag](std::ostream& out) {
             if (!out_flag->empty()) {
               if (!o->output.empty() && o->output != *out_flag)

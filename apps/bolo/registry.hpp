@@ -42,5 +42,6 @@ Command add_info_command(CLI::App& parent);     // cmd_info.cpp
 Command add_correct_command(CLI::App& parent);  // cmd_correct.cpp
 Command add_render_command(CLI::App& parent);   // cmd_render.cpp
 Command add_simulate_command(CLI::App& parent);  // cmd_simulate.cpp
+Command add_diagnose_command(CLI::App& parent);  // cmd_diagnose.cpp
 
 }  // namespace bolo::cli
