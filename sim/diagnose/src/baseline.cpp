@@ -247,7 +247,7 @@ double noise_floor(const DiagnoseData& d) {
     const std::uint8_t *v = d.valid_frame(n), *v0 = d.valid_frame(n - 1);
     std::size_t m = 0;
     for (std::size_t p = 0; p < P; ++p)
-      if (v[p] && v0[p] && std::fabs(b[p] - b0[p]) < 1e-3f * (1 + std::fabs(b[p]))) frame_diff[m++] = y[p] - y0[p];
+      if (v[p] && v0[p] && std::fabs(b[p] - b0[p]) < 1e-3f + 1e-6f * std::fabs(b[p])) frame_diff[m++] = y[p] - y0[p];
     if (m < 16) continue;
     std::vector<float> tmp(frame_diff.begin(), frame_diff.begin() + m);
     const float common = median_in_place(tmp);
@@ -260,7 +260,13 @@ double noise_floor(const DiagnoseData& d) {
       for (std::size_t p = 0; p < P; p += stride) diffs.push_back(std::fabs(y[p] - y0[p]));
     }
   }
-  return 1.4826 * median_in_place(diffs) / std::sqrt(2.0);
+  // Integer counts make a median-based spread biased; it only sets the outlier cut here.
+  std::vector<float> copy = diffs;
+  const double rough = 1.4826 * median_in_place(copy);
+  double ss = 0, n = 0;
+  for (float v : diffs)
+    if (v <= 5 * rough + 1) { ss += double(v) * v; n += 1; }
+  return n > 0 ? std::sqrt(ss / n / 2.0) : rough / std::sqrt(2.0);
 }
 
 }  // namespace bolo::diag

@@ -94,7 +94,8 @@ nlohmann::json to_json(const Diagnosis& d) {
                              {"params", f.params},
                              {"simulator_effect", f.simulator_effect},
                              {"heldout_rms_before", num(f.heldout_rms_before)},
-                             {"heldout_rms_after", num(f.heldout_rms_after)}});
+                             {"heldout_rms_after", num(f.heldout_rms_after)},
+                             {"baseline_refit", f.baseline_refit}});
   }
   j["unexplained"] = nlohmann::json::array();
   for (const Unexplained& u : d.unexplained) j["unexplained"].push_back({{"where", where_json(u.where)}, {"rms", num(u.rms)}});

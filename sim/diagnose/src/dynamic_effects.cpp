@@ -26,11 +26,14 @@ class ThermalMemory final : public PooledLinear {
   int parameter_count() const override { return 2; }
 
  protected:
-  int alternatives() const override { return 12; }
+  // 12 time constants, each with the slow path settled on the first frame or starting cold.
+  int alternatives() const override { return 24; }
+  bool cold(int alt) const { return alt >= 12; }
   double tau2(int alt) const {
+    alt %= 12;
     const double dt = 1.0 / data_->fps, span = data_->t_s.back() - data_->t_s.front();
     const double lo = std::max(1.5 * dt, 0.02), hi = std::max(lo * 2, std::min(10.0, 0.5 * span));
-    return lo * std::pow(hi / lo, alt / double(alternatives() - 1));
+    return lo * std::pow(hi / lo, alt / 11.0);
   }
   bool regressors(int alt, Regressors& X) const override {
     const DiagnoseData& d = *data_;
@@ -38,6 +41,7 @@ class ThermalMemory final : public PooledLinear {
     const std::size_t P = d.shape.pixels();
     X.assign(1, std::vector<float>(d.shape.size()));
     std::vector<float> state(d.frame(d.baseline, 0), d.frame(d.baseline, 0) + P);
+    if (cold(alt)) std::fill(state.begin(), state.end(), 0.0f);
     for (int n = 0; n < d.shape.n; ++n) {
       const double dt = n == 0 ? 1.0 / d.fps : d.t_s[n] - d.t_s[n - 1];
       const float a = static_cast<float>(std::exp(-dt / tau2(alt)));
@@ -51,7 +55,7 @@ class ThermalMemory final : public PooledLinear {
     return true;
   }
   nlohmann::json params_of(int alt, const Eigen::VectorXd& beta) const override {
-    return {{"tau2_s", tau2(alt)}, {"weight", beta[0]}};
+    return {{"tau2_s", tau2(alt)}, {"weight", beta[0]}, {"start", cold(alt) ? "cold" : "settled"}};
   }
   std::string simulator_text(int alt, const Eigen::VectorXd& beta) const override {
     return "thermal_memory:tau2_s=" + number(tau2(alt)) + ",weight=" + number(beta[0]);

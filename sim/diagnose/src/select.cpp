@@ -72,13 +72,14 @@ struct Scored {
 };
 
 Scored score(const Candidate& c, const DiagnoseData& d, const std::vector<float>& r, const Blocks& blocks,
-             const FrameSse& before, double n_eff_total) {
+             const FrameSse& before, std::vector<float>& after_r) {
   Scored out;
   const int N = d.shape.n;
   const std::size_t P = d.shape.pixels();
   out.frame_gain.assign(N, 0.0);
   std::vector<float> pred(P);
   std::vector<double> after = before.sse;
+  after_r = r;
   for (int k = 0; k < blocks.folds; ++k) {
     std::vector<char> train(N);
     for (int n = 0; n < N; ++n) train[n] = blocks.fold_of_frame(n) != k;
@@ -88,10 +89,13 @@ Scored score(const Candidate& c, const DiagnoseData& d, const std::vector<float>
       if (train[n] || !model->acts_on(n)) continue;
       model->predict(n, pred);
       const float* f = d.frame(r, n);
+      float* a = d.frame(after_r, n);
       const std::uint8_t* v = d.valid_frame(n);
       double s = 0;
-      for (std::size_t p = 0; p < P; ++p)
-        if (v[p]) { const double e = double(f[p]) - pred[p]; s += e * e; }
+      for (std::size_t p = 0; p < P; ++p) {
+        a[p] = f[p] - pred[p];
+        if (v[p]) s += double(a[p]) * a[p];
+      }
       after[n] = s;
     }
   }
@@ -108,7 +112,10 @@ Scored score(const Candidate& c, const DiagnoseData& d, const std::vector<float>
   double sum = 0, sum2 = 0;
   for (double g : block_gain) { sum += g; sum2 += g * g; }
   e.block_z = sum2 > 0 ? sum / std::sqrt(sum2) : 0.0;
-  e.n_eff = n_eff_total;
+  // The sample size of the test is judged on what the alternative leaves: the effect's own
+  // structure must not count against it, shared or carried-over noise must.
+  FrameSse left{after, before.count};
+  e.n_eff = effective_samples(d, after_r, left);
   if (e.sse_after > 0 && e.sse_before > 0) {
     e.log_likelihood_ratio = e.n_eff * std::log(e.sse_before / e.sse_after);
     e.delta_bic = e.log_likelihood_ratio - c.parameter_count() * std::log(std::max(2.0, e.n_eff));
@@ -158,8 +165,12 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
   const int N = data.shape.n;
   const std::size_t P = data.shape.pixels();
   // A shutter frame reads the shutter, not the scene.
-  for (int n = 0; n < N; ++n)
-    if (data.flagged_event[n]) std::fill_n(data.valid.begin() + std::size_t(n) * P, P, 0);
+  auto invalidate_events = [&] {
+    for (int n = 0; n < N; ++n)
+      if (data.flagged_event[n]) std::fill_n(data.valid.begin() + std::size_t(n) * P, P, 0);
+  };
+  const std::vector<std::uint8_t> moving_mask = data.valid;
+  invalidate_events();
   std::vector<float> r(data.shape.size());
   for (std::size_t i = 0; i < r.size(); ++i) r[i] = data.recorded[i] - data.baseline[i];
   result.noise_floor_rms = noise_floor(data);
@@ -180,15 +191,23 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
   auto candidates = make_catalogue();
   std::vector<char> used(candidates.size(), 0);
   const int rounds = std::min<int>(options.max_findings, int(candidates.size()));
+  std::vector<float> after_r;
   for (int round = 0; round < rounds; ++round) {
-    const double n_eff = effective_samples(data, r, before);
+    // Stop at the noise floor: once the findings bring the residual down to the temporal noise,
+    // what is left is noise (the first round is always tried: a concealed effect can sit under a
+    // floor estimate that is a little high).
+    if (round > 0) {
+      double s = 0, c = 0;
+      for (int n = 0; n < N; ++n) { s += before.sse[n]; c += before.count[n]; }
+      if (rms_of(s, c) <= result.noise_floor_rms) break;
+    }
     int best = -1;
     Scored best_score;
     for (std::size_t i = 0; i < candidates.size(); ++i) {
       if (used[i]) continue;
       report("round " + std::to_string(round + 1) + " " + candidates[i]->id(), int(i), int(candidates.size()));
       candidates[i]->prepare(data, r);
-      Scored s = score(*candidates[i], data, r, blocks, before, n_eff);
+      Scored s = score(*candidates[i], data, r, blocks, before, after_r);
       CandidateScore cs{round + 1, candidates[i]->id(), s.evidence, false, s.fitted ? "" : "nothing to fit"};
       result.scores.push_back(cs);
       // Practical floor: what the effect explains must be a visible share of the noise, or a
@@ -231,6 +250,20 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       for (std::size_t p = 0; p < P; ++p) rf[p] -= pred[p];
     }
     used[best] = 1;
+    if (data.has_scene) {
+      // The baseline's tau, gain and offset again, on the recording minus what the findings
+      // explain: an effect the frozen baseline had absorbed (a filter into tau) lets go of it.
+      std::vector<float> original = std::move(data.recorded);
+      data.recorded.resize(r.size());
+      for (std::size_t i = 0; i < r.size(); ++i) data.recorded[i] = r[i] + data.baseline[i];
+      const BaselineFit refit = fit_baseline(data);
+      data.tau_c_s = refit.tau_c_s;
+      for (std::size_t i = 0; i < r.size(); ++i) r[i] = data.recorded[i] - data.baseline[i];
+      data.recorded = std::move(original);
+      data.valid = moving_mask;
+      invalidate_events();
+      f.baseline_refit = refit.to_json()["params"];
+    }
     result.findings.push_back(std::move(f));
     before = frame_sse(data, r);
   }

@@ -24,7 +24,7 @@ struct Options {
   // A finding needs held-out Delta BIC above this and a consistent gain over held-out blocks
   // (z of the per-block gains); calibrated on null recordings (docs/diagnosis-study.md).
   double min_delta_bic = 10.0;
-  double min_block_z = 2.5;
+  double min_block_z = 1.0;
   // ... and must explain at least this share of the noise floor (RMS over all held-out samples).
   double min_explained_share = 0.03;
 };
@@ -41,6 +41,7 @@ struct Finding {
   nlohmann::json params;
   std::string simulator_effect;
   double heldout_rms_before = 0, heldout_rms_after = 0;
+  nlohmann::json baseline_refit;  // the baseline's parameters refitted with this finding in the model
 };
 
 struct CandidateScore {  // every candidate of every round, for the report
