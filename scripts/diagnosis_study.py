@@ -70,9 +70,8 @@ def run(name, effects, seed, preset=None):
     return d, truth, dt
 
 def truth_param(truth, eid):
-    for e in truth.get("effects", []):
-        if e.get("id") == eid: return e.get("parameters", e.get("params", {}))
-    return {}
+    e = truth.get("effects", {})
+    return e.get(eid, {}) if isinstance(e, dict) else {}
 
 PARAM = {"offset_fpn": "sigma", "column_fpn": "sigma", "row_fpn": "sigma", "shading": "amplitude",
          "gain_fpn": "sigma", "thermal_memory": "weight", "tau_temperature": "gamma", "tau_spread": "sigma",

@@ -47,10 +47,14 @@ class FrameOffsetFit final : public FittedEffect {
       : offset_(std::move(offset)), params_(std::move(params)), sim_(std::move(sim)), where_(std::move(where)) {}
   void predict(int n, std::span<float> out) const override {
     std::fill(out.begin(), out.end(), static_cast<float>(offset_[n]));
+    for (const auto& [frame, image] : transients_)
+      if (frame == n)
+        for (std::size_t p = 0; p < out.size(); ++p) out[p] += image[p];
   }
   nlohmann::json params() const override { return params_; }
   std::string simulator_effect() const override { return sim_; }
   Where where() const override { return where_; }
+  std::vector<std::pair<int, std::vector<float>>> transients_;  // per-pixel extra at single frames
 
  private:
   std::vector<double> offset_;
@@ -81,6 +85,7 @@ class FfcStep final : public Candidate {
   int parameter_count() const override { return std::max<int>(1, int(events_.size())); }
   void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
     data_ = &d;
+    residual_ = &r;
     means_ = frame_means(d, r);
     events_.clear();
     const int N = d.shape.n;
@@ -97,7 +102,7 @@ class FfcStep final : public Candidate {
     // Neighbouring detections are one event (a transient spreads a jump over two frames).
     std::vector<int> merged;
     for (int e : events_)
-      if (merged.empty() || e - merged.back() > 2) merged.push_back(e);
+      if (merged.empty() || e - merged.back() > 5) merged.push_back(e);
     events_ = merged;
     if (events_.size() > 12) events_.resize(12);
   }
@@ -131,11 +136,44 @@ class FfcStep final : public Candidate {
     nlohmann::json params = {{"frames", events_}, {"steps", steps}, {"flagged", flagged}};
     const std::string sim = "ffc_step:frames=" + frames + ",step=" + number(biggest) +
                             ",flagged=" + (flagged == k ? "1" : "0");
-    return std::make_unique<FrameOffsetFit>(std::move(offset), params, sim, where);
+    auto fitted = std::make_unique<FrameOffsetFit>(std::move(offset), params, sim, where);
+    // An unflagged event also closed the shutter: the first frame after it carries the shutter
+    // (taken at the scene's mean level, as for flagged events in the baseline) instead of the
+    // previous frame. No free parameter: the carry fraction is the baseline's.
+    const DiagnoseData& d = *data_;
+    if (d.has_scene && d.tau_c_s > 0) {
+      const std::size_t P = d.shape.pixels();
+      for (int e : events_) {
+        if (d.flagged_event[e] || e < 1) continue;
+        const double c = std::exp(-d.readout_s[e - 1] / d.tau_c_s);
+        const float *u = d.frame(d.input, e), *bp = d.frame(d.baseline, e - 1);
+        double mean = 0;
+        for (std::size_t p = 0; p < P; ++p) mean += u[p];
+        mean /= double(P);
+        std::vector<float> image(P);
+        for (std::size_t p = 0; p < P; ++p) image[p] = static_cast<float>(c * (mean - bp[p]));
+        // Only where the frame shows it (a jump without a shutter closing is possible too).
+        const float* r = d.frame(*residual_, e);
+        double with = 0, without = 0;
+        for (std::size_t p = 0; p < P; ++p) {
+          without += double(r[p]) * r[p];
+          with += double(r[p] - image[p]) * (r[p] - image[p]);
+        }
+        if (with >= without) continue;
+        // ... and each later frame carries a share c of the previous one's difference.
+        for (int n = e; n < d.shape.n; ++n) {
+          fitted->transients_.push_back({n, image});
+          if (std::pow(c, n - e + 1) < 1e-4) break;
+          for (float& v : image) v *= static_cast<float>(c);
+        }
+      }
+    }
+    return fitted;
   }
 
  private:
   const DiagnoseData* data_ = nullptr;
+  const std::vector<float>* residual_ = nullptr;
   FrameMeans means_;
   std::vector<int> events_;
 };

@@ -198,11 +198,12 @@ class StaticMap final : public Candidate {
         break;
       }
       case StaticPart::offset: {
-        // The whole static map: columns, rows and shading compete with it on held-out data and
-        // win when the pattern is theirs (fewer, better-determined values).
+        // What column and row stripes leave (they are effects of their own). The radial shading
+        // field splits into a column and a row part, so shading competes with both and wins
+        // with its single parameter when the pattern is radial.
         std::vector<double> rest(P), noise_rest(P);
         for (std::size_t p = 0; p < P; ++p) {
-          rest[p] = mean[p];
+          rest[p] = mean[p] - col[p % W] - row[p / W];
           noise_rest[p] = noise[p];
         }
         const double m = std::accumulate(rest.begin(), rest.end(), 0.0) / double(P);
@@ -252,7 +253,7 @@ class SlopeMap final : public Candidate {
  public:
   explicit SlopeMap(bool tau) : tau_(tau) {}
   const char* id() const override { return tau_ ? "tau_spread" : "gain_fpn"; }
-  int parameter_count() const override { return tau_ ? 1 : 2; }
+  int parameter_count() const override { return 1; }
   void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
     data_ = &d;
     residual_ = &r;
@@ -273,8 +274,9 @@ class SlopeMap final : public Candidate {
     PixelSums s = pixel_sums(d, *residual_, train, x_.get());
     std::vector<double> slope(P, 0.0), noise(P, INFINITY), intercept(P, 0.0), noise_i(P, INFINITY);
     std::vector<float> centre(P, 0.0f);
-    // gain_fpn: y (1 + g) = y + g ybar + g (y - ybar): a static part and a slope on the level's
-    // change, per pixel. tau_spread acts only through the transient (no static part).
+    // gain_fpn: y (1 + g) = y + g ybar + g (y - ybar). The static part g ybar cannot be told from
+    // an offset pattern, so it is left to offset_fpn; gain_fpn claims only the slope on the
+    // level's change. tau_spread acts only through the transient.
     if (!tau_)
       for (std::size_t p = 0; p < P; ++p) {
         if (s.n[p] < 2) continue;
@@ -282,8 +284,7 @@ class SlopeMap final : public Candidate {
         centre[p] = float(xm);
         s.xr[p] -= s.n[p] * xm * rm;
         s.xx[p] = std::max(0.0, s.xx[p] - s.n[p] * xm * xm);
-        intercept[p] = rm;
-        noise_i[p] = s.residual_var / s.n[p];
+        (void)rm;
       }
     double xx_total = 0;
     for (std::size_t p = 0; p < P; ++p) {
@@ -380,9 +381,11 @@ class DeadPixels final : public Candidate {
     std::vector<std::size_t> pixels;
     std::vector<float> value;
     for (std::size_t p = 0; p < P; ++p) {
+      // Frozen while the sensor has noise, and reading far from what the model expects (a
+      // pixel of a static, noise-free region would be frozen too, but not off the model).
       const bool frozen = typical_sd > 0.5 && sd[p] < 0.05 * typical_sd;
-      const bool outlier = std::fabs(mr[p] - centre) > 25 * spread && std::fabs(mr[p] - centre) > 10 * typical_sd;
-      if (frozen || outlier) { pixels.push_back(p); value.push_back(float(sy[p] / cnt[p])); }
+      const bool off = std::fabs(mr[p] - centre) > 10 * typical_sd + 25 * spread;
+      if (frozen && off) { pixels.push_back(p); value.push_back(float(sy[p] / cnt[p])); }
     }
     if (pixels.empty() || pixels.size() > P / 20) return nullptr;
     return std::make_unique<DeadFit>(d, *residual_, std::move(pixels), std::move(value));
