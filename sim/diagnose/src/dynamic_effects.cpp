@@ -1,6 +1,7 @@
 // Effects that act on transients and spatial structure of the image, pooled over all pixels:
 // thermal_memory, tau_temperature, rolling_readout, crosstalk, nonlinearity, temporal_filter.
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -57,6 +58,8 @@ class ThermalMemory final : public PooledLinear {
   nlohmann::json params_of(int alt, const Eigen::VectorXd& beta) const override {
     return {{"tau2_s", tau2(alt)}, {"weight", beta[0]}, {"start", cold(alt) ? "cold" : "settled"}};
   }
+  // A substrate path holds a small share of the signal.
+  bool physical(int, const Eigen::VectorXd& beta) const override { return std::fabs(beta[0]) < 0.3; }
   std::string simulator_text(int alt, const Eigen::VectorXd& beta) const override {
     return "thermal_memory:tau2_s=" + number(tau2(alt)) + ",weight=" + number(beta[0]);
   }
@@ -109,6 +112,11 @@ class TauTemperature final : public PooledLinear {
   nlohmann::json params_of(int, const Eigen::VectorXd& beta) const override {
     return {{"gamma", beta[0]}, {"y0", data_->level_mid}};
   }
+  // tau stays positive over the levels of the recording: |gamma| x (level range) well below 1.
+  bool physical(int, const Eigen::VectorXd& beta) const override {
+    const auto [lo, hi] = std::minmax_element(data_->baseline.begin(), data_->baseline.end());
+    return std::fabs(beta[0]) * (*hi - *lo) < 0.5;
+  }
   std::string simulator_text(int, const Eigen::VectorXd& beta) const override {
     return "tau_temperature:gamma=" + number(beta[0]);
   }
@@ -140,6 +148,10 @@ class RollingReadout final : public PooledLinear {
     return true;
   }
   nlohmann::json params_of(int, const Eigen::VectorXd& beta) const override { return {{"line_time_s", beta[0]}}; }
+  // Rows are read after one another: a positive line time, all rows within one frame period.
+  bool physical(int, const Eigen::VectorXd& beta) const override {
+    return beta[0] > 0 && beta[0] * data_->shape.height < 1.0 / data_->fps;
+  }
   std::string simulator_text(int, const Eigen::VectorXd& beta) const override {
     return beta[0] > 0 ? "rolling_readout:line_time_s=" + number(beta[0]) : "";
   }
@@ -174,6 +186,7 @@ class Crosstalk final : public PooledLinear {
     return true;
   }
   nlohmann::json params_of(int, const Eigen::VectorXd& beta) const override { return {{"epsilon", beta[0]}}; }
+  bool physical(int, const Eigen::VectorXd& beta) const override { return beta[0] > 0 && beta[0] < 0.5; }
   std::string simulator_text(int, const Eigen::VectorXd& beta) const override {
     return beta[0] > 0 ? "crosstalk:epsilon=" + number(beta[0]) : "";
   }
@@ -228,15 +241,47 @@ class TemporalFilter final : public PooledLinear {
     const std::vector<float>& r = *residual_;
     const std::size_t P = d.shape.pixels();
     X.assign(1, std::vector<float>(d.shape.size(), 0.0f));
+    // A filter's pole is per frame: the residual's autocorrelation falls as alpha^k. Memory that
+    // falls slower (a slowly changing scene, drift) is not this effect.
+    {
+      double r0 = 0, r1 = 0, r2 = 0;
+      std::vector<float> mean(d.shape.n, 0.0f);
+      for (int n = 0; n < d.shape.n; ++n) {
+        const float* f = d.frame(r, n);
+        const std::uint8_t* v = d.valid_frame(n);
+        double s = 0, c = 0;
+        for (std::size_t p = 0; p < P; ++p)
+          if (v[p]) { s += f[p]; c += 1; }
+        mean[n] = c > 0 ? float(s / c) : 0.0f;
+      }
+      for (int n = 2; n < d.shape.n; ++n) {
+        const float *f = d.frame(r, n), *f1 = d.frame(r, n - 1), *f2 = d.frame(r, n - 2);
+        const std::uint8_t *v = d.valid_frame(n), *v1 = d.valid_frame(n - 1), *v2 = d.valid_frame(n - 2);
+        for (std::size_t p = 0; p < P; ++p) {
+          if (!(v[p] && v1[p] && v2[p])) continue;
+          const double a = f[p] - mean[n], b = f1[p] - mean[n - 1], c = f2[p] - mean[n - 2];
+          r0 += a * a; r1 += a * b; r2 += a * c;
+        }
+      }
+      const double rho1 = r0 > 0 ? r1 / r0 : 0, rho2 = r0 > 0 ? r2 / r0 : 0;
+      if (rho1 > 0 && rho2 > rho1 * rho1 + 0.5 * (rho1 - rho1 * rho1) + 0.02) return false;
+    }
+    // The previous frame's residual without its frame mean: a filter acts on every pixel's own
+    // noise, while a slow global drift would make any one-step predictor look good.
     for (int n = 1; n < d.shape.n; ++n) {
       const float *rp = d.frame(r, n - 1), *bp = d.frame(d.baseline, n - 1), *b = d.frame(d.baseline, n);
       const std::uint8_t* vp = d.valid_frame(n - 1);
+      double sum = 0, count = 0;
+      for (std::size_t p = 0; p < P; ++p)
+        if (vp[p]) { sum += rp[p]; count += 1; }
+      const float mean = count > 0 ? static_cast<float>(sum / count) : 0.0f;
       float* x = X[0].data() + std::size_t(n) * P;
-      for (std::size_t p = 0; p < P; ++p) x[p] = vp[p] ? rp[p] + bp[p] - b[p] : 0.0f;
+      for (std::size_t p = 0; p < P; ++p) x[p] = vp[p] ? rp[p] - mean + bp[p] - b[p] : 0.0f;
     }
     return true;
   }
   nlohmann::json params_of(int, const Eigen::VectorXd& beta) const override { return {{"alpha", beta[0]}}; }
+  bool physical(int, const Eigen::VectorXd& beta) const override { return beta[0] > 0 && beta[0] < 1; }
   std::string simulator_text(int, const Eigen::VectorXd& beta) const override {
     return beta[0] > 0 && beta[0] < 1 ? "temporal_filter:alpha=" + number(beta[0]) : "";
   }

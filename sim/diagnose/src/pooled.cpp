@@ -116,7 +116,7 @@ std::unique_ptr<FittedEffect> PooledLinear::fit(const std::vector<char>& train) 
     const double gain = beta.dot(xtr);  // training SSE reduction
     if (std::isfinite(gain) && (best < 0 || gain > best_gain)) { best = a; best_gain = gain; best_beta = beta; }
   }
-  if (best < 0) return nullptr;
+  if (best < 0 || !physical(best, best_beta)) return nullptr;
   Where where;
   where.frames = {{0, data_->shape.n - 1}};
   where.row1 = data_->shape.height - 1;

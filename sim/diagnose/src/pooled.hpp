@@ -31,6 +31,8 @@ class PooledLinear : public Candidate {
   // Lets the baseline's tau move with the effect (the nested model is "baseline + effect", and a
   // transient effect fitted against a frozen tau would be charged with tau's share).
   virtual bool refits_tau() const { return false; }
+  // A fit outside the parameter's physical range is no finding (a pole at 1, a negative blur).
+  virtual bool physical(int /*alt*/, const Eigen::VectorXd& /*beta*/) const { return true; }
 
   const DiagnoseData* data_ = nullptr;
   const std::vector<float>* residual_ = nullptr;
