@@ -2,6 +2,7 @@
 // Helpers for the diagnosis tests: small simulated recordings made with `bolo simulate` in-process
 // and `bolo diagnose` run on them, the result read back through read_diagnosis_json.
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -17,8 +18,12 @@ namespace bolo::test {
 inline fs::path simulate(const TempDir& tmp, const std::string& name, const std::vector<std::string>& effects,
                          int seed, const std::vector<std::string>& extra = {}) {
   const fs::path rec = tmp / name;
-  std::vector<std::string> args = {"simulate", rec.string(), "--size", "80x60", "--frames", "120", "--noise", "2",
+  std::vector<std::string> args = {"simulate", rec.string(), "--size", "80x60", "--noise", "2",
                                    "--substeps", "1", "--seed", std::to_string(seed)};
+  if (std::find(extra.begin(), extra.end(), "--frames") == extra.end()) {
+    args.push_back("--frames");
+    args.push_back("120");
+  }
   for (const auto& e : effects) { args.push_back("--effect"); args.push_back(e); }
   args.insert(args.end(), extra.begin(), extra.end());
   const CliResult r = run_bolo(args);

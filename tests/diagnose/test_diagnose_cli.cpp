@@ -1,6 +1,9 @@
 // The command's outputs: diagnosis.json in the contract's shape, a self-contained report, a
 // simulator configuration that `bolo simulate --config` takes; refusals leave nothing behind.
 
+#include <algorithm>
+#include <fstream>
+
 #include <catch2/catch.hpp>
 
 #include "diagnose_test_support.hpp"
@@ -78,4 +81,49 @@ TEST_CASE("read_diagnosis_json names the field that is wrong", "[diagnose][json]
   bad = good;
   bad.replace(bad.find("\"noise_floor_rms\":1"), 19, "\"noise_floor_rms\":\"a\"");
   CHECK(message(bad).find("noise_floor_rms") != std::string::npos);
+}
+
+TEST_CASE("diagnose: more refusals of docs/errors.md section 10", "[diagnose][cli]") {
+  TempDir tmp;
+  auto refused = [&](const std::vector<std::string>& args, const std::string& part) {
+    const auto before = entries(tmp.path());
+    const CliResult r = run_bolo(args);
+    INFO(r.err);
+    CHECK(r.code == 2);
+    CHECK(r.err.rfind("bolo: error: ", 0) == 0);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK(r.err.find(part) != std::string::npos);
+    CHECK(entries(tmp.path()) == before);
+  };
+  const fs::path one = simulate(tmp, "one", {}, 1, {"--frames", "1"});
+  refused({"diagnose", one.string(), "--out", (tmp / "d").string()}, "diagnosis needs at least 2");
+  refused({"diagnose", one.string(), "--out", (tmp / "d").string(), "--min-delta-bic", "-1"}, "--min-delta-bic");
+  refused({"diagnose", "--out", (tmp / "d").string()}, "no recording given");
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(tmp / name) << text;
+    return (tmp / name).string();
+  };
+  const std::string unknown = write("unknown.cfg", "bogus = 1\n");
+  const std::string unterminated = write("unterminated.cfg", "size = \"80x60\n");
+  const std::string not_number = write("nan.cfg", "fps = fast\n");
+  const std::string no_equals = write("noeq.cfg", "fps 30\n");
+  const std::string two = write("two.cfg", "fps = [1, 2]\n");
+  refused({"simulate", (tmp / "s").string(), "--config", (tmp / "missing.cfg").string()}, "cannot read the --config file");
+  refused({"simulate", (tmp / "s").string(), "--config", unknown}, "line 1: bogus: not an option of bolo simulate");
+  refused({"simulate", (tmp / "s").string(), "--config", unterminated}, "line 1: unterminated string");
+  refused({"simulate", (tmp / "s").string(), "--config", not_number}, "line 1: fps: not a number: 'fast'");
+  refused({"simulate", (tmp / "s").string(), "--config", no_equals}, "line 1: expected `option = value`");
+  refused({"simulate", (tmp / "s").string(), "--config", two}, "line 1: fps: expected one value, got 2");
+}
+
+TEST_CASE("simulate --config: the command line wins over the file", "[diagnose][cli]") {
+  TempDir tmp;
+  std::ofstream(tmp / "c.cfg") << "size = \"40x30\"  # comment\nframes = 5\neffect = [\"column_fpn:sigma=2\"]\n";
+  const CliResult r = run_bolo({"simulate", (tmp / "s").string(), "--config", (tmp / "c.cfg").string(), "--frames", "3"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  rec::Recording s(tmp / "s");
+  CHECK(s.frame_count() == 3);
+  CHECK(s.width() == 40);
+  CHECK(read_text(tmp / "s" / "truth" / "effects.json").find("column_fpn") != std::string::npos);
 }

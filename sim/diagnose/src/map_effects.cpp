@@ -252,12 +252,13 @@ class SlopeMapFit final : public FittedEffect {
 class SlopeMap final : public Candidate {
  public:
   explicit SlopeMap(bool tau) : tau_(tau) {}
+  void release() override { x_.reset(); }
   const char* id() const override { return tau_ ? "tau_spread" : "gain_fpn"; }
   int parameter_count() const override { return 1; }
   void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
     data_ = &d;
     residual_ = &r;
-    if (!x_ || x_->size() != d.shape.size()) {
+    {
       auto x = std::make_shared<std::vector<float>>();
       if (tau_) {
         if (d.has_scene && d.tau_c_s > 0) tau_derivative(d, d.tau_c_s, *x);

@@ -19,6 +19,11 @@ class PooledLinear : public Candidate {
  public:
   void prepare(const DiagnoseData& data, const std::vector<float>& residual) override;
   std::unique_ptr<FittedEffect> fit(const std::vector<char>& train_frame) const override;
+  void release() override {
+    cache_.clear();
+    stats_.clear();
+    tau_nuisance_ = {};
+  }
 
  protected:
   virtual int alternatives() const { return 1; }

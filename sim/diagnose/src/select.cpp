@@ -209,6 +209,7 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       candidates[i]->prepare(data, r);
       Scored s = score(*candidates[i], data, r, blocks, before, after_r);
       CandidateScore cs{round + 1, candidates[i]->id(), s.evidence, false, s.fitted ? "" : "nothing to fit"};
+      candidates[i]->release();
       result.scores.push_back(cs);
       // Practical floor: what the effect explains must be a visible share of the noise, or a
       // tiny imperfection of the baseline pooled over millions of samples would count.
@@ -229,6 +230,7 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
     c.prepare(data, r);
     std::vector<char> all(N, 1);
     auto model = c.fit(all);
+    c.release();
     Finding f;
     f.effect = c.id();
     f.evidence = best_score.evidence;

@@ -45,6 +45,8 @@ class Candidate {
   virtual void prepare(const DiagnoseData& data, const std::vector<float>& residual) = 0;
   // nullptr when nothing can be fitted (e.g. the regressor is zero: no motion, no FPA sensor).
   virtual std::unique_ptr<FittedEffect> fit(const std::vector<char>& train_frame) const = 0;
+  // Frees what prepare() built (fitted effects keep their own share alive).
+  virtual void release() {}
 };
 
 std::vector<std::unique_ptr<Candidate>> make_catalogue();
