@@ -7,9 +7,10 @@ namespace bolo::diag {
 
 Blocks make_blocks(int frames, int folds_wanted) {
   Blocks b;
-  // About ten blocks per fold, at least two frames long so lag-1 effects stay inside a block.
+  // About four blocks per fold: long blocks keep slow noise (1/f) of a held-out block from being
+  // predicted by its neighbours; at least two frames so lag-1 effects stay inside a block.
   b.folds = std::clamp(frames / 2, 1, folds_wanted);
-  const int length = std::max(2, frames / std::max(1, b.folds * 10));
+  const int length = std::max(2, frames / std::max(1, b.folds * 4));
   b.count = std::max(1, (frames + length - 1) / length);
   b.folds = std::min(b.folds, b.count);
   b.block_of_frame.resize(frames);
@@ -24,6 +25,13 @@ Blocks make_blocks(int frames, int folds_wanted) {
     std::swap(b.fold_of_block[k], b.fold_of_block[int((state >> 33) % std::uint64_t(k + 1))]);
   }
   return b;
+}
+
+Blocks halves(const Blocks& blocks) {
+  Blocks h = blocks;
+  h.folds = std::min(2, blocks.count);
+  for (int k = 0; k < h.count; ++k) h.fold_of_block[k] = h.folds == 2 && 2 * k >= h.count ? 1 : 0;
+  return h;
 }
 
 }  // namespace bolo::diag

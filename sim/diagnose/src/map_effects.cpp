@@ -106,6 +106,7 @@ enum class StaticPart { offset, column, row, shading };
 class StaticMap final : public Candidate {
  public:
   explicit StaticMap(StaticPart part) : part_(part) {}
+  bool needs_distant_holdout() const override { return true; }
   const char* id() const override {
     switch (part_) {
       case StaticPart::offset: return "offset_fpn";
@@ -165,6 +166,18 @@ class StaticMap final : public Candidate {
       fr += f * rest;
     }
     const double amplitude = ff > 0 ? fr / ff : 0.0;
+    // Stripes must stand out from what a pixel pattern's own column and row medians are: a
+    // random per-pixel map of spread s has column medians of spread ~1.25 s / sqrt(rows).
+    double pixel_spread = 0;
+    for (std::size_t p = 0; p < P; ++p) {
+      const double v = mean[p] - col[p % W] - row[p / W];
+      pixel_spread += v * v;
+    }
+    pixel_spread = std::sqrt(pixel_spread / double(P));
+    const bool stripes_in_columns = rms(col) >= 2.0 * pixel_spread / std::sqrt(double(H));
+    const bool stripes_in_rows = rms(row) >= 2.0 * pixel_spread / std::sqrt(double(W));
+    if (part_ == StaticPart::column && !stripes_in_columns) return nullptr;
+    if (part_ == StaticPart::row && !stripes_in_rows) return nullptr;
     std::vector<float> map(P, 0.0f);
     nlohmann::json params;
     std::string sim;
@@ -203,7 +216,8 @@ class StaticMap final : public Candidate {
         // with its single parameter when the pattern is radial.
         std::vector<double> rest(P), noise_rest(P);
         for (std::size_t p = 0; p < P; ++p) {
-          rest[p] = mean[p] - col[p % W] - row[p / W];
+          // Column and row medians that are no stripes belong to the pixel pattern itself.
+          rest[p] = mean[p] - (stripes_in_columns ? col[p % W] : 0.0) - (stripes_in_rows ? row[p / W] : 0.0);
           noise_rest[p] = noise[p];
         }
         const double m = std::accumulate(rest.begin(), rest.end(), 0.0) / double(P);
@@ -252,6 +266,7 @@ class SlopeMapFit final : public FittedEffect {
 class SlopeMap final : public Candidate {
  public:
   explicit SlopeMap(bool tau) : tau_(tau) {}
+  bool needs_distant_holdout() const override { return true; }
   void release() override { x_.reset(); }
   const char* id() const override { return tau_ ? "tau_spread" : "gain_fpn"; }
   int parameter_count() const override { return 1; }

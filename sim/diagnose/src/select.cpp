@@ -175,6 +175,7 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
   for (std::size_t i = 0; i < r.size(); ++i) r[i] = data.recorded[i] - data.baseline[i];
   result.noise_floor_rms = noise_floor(data);
   const Blocks blocks = make_blocks(N, options.folds);
+  const Blocks far_blocks = halves(blocks);
   result.locate = locate(data, r, blocks);
 
   FrameSse before = frame_sse(data, r);
@@ -207,7 +208,8 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       if (used[i]) continue;
       report("round " + std::to_string(round + 1) + " " + candidates[i]->id(), int(i), int(candidates.size()));
       candidates[i]->prepare(data, r);
-      Scored s = score(*candidates[i], data, r, blocks, before, after_r);
+      Scored s = score(*candidates[i], data, r, candidates[i]->needs_distant_holdout() ? far_blocks : blocks, before,
+                       after_r);
       CandidateScore cs{round + 1, candidates[i]->id(), s.evidence, false, s.fitted ? "" : "nothing to fit"};
       candidates[i]->release();
       result.scores.push_back(cs);

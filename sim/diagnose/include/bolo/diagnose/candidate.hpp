@@ -45,6 +45,9 @@ class Candidate {
   virtual void prepare(const DiagnoseData& data, const std::vector<float>& residual) = 0;
   // nullptr when nothing can be fitted (e.g. the regressor is zero: no motion, no FPA sensor).
   virtual std::unique_ptr<FittedEffect> fit(const std::vector<char>& train_frame) const = 0;
+  // Static maps are validated on the far half of the recording (fitted on the first half, scored
+  // on the second and back): slow noise of neighbouring blocks would otherwise look stable.
+  virtual bool needs_distant_holdout() const { return false; }
   // Frees what prepare() built (fitted effects keep their own share alive).
   virtual void release() {}
 };

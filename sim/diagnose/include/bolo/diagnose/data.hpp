@@ -49,5 +49,7 @@ struct Blocks {
   int fold_of_frame(int n) const { return fold_of_block[block_of_frame[n]]; }
 };
 Blocks make_blocks(int frames, int folds_wanted);
+// The same blocks in two folds: the first half of the recording and the second.
+Blocks halves(const Blocks& blocks);
 
 }  // namespace bolo::diag
