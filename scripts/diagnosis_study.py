@@ -56,10 +56,10 @@ def concealed_cases():
     ]
     return cases
 
-def run(name, effects, seed, preset=None):
+def run(name, effects, seed, preset=None, extra=()):
     rec = os.path.join(WORK, name)
     out = rec + ".d"
-    args = [BOLO, "simulate", rec, "--overwrite", "--seed", str(seed)] + BASE
+    args = [BOLO, "simulate", rec, "--overwrite", "--seed", str(seed)] + BASE + list(extra)
     if preset: args += ["--preset", preset]
     for e in effects: args += ["--effect", e]
     subprocess.run(args, check=True, stdout=subprocess.DEVNULL)
@@ -91,14 +91,16 @@ def param_error(d, truth, eid):
 
 def main():
     os.makedirs(WORK, exist_ok=True)
-    seeds = [1, 2] if QUICK else [1, 2, 3]
+    seeds = [1, 2]
     rows = {"concealed": [], "null": [], "curve": [], "real": []}
     times = []
     # Null: baseline only, many seeds, two frame rates.
-    null_seeds = range(1, 5) if QUICK else range(1, 16)
+    null_seeds = range(1, 5) if QUICK else range(1, 13)
     for s in null_seeds:
-        for preset in ("generic", "lepton3"):
-            d, truth, dt = run(f"null-{preset}-{s}", [], 100 + s, preset)
+        for preset in ("generic", "lepton3", "generic+1/f"):
+            if preset == "generic+1/f" and s > 6: continue
+            extra = ["--noise-1f", "1"] if preset.endswith("1/f") else []
+            d, truth, dt = run(f"null-{preset.replace('+1/f', '-1f')}-{s}", [], 100 + s, preset.split("+")[0], extra)
             times.append(dt)
             rows["null"].append({"seed": 100 + s, "preset": preset, "findings": [f["effect"] for f in d["findings"]],
                                  "unexplained": len(d["unexplained"])})
@@ -122,19 +124,24 @@ def main():
                 rows["curve"].append({"effect": eid, "a": a, "seed": s,
                                       "detected": any(f["effect"] == eid for f in d["findings"]),
                                       "found": [f["effect"] for f in d["findings"]]})
+    run_real(rows)
+    rows["median_seconds"] = sorted(times)[len(times) // 2] if times else 0
+    with open(os.path.join(WORK, "study.json"), "w") as f: json.dump(rows, f, indent=1)
+    write_docs(rows)
+
+def run_real(rows):
     real = os.path.join(os.path.dirname(os.path.abspath(BOLO)), "..", "..", "..", "shared", "data", "real")
     real = os.environ.get("BOLO_REAL", real)
+    rows["real"] = []
     if os.path.isdir(real):
         for name in sorted(os.listdir(real)):
+            if not os.path.isdir(os.path.join(real, name)): continue
             out = os.path.join(WORK, "real-" + name + ".d")
             t0 = time.time()
             subprocess.run([BOLO, "diagnose", os.path.join(real, name), "--out", out, "--overwrite"], check=True,
                            stdout=subprocess.DEVNULL)
             with open(os.path.join(out, "diagnosis.json")) as f: d = json.load(f)
             rows["real"].append({"name": name, "seconds": time.time() - t0, "diagnosis": d})
-    rows["median_seconds"] = sorted(times)[len(times) // 2] if times else 0
-    with open(os.path.join(WORK, "study.json"), "w") as f: json.dump(rows, f, indent=1)
-    write_docs(rows)
 
 def svg_curves(rows, path):
     effects = EFFECTS
@@ -173,7 +180,7 @@ def write_docs(rows):
     n = rows["null"]
     fp = sum(1 for r in n if r["findings"])
     L.append("## Null data (baseline only)\n")
-    L.append(f"{len(n)} recordings (seeds x presets generic 30 fps and lepton3 8.7 Hz): **{fp} with any finding, "
+    L.append(f"{len(n)} recordings (seeds x presets: generic 30 fps, lepton3 8.7 Hz, generic with 1/f noise of 1 count): **{fp} with any finding, "
              f"false-positive rate {fp / max(1, len(n)):.1%}**.\n")
     if fp:
         L.append("False positives: " + ", ".join(f"seed {r['seed']} {r['preset']}: {'/'.join(r['findings'])}" for r in n if r["findings"]) + "\n")
@@ -220,7 +227,11 @@ def write_docs(rows):
     with open(os.path.join(DOCS, "diagnosis-study.md"), "w") as f: f.write("\n".join(L) + "\n" + method)
 
 if __name__ == "__main__":
-    if "--docs-only" in sys.argv:
-        with open(os.path.join(WORK, "study.json")) as f: write_docs(json.load(f))
+    if "--docs-only" in sys.argv or "--real-only" in sys.argv:
+        with open(os.path.join(WORK, "study.json")) as f: rows = json.load(f)
+        if "--real-only" in sys.argv:
+            run_real(rows)
+            with open(os.path.join(WORK, "study.json"), "w") as f: json.dump(rows, f, indent=1)
+        write_docs(rows)
     else:
         main()

@@ -80,6 +80,18 @@ std::vector<double> frame_mean(const DiagnoseData& d, const std::vector<float>& 
   return out;
 }
 
+// Removes the median (a global offset would hide the pattern) and returns the 99th percentile
+// of what is left, the display range.
+double centre_for_display(std::vector<double>& values) {
+  std::vector<double> tmp = values;
+  std::nth_element(tmp.begin(), tmp.begin() + tmp.size() / 2, tmp.end());
+  const double median = tmp[tmp.size() / 2];
+  for (double& v : values) v -= median;
+  for (std::size_t i = 0; i < values.size(); ++i) tmp[i] = std::fabs(values[i]);
+  std::nth_element(tmp.begin(), tmp.begin() + tmp.size() * 99 / 100, tmp.end());
+  return std::max(1e-6, tmp[tmp.size() * 99 / 100]);
+}
+
 std::string fmt(double v) {
   std::ostringstream s;
   s.precision(4);
@@ -145,15 +157,11 @@ std::string render_report(const Diagnosis& d, const DiagnoseData& data, const Re
        "consistent over held-out blocks. Selection is greedy: the strongest finding is removed, the rest are scored again.</p>";
 
   h << "<h2>Fit before and after</h2>";
-  const std::vector<double> before_map = mean_map(data, views.before), after_map = mean_map(data, views.after);
-  double range = 0;
-  for (double v : before_map) range = std::max(range, std::fabs(v));
-  std::vector<double> sorted;
-  for (double v : before_map) sorted.push_back(std::fabs(v));
-  std::sort(sorted.begin(), sorted.end());
-  if (!sorted.empty()) range = std::max(1e-6, sorted[sorted.size() * 99 / 100]);
+  std::vector<double> before_map = mean_map(data, views.before), after_map = mean_map(data, views.after);
+  const double range = centre_for_display(before_map);
+  centre_for_display(after_map);
   h << "<figure>" << png_image(before_map, data.shape.width, data.shape.height, range, scratch, "mean-before")
-    << "<figcaption>time-averaged residual, baseline (&plusmn;" << fmt(range) << ")</figcaption></figure>";
+    << "<figcaption>time-averaged residual, baseline, spatial median removed (&plusmn;" << fmt(range) << ")</figcaption></figure>";
   h << "<figure>" << png_image(after_map, data.shape.width, data.shape.height, range, scratch, "mean-after")
     << "<figcaption>time-averaged residual, with the findings (same scale)</figcaption></figure>";
   // The frame where the baseline misses most.
@@ -164,9 +172,10 @@ std::string render_report(const Diagnosis& d, const DiagnoseData& data, const Re
   const std::size_t P = data.shape.pixels();
   std::vector<double> wb(P), wa(P);
   for (std::size_t p = 0; p < P; ++p) { wb[p] = data.frame(views.before, worst)[p]; wa[p] = data.frame(views.after, worst)[p]; }
-  const double frange = std::max(3 * d.noise_floor_rms, 1e-6);
+  const double frange = std::max(3 * d.noise_floor_rms, centre_for_display(wb));
+  centre_for_display(wa);
   h << "<br><figure>" << png_image(wb, data.shape.width, data.shape.height, frange, scratch, "worst-before")
-    << "<figcaption>residual of frame " << worst << " (largest RMS), baseline (&plusmn;3 noise floors)</figcaption></figure>";
+    << "<figcaption>residual of frame " << worst << " (largest RMS), baseline, median removed (&plusmn;" << fmt(frange) << ")</figcaption></figure>";
   h << "<figure>" << png_image(wa, data.shape.width, data.shape.height, frange, scratch, "worst-after")
     << "<figcaption>frame " << worst << " with the findings</figcaption></figure>";
   h << "<br>" << svg_plot("per-frame residual RMS", "frame", {{"baseline", "#c0392b", rms_before}, {"with findings", "#2471a3", rms_after}},
