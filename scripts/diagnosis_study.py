@@ -53,6 +53,10 @@ def concealed_cases():
         ("offset_fpn", "under fpa drift", ["offset_fpn:sigma=1", "fpa_drift:rate=0.05,k=50"]),
         ("column_fpn", "under offset FPN 4x larger", ["column_fpn:sigma=1", "offset_fpn:sigma=4"]),
         ("fpa_drift", "masked by shutter steps", ["fpa_drift:rate=0.004,k=50", "ffc_step:every=80,step=10"]),
+        ("temporal_filter", "alpha 0.05: 0.07 sigma per frame in static regions", ["temporal_filter:alpha=0.05"]),
+        ("frame_duplication", "every 20th frame (10 repeats)", ["frame_duplication:every=20"]),
+        ("gain_fpn", "sigma 1e-3 beside offset FPN", ["gain_fpn:sigma=0.001", "offset_fpn:sigma=2"]),
+        ("dead_pixels", "3 stuck pixels under offset FPN", ["dead_pixels:count=3", "offset_fpn:sigma=3"]),
     ]
     return cases
 
@@ -104,6 +108,11 @@ def main():
             times.append(dt)
             rows["null"].append({"seed": 100 + s, "preset": preset, "findings": [f["effect"] for f in d["findings"]],
                                  "unexplained": len(d["unexplained"])})
+    run_concealed(rows, seeds, times)
+    run_curves_and_real(rows, seeds, times)
+
+def run_concealed(rows, seeds, times):
+    rows["concealed"] = []
     for ci, (eid, how, effects) in enumerate(concealed_cases()):
         for s in seeds:
             d, truth, dt = run(f"conc-{ci}-{eid}-{s}", effects, s)
@@ -115,6 +124,8 @@ def main():
                                       "before": f["heldout_rms_before"] if f else None,
                                       "after": f["heldout_rms_after"] if f else None,
                                       "noise_floor": d["noise_floor_rms"]})
+
+def run_curves_and_real(rows, seeds, times):
     amps = [0.1, 0.3, 1.0] if QUICK else [0.1, 0.3, 1.0, 3.0]
     for eid in EFFECTS:
         for a in amps:
@@ -227,10 +238,14 @@ def write_docs(rows):
     with open(os.path.join(DOCS, "diagnosis-study.md"), "w") as f: f.write("\n".join(L) + "\n" + method)
 
 if __name__ == "__main__":
-    if "--docs-only" in sys.argv or "--real-only" in sys.argv:
+    # Partial reruns (the rest of study.json kept): --docs-only, --real-only, --concealed-only.
+    if any(a in sys.argv for a in ("--docs-only", "--real-only", "--concealed-only")):
         with open(os.path.join(WORK, "study.json")) as f: rows = json.load(f)
+        if "--concealed-only" in sys.argv:
+            run_concealed(rows, [1, 2], [])
         if "--real-only" in sys.argv:
             run_real(rows)
+        if "--real-only" in sys.argv or "--concealed-only" in sys.argv:
             with open(os.path.join(WORK, "study.json"), "w") as f: json.dump(rows, f, indent=1)
         write_docs(rows)
     else:
