@@ -7,9 +7,12 @@
 #include <sstream>
 #include <vector>
 
+#include <fstream>
+
 #include <nlohmann/json.hpp>
 
 #include "bolo/commands.hpp"
+#include "bolo/diagnose/simulator_config.hpp"
 #include "bolo/errors.hpp"
 #include "bolo/progress.hpp"
 #include "bolo/recording/recording.hpp"
@@ -72,6 +75,60 @@ sim::SimulatorConfig resolve(const SimulateOptions& o, const sim::SensorPreset& 
   c.substeps = o.substeps;
   for (const std::string& e : o.effects) c.effects.push_back(sim::parse_effect(e));
   return c;
+}
+
+// --config FILE: every option the file sets and the command line does not.
+void apply_simulate_config(const std::string& file, const CLI::App& app, SimulateOptions& o) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) fail(file, ": cannot read the --config file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::vector<diag::ConfigEntry> entries;
+  try {
+    entries = diag::parse_simulator_config(text.str(), file);
+  } catch (const std::runtime_error& e) {
+    fail(e.what());
+  }
+  for (const diag::ConfigEntry& e : entries) {
+    const std::string where = file + ": line " + std::to_string(e.line) + ": " + e.option;
+    const CLI::Option* given = app.get_option_no_throw("--" + e.option);
+    if (given && given->count() > 0) continue;  // the command line wins
+    auto one = [&]() -> const std::string& {
+      if (e.values.size() != 1) fail(where, ": expected one value, got ", e.values.size());
+      return e.values[0];
+    };
+    auto number = [&]() {
+      const std::string& v = one();
+      std::size_t used = 0;
+      double x = 0;
+      try { x = std::stod(v, &used); } catch (const std::exception&) { used = 0; }
+      if (used != v.size() || !std::isfinite(x)) fail(where, ": not a number: '", v, "'");
+      return x;
+    };
+    auto count = [&]() {
+      const double x = number();
+      if (x < 0 || x != std::floor(x) || x > 1e12) fail(where, ": not a whole non-negative number");
+      return x;
+    };
+    if (e.option == "size") o.size = one();
+    else if (e.option == "fps") o.fps = number();
+    else if (e.option == "frames") o.frames = static_cast<std::uint64_t>(count());
+    else if (e.option == "tau") o.tau_s = number();
+    else if (e.option == "tau-h") o.tau_h_s = number();
+    else if (e.option == "tau-c") o.tau_c_s = number();
+    else if (e.option == "exposure") o.exposure_s = number();
+    else if (e.option == "readout") o.readout_s = number();
+    else if (e.option == "noise") o.noise = number();
+    else if (e.option == "noise-1f") o.noise_1f = number();
+    else if (e.option == "bits") o.bits = static_cast<std::uint32_t>(count());
+    else if (e.option == "substeps") o.substeps = static_cast<std::uint32_t>(std::min(count(), 1e6));
+    else if (e.option == "seed") o.seed = static_cast<std::uint64_t>(count());
+    else if (e.option == "preset") o.preset = one();
+    else if (e.option == "scene") o.scene = one();
+    else if (e.option == "trajectory") o.trajectory = one();
+    else if (e.option == "effect") o.effects.insert(o.effects.end(), e.values.begin(), e.values.end());
+    else fail(where, ": not an option of bolo simulate");
+  }
 }
 
 }  // namespace
@@ -171,7 +228,11 @@ Command add_simulate_command(CLI::App& parent) {
   app->add_option("--effect", o->effects, "Catalogue effect ID[:KEY=VALUE,...]; repeatable");
   app->add_option("--seed", o->seed, "Seed of noise, maps and scene")->check(not_negative())->capture_default_str();
   app->add_flag("--overwrite", o->overwrite, "Replace OUT if it is a recording");
-  return {app, [o, out_flag](std::ostream& out) {
+  auto config = std::make_shared<std::string>();
+  app->add_option("--config", *config,
+                  "Options from FILE, `option = value` per line (the simulate.cfg of `bolo diagnose`); flags given win");
+  return {app, [o, out_flag, config, app](std::ostream& out) {
+            if (!config->empty()) apply_simulate_config(*config, *app, *o);
             if (!out_flag->empty()) {
               if (!o->output.empty() && o->output != *out_flag)
                 fail("OUT ", o->output.string(), " and --out ", *out_flag, ": give one");

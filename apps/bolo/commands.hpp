@@ -85,6 +85,17 @@ struct SimulateOptions {
 };
 int run_simulate(const SimulateOptions& options, std::ostream& out);
 
+// bolo diagnose REC --out DIR [--folds K] [--min-delta-bic B] [--overwrite]
+struct DiagnoseOptions {
+  std::filesystem::path input;
+  std::filesystem::path output;
+  int folds = 4;
+  double min_delta_bic = 10.0;
+  bool overwrite = false;
+  bool progress = true;
+};
+int run_diagnose(const DiagnoseOptions& options, std::ostream& out);
+
 // The whole command line: parses argv (CLI11), runs the chosen command, and reports errors.
 // Help and --version go to `out`; errors go to `err` as one `bolo: error: ...` line. Returns the
 // process exit code: 0 on success, 2 on bad input or a usage error.

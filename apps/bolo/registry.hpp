@@ -44,5 +44,6 @@ Command add_render_command(CLI::App& parent);   // cmd_render.cpp
 Command add_simulate_command(CLI::App& parent);  // cmd_simulate.cpp
 Command add_capture_command(CLI::App& parent);   // cmd_capture.cpp
 Command add_devices_command(CLI::App& parent);   // cmd_devices.cpp
+Command add_diagnose_command(CLI::App& parent);  // cmd_diagnose.cpp
 
 }  // namespace bolo::cli

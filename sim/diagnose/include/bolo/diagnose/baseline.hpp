@@ -1,0 +1,35 @@
+#pragma once
+// Loading a recording for diagnosis and the baseline it is compared with.
+//  * With scene.npy: the two-frame model driven by the scene, tau_c fitted (log-scale search),
+//    then gain and offset by linear least squares; tau_h follows from the DC gain.
+//  * Without: a static camera is assumed. The scene is the per-pixel median over frames that are
+//    not shutter events (nor the frame after one); pixel-frames far from it after removing the
+//    frame's global shift are moving objects and are left out of every fit.
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "bolo/diagnose/data.hpp"
+
+namespace bolo::diag {
+
+struct BaselineFit {
+  std::string model;       // "two-frame" or "static-background"
+  std::string assumption;  // stated in the report and the JSON
+  double tau_h_s = 0, tau_c_s = 0, gain = 1, offset = 0;
+  double timing_frames = 0;       // scene read this many frames late (motion within an exposure)
+  bool tau_identifiable = false;  // false when a frame keeps < 1e-3 of the previous one
+  double moving_fraction = 0;     // share of pixel-frames masked as moving objects
+  nlohmann::json to_json() const;
+};
+
+DiagnoseData load_for_diagnosis(const std::filesystem::path& recording);
+BaselineFit fit_baseline(DiagnoseData& data);  // fills data.baseline, data.input, data.valid
+
+// Temporal noise of one pixel from frame-to-frame differences where the baseline does not move,
+// after removing each frame's common shift (robust: median absolute deviation).
+double noise_floor(const DiagnoseData& data);
+
+}  // namespace bolo::diag

@@ -1,0 +1,57 @@
+#pragma once
+// One catalogue effect as a fitting model. A candidate sees the data and the current residual
+// (recorded minus baseline minus the effects already accepted), fits its parameters on a set of
+// training frames, and predicts its contribution to the residual on any frame. Selection
+// (select.cpp) scores it on held-out blocks; nothing in a candidate knows which frames are held out.
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bolo/diagnose/data.hpp"
+
+namespace bolo::diag {
+
+struct Where {
+  std::vector<std::pair<int, int>> frames;  // inclusive
+  int row0 = 0, row1 = -1, col0 = 0, col1 = -1;
+  std::string summary;
+};
+
+class FittedEffect {
+ public:
+  virtual ~FittedEffect() = default;
+  // Adds nothing to `out`; writes the effect's predicted residual for frame n (P values).
+  virtual void predict(int n, std::span<float> out) const = 0;
+  // Physical parameters, named as in diagnosis.md.
+  virtual nlohmann::json params() const = 0;
+  // The same effect as `bolo simulate --effect` text, or "" if the simulator cannot take it.
+  virtual std::string simulator_effect() const { return ""; }
+  virtual Where where() const = 0;
+  // Frames where the prediction is identically zero need no evaluation.
+  virtual bool acts_on(int /*n*/) const { return true; }
+};
+
+class Candidate {
+ public:
+  virtual ~Candidate() = default;
+  virtual const char* id() const = 0;
+  virtual int parameter_count() const = 0;  // scalar physical parameters (for the BIC penalty)
+  // Called once per selection round with the current residual (kept by reference until the
+  // next prepare); precomputes what every fold's fit shares.
+  virtual void prepare(const DiagnoseData& data, const std::vector<float>& residual) = 0;
+  // nullptr when nothing can be fitted (e.g. the regressor is zero: no motion, no FPA sensor).
+  virtual std::unique_ptr<FittedEffect> fit(const std::vector<char>& train_frame) const = 0;
+  // Static maps are validated on the far half of the recording (fitted on the first half, scored
+  // on the second and back): slow noise of neighbouring blocks would otherwise look stable.
+  virtual bool needs_distant_holdout() const { return false; }
+  // Frees what prepare() built (fitted effects keep their own share alive).
+  virtual void release() {}
+};
+
+std::vector<std::unique_ptr<Candidate>> make_catalogue();
+
+}  // namespace bolo::diag

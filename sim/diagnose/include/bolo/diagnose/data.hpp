@@ -1,0 +1,55 @@
+#pragma once
+// What diagnosis works on: a recording held in memory as float, the baseline prediction next to
+// it, which pixel-frames may be used, and how the frames are cut into held-out blocks.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace bolo::diag {
+
+struct Frames {
+  int n = 0, height = 0, width = 0;
+  std::size_t pixels() const { return std::size_t(height) * width; }
+  std::size_t size() const { return std::size_t(n) * pixels(); }
+};
+
+struct DiagnoseData {
+  Frames shape;
+  std::vector<float> recorded;  // frames.npy as float, N*P
+  std::vector<float> input;     // scene.npy, or the static background estimate for every frame
+  std::vector<float> baseline;  // the fitted baseline model's prediction, N*P
+  std::vector<std::uint8_t> valid;  // 1 where a pixel-frame may enter fits (not a moving object)
+  std::vector<double> t_s, exposure_s, readout_s;
+  std::vector<std::uint8_t> flagged_event;  // frames.csv ffc == 1
+  std::vector<std::optional<double>> fpa_temp_c;
+  bool has_scene = false;
+  double fps = 0;
+  double tau_c_s = 0;    // the baseline's fitted cooling time constant (0: none)
+  double level_mid = 0;  // a typical level of the baseline (for nonlinearity and tau_temperature)
+  std::string units;
+  std::string name;
+
+  float* frame(std::vector<float>& v, int n) const { return v.data() + std::size_t(n) * shape.pixels(); }
+  const float* frame(const std::vector<float>& v, int n) const {
+    return v.data() + std::size_t(n) * shape.pixels();
+  }
+  const std::uint8_t* valid_frame(int n) const { return valid.data() + std::size_t(n) * shape.pixels(); }
+};
+
+// Contiguous blocks of frames dealt to folds in turn, so every fold's held-out frames are spread
+// over the whole recording while each held-out block is a whole run of frames.
+struct Blocks {
+  int count = 0, folds = 0;
+  std::vector<int> block_of_frame;
+  std::vector<int> fold_of_block;
+  int fold_of_frame(int n) const { return fold_of_block[block_of_frame[n]]; }
+};
+Blocks make_blocks(int frames, int folds_wanted);
+// The same blocks in two folds: the first half of the recording and the second.
+Blocks halves(const Blocks& blocks);
+
+}  // namespace bolo::diag

@@ -1,0 +1,272 @@
+// The baseline model each recording is compared with (baseline.hpp).
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "bolo/diagnose/baseline.hpp"
+#include <Eigen/Dense>
+
+#include "stats.hpp"
+
+namespace bolo::diag {
+namespace {
+
+// The two-frame model with unit DC gain: s_i = c_i s_{i-1} + (1 - c_i) u_i, settled on u_0.
+void two_frame(const DiagnoseData& d, double tau_c, std::vector<float>& sim) {
+  const std::size_t P = d.shape.pixels();
+  sim.resize(d.shape.size());
+  std::copy_n(d.input.begin(), P, sim.begin());
+  for (int n = 1; n < d.shape.n; ++n) {
+    const float c = static_cast<float>(std::exp(-d.readout_s[n - 1] / tau_c));
+    const float k = 1.0f - c;
+    const float* prev = d.frame(sim, n - 1);
+    const float* u = d.frame(d.input, n);
+    float* s = d.frame(sim, n);
+    if (d.flagged_event[n]) {
+      // The shutter closed before this frame: the pixels settled on it, at about the scene's
+      // mean level (the shutter is at the camera's temperature).
+      double mean = 0;
+      for (std::size_t p = 0; p < P; ++p) mean += u[p];
+      const float shutter = static_cast<float>(mean / double(P));
+      for (std::size_t p = 0; p < P; ++p) s[p] = c * shutter + k * u[p];
+      continue;
+    }
+    for (std::size_t p = 0; p < P; ++p) s[p] = c * prev[p] + k * u[p];
+  }
+}
+
+struct LinearFit {
+  double gain = 1, offset = 0, sse = 0;
+};
+
+LinearFit fit_gain_offset(const DiagnoseData& d, const std::vector<float>& sim, const std::vector<std::uint8_t>& use) {
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+  const std::size_t P = d.shape.pixels();
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    if (!d.valid[i] || !use[i % P]) continue;
+    const double x = sim[i], y = d.recorded[i];
+    n += 1; sx += x; sy += y; sxx += x * x; sxy += x * y; syy += y * y;
+  }
+  LinearFit f;
+  const double vx = sxx - sx * sx / n, cxy = sxy - sx * sy / n, vy = syy - sy * sy / n;
+  f.gain = vx > 1e-9 * std::max(1.0, sxx) ? cxy / vx : 1.0;
+  f.offset = (sy - f.gain * sx) / n;
+  f.sse = std::max(0.0, vy - f.gain * cxy);
+  return f;
+}
+
+BaselineFit fit_two_frame(DiagnoseData& d) {
+  d.valid.assign(d.shape.size(), 1);
+  const std::size_t P = d.shape.pixels();
+  std::vector<float> sim;
+  std::vector<std::uint8_t> use(P, 1);
+  auto cost = [&](double log_tau) {
+    two_frame(d, std::exp(log_tau), sim);
+    return fit_gain_offset(d, sim, use).sse;
+  };
+  // Pixels far off the model (stuck, dead) would pull gain and tau: a first fit at a typical
+  // tau finds them, and the fit proper leaves them out (they stay in the data for dead_pixels).
+  {
+    cost(std::log(0.012));
+    const LinearFit first = fit_gain_offset(d, sim, use);
+    std::vector<double> ms(P, 0.0);
+    for (int n = 0; n < d.shape.n; ++n)
+      for (std::size_t p = 0; p < P; ++p) {
+        const double e = d.recorded[std::size_t(n) * P + p] - first.gain * sim[std::size_t(n) * P + p] - first.offset;
+        ms[p] += e * e / d.shape.n;
+      }
+    std::vector<double> tmp = ms;
+    const double typical = median_in_place(tmp);
+    for (std::size_t p = 0; p < P; ++p) use[p] = ms[p] <= 100 * typical + 1e-12;
+  }
+  // Frames repeated bit for bit are copies, not readings of their own time: not for the fit.
+  std::vector<int> repeats;
+  for (int n = 1; n < d.shape.n; ++n) {
+    const float *y = d.frame(d.recorded, n), *yp = d.frame(d.recorded, n - 1);
+    std::size_t same = 0;
+    for (std::size_t p = 0; p < P; ++p) same += y[p] == yp[p];
+    if (same >= P - P / 1000) repeats.push_back(n);
+  }
+  if (int(repeats.size()) * 2 < d.shape.n)
+    for (int n : repeats) std::fill_n(d.valid.begin() + std::size_t(n) * P, P, 0);
+  auto restore_valid = [&] { d.valid.assign(d.shape.size(), 1); };
+  // Coarse log grid, then golden section inside the best bracket.
+  const double lo = std::log(2e-4), hi = std::log(0.3);
+  const int grid = 16;
+  int best = 0;
+  std::vector<double> costs(grid + 1);
+  for (int g = 0; g <= grid; ++g) {
+    costs[g] = cost(lo + (hi - lo) * g / grid);
+    if (costs[g] < costs[best]) best = g;
+  }
+  double a = lo + (hi - lo) * std::max(0, best - 1) / grid, b = lo + (hi - lo) * std::min(grid, best + 1) / grid;
+  const double phi = 0.5 * (std::sqrt(5.0) - 1);
+  double x1 = b - phi * (b - a), x2 = a + phi * (b - a), f1 = cost(x1), f2 = cost(x2);
+  for (int it = 0; it < 14; ++it) {
+    if (f1 < f2) { b = x2; x2 = x1; f2 = f1; x1 = b - phi * (b - a); f1 = cost(x1); }
+    else { a = x1; x1 = x2; f1 = f2; x2 = a + phi * (b - a); f2 = cost(x2); }
+  }
+  BaselineFit fit;
+  fit.model = "two-frame";
+  fit.tau_c_s = std::exp(0.5 * (a + b));
+  two_frame(d, fit.tau_c_s, sim);
+  const LinearFit lin = fit_gain_offset(d, sim, use);
+  fit.gain = lin.gain;
+  fit.offset = lin.offset;
+  // Motion within an exposure: the pixel weighs the late part of its exposure more, so it reads
+  // the scene a little later than scene.npy's exposure average. One timing shift, in frames.
+  std::vector<float> rate(sim.size(), 0.0f);
+  for (int n = 1; n + 1 < d.shape.n; ++n)
+    for (std::size_t p = 0; p < P; ++p)
+      rate[std::size_t(n) * P + p] = 0.5f * (sim[std::size_t(n + 1) * P + p] - sim[std::size_t(n - 1) * P + p]);
+  {
+    Eigen::Matrix3d xtx = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d xty = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < sim.size(); ++i) {
+      if (!d.valid[i] || !use[i % P]) continue;
+      const Eigen::Vector3d x(sim[i], 1.0, rate[i]);
+      xtx += x * x.transpose();
+      xty += x * double(d.recorded[i]);
+    }
+    const Eigen::Vector3d beta = xtx.ldlt().solve(xty);
+    if (beta.allFinite()) { fit.gain = beta[0]; fit.offset = beta[1]; fit.timing_frames = beta[2] / beta[0]; }
+  }
+  const double period = 1.0 / d.fps;
+  const double carry = std::exp(-median_of(d.readout_s) / fit.tau_c_s);
+  fit.tau_identifiable = std::exp(-period / 0.3) > 1e-3 && carry > 1e-3;
+  // y = G s with s of unit DC gain: the heating fraction k = G (1 - c) if the sensor gain is 1.
+  const double k = fit.gain * (1 - carry);
+  const double te = median_of(d.exposure_s);
+  fit.tau_h_s = (k > 0 && k < 1) ? -te / std::log(1 - k) : fit.tau_c_s;
+  fit.assumption = "scene.npy drives the two-frame model; tau_h from the DC gain assuming unit sensor gain";
+  restore_valid();
+  d.baseline.resize(d.shape.size());
+  for (std::size_t i = 0; i < sim.size(); ++i) d.baseline[i] = float(fit.gain * (sim[i] + fit.timing_frames * rate[i]) + fit.offset);
+  return fit;
+}
+
+BaselineFit fit_static_background(DiagnoseData& d) {
+  const int N = d.shape.n;
+  const std::size_t P = d.shape.pixels();
+  // Frames at or right after a flagged shutter event are not scene.
+  std::vector<int> scene_frames;
+  for (int n = 0; n < N; ++n)
+    if (!d.flagged_event[n] && !(n > 0 && d.flagged_event[n - 1])) scene_frames.push_back(n);
+  if (scene_frames.empty())
+    for (int n = 0; n < N; ++n) scene_frames.push_back(n);
+  std::vector<float> background(P), column(scene_frames.size());
+  for (std::size_t p = 0; p < P; ++p) {
+    for (std::size_t i = 0; i < scene_frames.size(); ++i) column[i] = d.recorded[std::size_t(scene_frames[i]) * P + p];
+    background[p] = median_in_place(column);
+  }
+  // Moving objects: far from the background once the frame's common shift is removed.
+  std::vector<float> shift(N), dev(P);
+  for (int n = 0; n < N; ++n) {
+    const float* y = d.frame(d.recorded, n);
+    for (std::size_t p = 0; p < P; ++p) dev[p] = y[p] - background[p];
+    shift[n] = median_in_place(dev);
+  }
+  std::vector<float> sample;
+  const std::size_t stride = std::max<std::size_t>(1, d.shape.size() / 200000);
+  for (std::size_t i = 0; i < d.shape.size(); i += stride)
+    sample.push_back(std::fabs(d.recorded[i] - background[i % P] - shift[i / P]));
+  const double spread = std::max(1e-6, 1.4826 * median_in_place(sample));
+  d.valid.assign(d.shape.size(), 1);
+  std::size_t masked = 0;
+  const int H = d.shape.height, W = d.shape.width;
+  for (int n = 0; n < N; ++n) {
+    const float* y = d.frame(d.recorded, n);
+    std::uint8_t* v = d.valid.data() + std::size_t(n) * P;
+    std::vector<std::uint8_t> moving(P, 0);
+    for (std::size_t p = 0; p < P; ++p) moving[p] = std::fabs(y[p] - background[p] - shift[n]) > 6 * spread;
+    // One pixel of margin: the blurred edge of a moving object is below the threshold.
+    for (int r = 0; r < H; ++r)
+      for (int c = 0; c < W; ++c) {
+        bool near = false;
+        for (int dr = -1; dr <= 1 && !near; ++dr)
+          for (int dc = -1; dc <= 1 && !near; ++dc) {
+            const int rr = r + dr, cc = c + dc;
+            near = rr >= 0 && rr < H && cc >= 0 && cc < W && moving[std::size_t(rr) * W + cc];
+          }
+        if (near) { v[std::size_t(r) * W + c] = 0; ++masked; }
+      }
+  }
+  d.input.resize(d.shape.size());
+  d.baseline.resize(d.shape.size());
+  for (int n = 0; n < N; ++n) {
+    std::copy(background.begin(), background.end(), d.frame(d.input, n));
+    std::copy(background.begin(), background.end(), d.frame(d.baseline, n));
+  }
+  BaselineFit fit;
+  fit.model = "static-background";
+  fit.assumption =
+      "no scene.npy: static camera assumed; the scene is the per-pixel median over frames that are not "
+      "shutter events (or the frame after one), moving objects (more than 6 sigma from it after removing "
+      "each frame's common shift, plus one pixel of margin) are masked out of every fit";
+  fit.moving_fraction = double(masked) / double(d.shape.size());
+  const double period = 1.0 / d.fps;
+  fit.tau_identifiable = false;  // a static scene has no transients to fit tau on
+  fit.tau_c_s = fit.tau_h_s = std::numeric_limits<double>::quiet_NaN();
+  (void)period;
+  return fit;
+}
+
+}  // namespace
+
+BaselineFit fit_baseline(DiagnoseData& d) {
+  BaselineFit fit = d.has_scene ? fit_two_frame(d) : fit_static_background(d);
+  double sum = 0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < d.baseline.size(); i += 7) { sum += d.baseline[i]; ++count; }
+  d.level_mid = sum / double(std::max<std::size_t>(1, count));
+  return fit;
+}
+
+nlohmann::json BaselineFit::to_json() const {
+  nlohmann::json params = nlohmann::json::object();
+  if (model == "two-frame") {
+    params = {{"tau_h_s", tau_h_s}, {"tau_c_s", tau_c_s}, {"gain", gain}, {"offset", offset},
+              {"tau_identifiable", tau_identifiable},
+              {"timing_shift_frames", timing_frames}};
+  } else {
+    params = {{"moving_fraction", moving_fraction}};
+  }
+  return {{"model", model}, {"params", params}, {"assumption", assumption}};
+}
+
+double noise_floor(const DiagnoseData& d) {
+  const std::size_t P = d.shape.pixels();
+  std::vector<float> diffs;
+  const std::size_t stride = std::max<std::size_t>(1, d.shape.size() / 400000);
+  std::vector<float> frame_diff(P);
+  for (int n = 1; n < d.shape.n; ++n) {
+    if (d.flagged_event[n]) continue;
+    const float *y = d.frame(d.recorded, n), *y0 = d.frame(d.recorded, n - 1);
+    const float *b = d.frame(d.baseline, n), *b0 = d.frame(d.baseline, n - 1);
+    const std::uint8_t *v = d.valid_frame(n), *v0 = d.valid_frame(n - 1);
+    std::size_t m = 0;
+    for (std::size_t p = 0; p < P; ++p)
+      if (v[p] && v0[p] && std::fabs(b[p] - b0[p]) < 1e-3f + 1e-6f * std::fabs(b[p])) frame_diff[m++] = y[p] - y0[p];
+    if (m < 16) continue;
+    std::vector<float> tmp(frame_diff.begin(), frame_diff.begin() + m);
+    const float common = median_in_place(tmp);
+    for (std::size_t i = (n * 7919u) % stride; i < m; i += stride) diffs.push_back(std::fabs(frame_diff[i] - common));
+  }
+  if (diffs.size() < 32) {
+    // Nothing static: fall back to all pixels (an upper bound).
+    for (int n = 1; n < d.shape.n; ++n) {
+      const float *y = d.frame(d.recorded, n), *y0 = d.frame(d.recorded, n - 1);
+      for (std::size_t p = 0; p < P; p += stride) diffs.push_back(std::fabs(y[p] - y0[p]));
+    }
+  }
+  // Integer counts make a median-based spread biased; it only sets the outlier cut here.
+  std::vector<float> copy = diffs;
+  const double rough = 1.4826 * median_in_place(copy);
+  double ss = 0, n = 0;
+  for (float v : diffs)
+    if (v <= 5 * rough + 1) { ss += double(v) * v; n += 1; }
+  return n > 0 ? std::sqrt(ss / n / 2.0) : rough / std::sqrt(2.0);
+}
+
+}  // namespace bolo::diag

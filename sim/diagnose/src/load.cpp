@@ -1,0 +1,62 @@
+// Reads a whole recording into float arrays; a diagnosis needs random access over time.
+
+#include <cmath>
+
+#include "bolo/diagnose/baseline.hpp"
+#include "bolo/recording/recording.hpp"
+
+namespace bolo::diag {
+
+DiagnoseData load_for_diagnosis(const std::filesystem::path& path) {
+  rec::Recording rec(path);
+  DiagnoseData d;
+  d.name = path.filename().string();
+  if (d.name.empty()) d.name = path.parent_path().filename().string();
+  d.units = rec::to_string(rec.info().units);
+  d.shape = {static_cast<int>(rec.frame_count()), static_cast<int>(rec.height()), static_cast<int>(rec.width())};
+  if (d.shape.n < 2)
+    throw rec::Error(path.string() + "/frames.npy: " + std::to_string(d.shape.n) +
+                     " frame(s): diagnosis needs at least 2");
+  const std::size_t P = d.shape.pixels();
+  d.recorded.resize(d.shape.size());
+  std::vector<std::uint16_t> raw(P);
+  for (int n = 0; n < d.shape.n; ++n) {
+    rec.read_frame(n, raw);
+    float* f = d.frame(d.recorded, n);
+    for (std::size_t p = 0; p < P; ++p) f[p] = raw[p];
+  }
+  d.has_scene = rec.has_scene();
+  if (d.has_scene) {
+    d.input.resize(d.shape.size());
+    for (int n = 0; n < d.shape.n; ++n) {
+      std::span<float> s(d.frame(d.input, n), P);
+      rec.read_scene(n, s);
+      for (std::size_t p = 0; p < P; ++p)
+        if (!std::isfinite(s[p]))
+          throw rec::Error(path.string() + "/scene.npy: frame " + std::to_string(n) + ": pixel " +
+                           std::to_string(p) + ": not a finite number");
+    }
+  }
+  const auto& rows = rec.rows();
+  const double fps_info = rec.info().fps.value_or(0.0);
+  // Frame period: from the time stamps when they are all there, else from recording.json.
+  bool all_times = true;
+  for (const auto& r : rows) all_times = all_times && r.t_s.has_value();
+  double period = fps_info > 0 ? 1.0 / fps_info : 0.0;
+  if (all_times && rows.size() > 1)
+    period = (*rows.back().t_s - *rows.front().t_s) / double(rows.size() - 1);
+  if (!(period > 0))
+    throw rec::Error(path.string() + "/frames.csv: field t_s: no time stamps and recording.json has no fps");
+  d.fps = 1.0 / period;
+  for (std::size_t n = 0; n < rows.size(); ++n) {
+    const auto& r = rows[n];
+    d.t_s.push_back(r.t_s.value_or(double(n) * period));
+    d.exposure_s.push_back(r.exposure_s.value_or(0.5 * period));
+    d.readout_s.push_back(r.readout_s.value_or(period - d.exposure_s.back()));
+    d.flagged_event.push_back(r.ffc.value_or(false) ? 1 : 0);
+    d.fpa_temp_c.push_back(r.fpa_temp_c);
+  }
+  return d;
+}
+
+}  // namespace bolo::diag

@@ -1,0 +1,446 @@
+// Per-pixel, per-column and per-row maps: offset_fpn, column_fpn, row_fpn, shading, gain_fpn,
+// tau_spread, dead_pixels. A map is fitted on the training frames only and shrunk towards zero
+// by its own noise (James-Stein), so a map made of noise predicts nothing on held-out blocks.
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "dynamic_effects.hpp"
+#include "stats.hpp"
+
+namespace bolo::diag {
+namespace {
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+Where whole(const DiagnoseData& d, std::string summary) {
+  Where w;
+  w.frames = {{0, d.shape.n - 1}};
+  w.row1 = d.shape.height - 1;
+  w.col1 = d.shape.width - 1;
+  w.summary = std::move(summary);
+  return w;
+}
+
+// Per pixel: sum and count of the residual, and (for slopes) sums against a regressor image.
+struct PixelSums {
+  std::vector<double> r, n, x, xr, xx;
+  double residual_var = 0;  // residual variance about the pixel means (noise of the map)
+};
+
+PixelSums pixel_sums(const DiagnoseData& d, const std::vector<float>& r, const std::vector<char>& train,
+                     const std::vector<float>* x) {
+  const std::size_t P = d.shape.pixels();
+  PixelSums s;
+  s.r.assign(P, 0);
+  s.n.assign(P, 0);
+  if (x) { s.x.assign(P, 0); s.xr.assign(P, 0); s.xx.assign(P, 0); }
+  double rr = 0;
+  for (int f = 0; f < d.shape.n; ++f) {
+    if (!train[f]) continue;
+    const float* rf = d.frame(r, f);
+    const std::uint8_t* v = d.valid_frame(f);
+    const float* xf = x ? d.frame(*x, f) : nullptr;
+    for (std::size_t p = 0; p < P; ++p) {
+      if (!v[p]) continue;
+      s.r[p] += rf[p];
+      s.n[p] += 1;
+      rr += double(rf[p]) * rf[p];
+      if (xf) { s.x[p] += xf[p]; s.xr[p] += double(xf[p]) * rf[p]; s.xx[p] += double(xf[p]) * xf[p]; }
+    }
+  }
+  double total = 0, means2 = 0;
+  for (std::size_t p = 0; p < P; ++p) {
+    total += s.n[p];
+    if (s.n[p] > 0) means2 += s.r[p] * s.r[p] / s.n[p];
+  }
+  s.residual_var = total > P ? std::max(0.0, (rr - means2) / (total - double(P))) : rr / std::max(1.0, total);
+  return s;
+}
+
+// Shrinks `values` (estimates with noise variances `noise_var`) by one common factor.
+double shrink(std::vector<double>& values, const std::vector<double>& noise_var) {
+  double var = 0, nv = 0;
+  std::size_t m = 0;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (std::isfinite(noise_var[i])) { var += values[i] * values[i]; nv += noise_var[i]; ++m; }
+  if (m == 0 || var <= 0) return 0.0;
+  const double factor = std::max(0.0, 1.0 - nv / var);
+  for (double& v : values) v *= factor;
+  return factor;
+}
+
+double rms(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x * x;
+  return v.empty() ? 0.0 : std::sqrt(s / double(v.size()));
+}
+
+class StaticMapFit final : public FittedEffect {
+ public:
+  StaticMapFit(std::vector<float> map, nlohmann::json params, std::string sim, Where where)
+      : map_(std::move(map)), params_(std::move(params)), sim_(std::move(sim)), where_(std::move(where)) {}
+  void predict(int, std::span<float> out) const override { std::copy(map_.begin(), map_.end(), out.begin()); }
+  nlohmann::json params() const override { return params_; }
+  std::string simulator_effect() const override { return sim_; }
+  Where where() const override { return where_; }
+
+ private:
+  std::vector<float> map_;
+  nlohmann::json params_;
+  std::string sim_;
+  Where where_;
+};
+
+// The time-averaged residual split into columns, rows, a smooth radial field and the rest;
+// each static-map effect takes its own part.
+enum class StaticPart { offset, column, row, shading };
+
+class StaticMap final : public Candidate {
+ public:
+  explicit StaticMap(StaticPart part) : part_(part) {}
+  bool needs_distant_holdout() const override { return true; }
+  const char* id() const override {
+    switch (part_) {
+      case StaticPart::offset: return "offset_fpn";
+      case StaticPart::column: return "column_fpn";
+      case StaticPart::row: return "row_fpn";
+      case StaticPart::shading: return "shading";
+    }
+    return "";
+  }
+  int parameter_count() const override { return 1; }
+  void prepare(const DiagnoseData& d, const std::vector<float>& r) override { data_ = &d; residual_ = &r; }
+  std::unique_ptr<FittedEffect> fit(const std::vector<char>& train) const override {
+    const DiagnoseData& d = *data_;
+    // A static background already holds every static pattern: nothing to fit.
+    if (!d.has_scene) return nullptr;
+    const int H = d.shape.height, W = d.shape.width;
+    const std::size_t P = d.shape.pixels();
+    const PixelSums s = pixel_sums(d, *residual_, train, nullptr);
+    std::vector<double> mean(P, 0.0), noise(P, INFINITY);
+    for (std::size_t p = 0; p < P; ++p)
+      if (s.n[p] > 0) { mean[p] = s.r[p] / s.n[p]; noise[p] = s.residual_var / s.n[p]; }
+    // Columns and rows: medians, robust to the odd dead pixel.
+    std::vector<double> col(W), row(H), noise_col(W), noise_row(H);
+    std::vector<double> tmp;
+    const double typical_noise = s.residual_var / std::max(1.0, median_of(s.n));
+    for (int c = 0; c < W; ++c) {
+      tmp.clear();
+      for (int rr = 0; rr < H; ++rr) tmp.push_back(mean[rr * W + c]);
+      col[c] = median_in_place(tmp);
+      noise_col[c] = 1.57 * typical_noise / H;
+    }
+    for (int rr = 0; rr < H; ++rr) {
+      tmp.assign(mean.begin() + rr * W, mean.begin() + (rr + 1) * W);
+      row[rr] = median_in_place(tmp);
+      noise_row[rr] = 1.57 * typical_noise / W;
+    }
+    auto centre = [](std::vector<double>& v) {
+      const double m = std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+      for (double& x : v) x -= m;
+    };
+    centre(col);
+    centre(row);
+    // The radial field of the simulator's shading, (x_n^2 + y_n^2)/2 with x_n, y_n in [-1, 1].
+    std::vector<double> field(P);
+    double fm = 0;
+    for (int rr = 0; rr < H; ++rr)
+      for (int c = 0; c < W; ++c) {
+        const double xn = 2.0 * c / std::max(1, W - 1) - 1, yn = 2.0 * rr / std::max(1, H - 1) - 1;
+        field[rr * W + c] = 0.5 * (xn * xn + yn * yn);
+        fm += field[rr * W + c];
+      }
+    fm /= double(P);
+    double ff = 0, fr = 0;
+    for (std::size_t p = 0; p < P; ++p) {
+      const double f = field[p] - fm, rest = mean[p];
+      ff += f * f;
+      fr += f * rest;
+    }
+    const double amplitude = ff > 0 ? fr / ff : 0.0;
+    // Stripes must stand out from what a pixel pattern's own column and row medians are: a
+    // random per-pixel map of spread s has column medians of spread ~1.25 s / sqrt(rows).
+    double pixel_spread = 0;
+    for (std::size_t p = 0; p < P; ++p) {
+      const double v = mean[p] - col[p % W] - row[p / W];
+      pixel_spread += v * v;
+    }
+    pixel_spread = std::sqrt(pixel_spread / double(P));
+    const bool stripes_in_columns = rms(col) >= 2.0 * pixel_spread / std::sqrt(double(H));
+    const bool stripes_in_rows = rms(row) >= 2.0 * pixel_spread / std::sqrt(double(W));
+    if (part_ == StaticPart::column && !stripes_in_columns) return nullptr;
+    if (part_ == StaticPart::row && !stripes_in_rows) return nullptr;
+    std::vector<float> map(P, 0.0f);
+    nlohmann::json params;
+    std::string sim;
+    Where where;
+    switch (part_) {
+      case StaticPart::column: {
+        shrink(col, noise_col);
+        for (std::size_t p = 0; p < P; ++p) map[p] = float(col[p % W]);
+        params = {{"sigma", rms(col)}};
+        sim = "column_fpn:sigma=" + number(rms(col));
+        where = whole(d, "stripes: column means of the time-averaged residual");
+        int worst = int(std::max_element(col.begin(), col.end(), [](double a, double b) { return std::fabs(a) < std::fabs(b); }) - col.begin());
+        where.summary += " (strongest column " + std::to_string(worst) + ")";
+        break;
+      }
+      case StaticPart::row: {
+        shrink(row, noise_row);
+        for (std::size_t p = 0; p < P; ++p) map[p] = float(row[p / W]);
+        params = {{"sigma", rms(row)}};
+        sim = "row_fpn:sigma=" + number(rms(row));
+        where = whole(d, "stripes: row means of the time-averaged residual");
+        break;
+      }
+      case StaticPart::shading: {
+        // Noise of a one-parameter fit: residual variance over the pixel-frames times 1/sum f^2.
+        const double a = amplitude;
+        for (std::size_t p = 0; p < P; ++p) map[p] = float(a * (field[p] - fm));
+        params = {{"amplitude", a}};
+        sim = "shading:amplitude=" + number(a);
+        where = whole(d, "smooth radial field of the time-averaged residual (centre to corners)");
+        break;
+      }
+      case StaticPart::offset: {
+        // What column and row stripes leave (they are effects of their own). The radial shading
+        // field splits into a column and a row part, so shading competes with both and wins
+        // with its single parameter when the pattern is radial.
+        std::vector<double> rest(P), noise_rest(P);
+        for (std::size_t p = 0; p < P; ++p) {
+          // Column and row medians that are no stripes belong to the pixel pattern itself.
+          rest[p] = mean[p] - (stripes_in_columns ? col[p % W] : 0.0) - (stripes_in_rows ? row[p / W] : 0.0);
+          noise_rest[p] = noise[p];
+        }
+        const double m = std::accumulate(rest.begin(), rest.end(), 0.0) / double(P);
+        for (double& v : rest) v -= m;
+        shrink(rest, noise_rest);
+        for (std::size_t p = 0; p < P; ++p) map[p] = float(rest[p]);
+        params = {{"sigma", rms(rest)}};
+        sim = "offset_fpn:sigma=" + number(rms(rest));
+        where = whole(d, "static pixel-to-pixel pattern in the time-averaged residual");
+        break;
+      }
+    }
+    return std::make_unique<StaticMapFit>(std::move(map), params, sim, where);
+  }
+
+ private:
+  StaticPart part_;
+  const DiagnoseData* data_ = nullptr;
+  const std::vector<float>* residual_ = nullptr;
+};
+
+// Per-pixel slope of the residual against a regressor image (no intercept):
+// gain_fpn against the level, tau_spread against d(baseline)/d(ln tau).
+class SlopeMapFit final : public FittedEffect {
+ public:
+  SlopeMapFit(std::shared_ptr<const std::vector<float>> x, std::vector<float> slope, std::vector<float> intercept,
+              std::vector<float> centre, nlohmann::json params, std::string sim, Where where)
+      : x_(std::move(x)), slope_(std::move(slope)), intercept_(std::move(intercept)), centre_(std::move(centre)),
+        params_(std::move(params)), sim_(std::move(sim)), where_(std::move(where)) {}
+  void predict(int n, std::span<float> out) const override {
+    const float* x = x_->data() + std::size_t(n) * slope_.size();
+    for (std::size_t p = 0; p < slope_.size(); ++p) out[p] = intercept_[p] + slope_[p] * (x[p] - centre_[p]);
+  }
+  nlohmann::json params() const override { return params_; }
+  std::string simulator_effect() const override { return sim_; }
+  Where where() const override { return where_; }
+
+ private:
+  std::shared_ptr<const std::vector<float>> x_;
+  std::vector<float> slope_, intercept_, centre_;
+  nlohmann::json params_;
+  std::string sim_;
+  Where where_;
+};
+
+class SlopeMap final : public Candidate {
+ public:
+  explicit SlopeMap(bool tau) : tau_(tau) {}
+  bool needs_distant_holdout() const override { return true; }
+  void release() override { x_.reset(); }
+  const char* id() const override { return tau_ ? "tau_spread" : "gain_fpn"; }
+  int parameter_count() const override { return 1; }
+  void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
+    data_ = &d;
+    residual_ = &r;
+    {
+      auto x = std::make_shared<std::vector<float>>();
+      if (tau_) {
+        if (d.has_scene && d.tau_c_s > 0) tau_derivative(d, d.tau_c_s, *x);
+      } else {
+        *x = d.baseline;
+      }
+      x_ = x;
+    }
+  }
+  std::unique_ptr<FittedEffect> fit(const std::vector<char>& train) const override {
+    const DiagnoseData& d = *data_;
+    if (!d.has_scene || x_->empty()) return nullptr;
+    const std::size_t P = d.shape.pixels();
+    PixelSums s = pixel_sums(d, *residual_, train, x_.get());
+    std::vector<double> slope(P, 0.0), noise(P, INFINITY), intercept(P, 0.0), noise_i(P, INFINITY);
+    std::vector<float> centre(P, 0.0f);
+    // gain_fpn: y (1 + g) = y + g ybar + g (y - ybar). The static part g ybar cannot be told from
+    // an offset pattern, so it is left to offset_fpn; gain_fpn claims only the slope on the
+    // level's change. tau_spread acts only through the transient.
+    if (!tau_)
+      for (std::size_t p = 0; p < P; ++p) {
+        if (s.n[p] < 2) continue;
+        const double xm = s.x[p] / s.n[p], rm = s.r[p] / s.n[p];
+        centre[p] = float(xm);
+        s.xr[p] -= s.n[p] * xm * rm;
+        s.xx[p] = std::max(0.0, s.xx[p] - s.n[p] * xm * xm);
+        (void)rm;
+      }
+    double xx_total = 0;
+    for (std::size_t p = 0; p < P; ++p) {
+      xx_total += s.xx[p];
+      if (s.xx[p] > 0) { slope[p] = s.xr[p] / s.xx[p]; noise[p] = s.residual_var / s.xx[p]; }
+    }
+    if (!(xx_total > 0)) return nullptr;
+    // Pixels the regressor barely touches carry no information: leave them at zero.
+    const double typical = xx_total / double(P);
+    for (std::size_t p = 0; p < P; ++p)
+      if (s.xx[p] < 1e-3 * typical) { slope[p] = 0; noise[p] = INFINITY; }
+    shrink(slope, noise);
+    if (!tau_) {
+      const double m = std::accumulate(intercept.begin(), intercept.end(), 0.0) / double(P);
+      for (double& v : intercept) v -= m;
+      shrink(intercept, noise_i);
+    }
+    std::vector<float> map(slope.begin(), slope.end()), icpt(intercept.begin(), intercept.end());
+    const double sigma = rms(slope);
+    nlohmann::json params = {{"sigma", sigma}};
+    std::string sim = (tau_ ? "tau_spread:sigma=" : "gain_fpn:sigma=") + number(sigma);
+    Where where = whole(d, tau_ ? "per-pixel residual proportional to the input change (each pixel its own tau)"
+                                : "per-pixel slope of the residual against the level");
+    return std::make_unique<SlopeMapFit>(x_, std::move(map), std::move(icpt), std::move(centre), params, sim, where);
+  }
+
+ private:
+  bool tau_;
+  const DiagnoseData* data_ = nullptr;
+  const std::vector<float>* residual_ = nullptr;
+  std::shared_ptr<const std::vector<float>> x_;
+};
+
+// Stuck pixels: their reading does not follow the scene (no temporal variance while the
+// sensor has noise) or sits far off every other pixel. The model reads them as constant.
+class DeadFit final : public FittedEffect {
+ public:
+  DeadFit(const DiagnoseData& d, const std::vector<float>& r, std::vector<std::size_t> pixels, std::vector<float> value)
+      : d_(d), r_(r), pixels_(std::move(pixels)), value_(std::move(value)) {}
+  void predict(int n, std::span<float> out) const override {
+    std::fill(out.begin(), out.end(), 0.0f);
+    const float *y = d_.frame(d_.recorded, n), *r = d_.frame(r_, n);
+    for (std::size_t i = 0; i < pixels_.size(); ++i) {
+      const std::size_t p = pixels_[i];
+      out[p] = r[p] - (y[p] - value_[i]);
+    }
+  }
+  nlohmann::json params() const override {
+    nlohmann::json where = nlohmann::json::array();
+    for (std::size_t i = 0; i < std::min<std::size_t>(pixels_.size(), 50); ++i)
+      where.push_back({pixels_[i] / d_.shape.width, pixels_[i] % d_.shape.width});
+    return {{"count", pixels_.size()}, {"pixels_row_col", where}};
+  }
+  std::string simulator_effect() const override { return "dead_pixels:count=" + std::to_string(pixels_.size()); }
+  Where where() const override {
+    Where w = whole(d_, std::to_string(pixels_.size()) + " isolated pixel(s) that do not follow the scene");
+    return w;
+  }
+
+ private:
+  const DiagnoseData& d_;
+  const std::vector<float>& r_;
+  std::vector<std::size_t> pixels_;
+  std::vector<float> value_;
+};
+
+class DeadPixels final : public Candidate {
+ public:
+  const char* id() const override { return "dead_pixels"; }
+  int parameter_count() const override { return 1; }
+  void prepare(const DiagnoseData& d, const std::vector<float>& r) override { data_ = &d; residual_ = &r; }
+  std::unique_ptr<FittedEffect> fit(const std::vector<char>& train) const override {
+    const DiagnoseData& d = *data_;
+    const std::size_t P = d.shape.pixels();
+    std::vector<double> sy(P, 0), syy(P, 0), sr(P, 0), cnt(P, 0);
+    for (int n = 0; n < d.shape.n; ++n) {
+      if (!train[n]) continue;
+      const float *y = d.frame(d.recorded, n), *r = d.frame(*residual_, n);
+      for (std::size_t p = 0; p < P; ++p) { sy[p] += y[p]; syy[p] += double(y[p]) * y[p]; sr[p] += r[p]; cnt[p] += 1; }
+    }
+    std::vector<double> sd(P), mr(P);
+    for (std::size_t p = 0; p < P; ++p) {
+      if (cnt[p] < 2) return nullptr;
+      const double m = sy[p] / cnt[p];
+      sd[p] = std::sqrt(std::max(0.0, syy[p] / cnt[p] - m * m));
+      mr[p] = sr[p] / cnt[p];
+    }
+    std::vector<double> tmp = sd;
+    const double typical_sd = median_in_place(tmp);
+    tmp = mr;
+    const double centre = median_in_place(tmp);
+    for (double& v : tmp) v = std::fabs(v - centre);
+    const double spread = 1.4826 * median_in_place(tmp) + 1e-9;
+    std::vector<std::size_t> pixels;
+    std::vector<float> value;
+    for (std::size_t p = 0; p < P; ++p) {
+      // Frozen while the sensor has noise, and reading far from what the model expects (a
+      // pixel of a static, noise-free region would be frozen too, but not off the model).
+      const bool frozen = typical_sd > 0.5 && sd[p] < 0.05 * typical_sd;
+      const bool off = std::fabs(mr[p] - centre) > 10 * typical_sd + 25 * spread;
+      if (frozen && off) { pixels.push_back(p); value.push_back(float(sy[p] / cnt[p])); }
+    }
+    if (pixels.empty() || pixels.size() > P / 20) return nullptr;
+    return std::make_unique<DeadFit>(d, *residual_, std::move(pixels), std::move(value));
+  }
+
+ private:
+  const DiagnoseData* data_ = nullptr;
+  const std::vector<float>* residual_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Candidate> make_offset_fpn() { return std::make_unique<StaticMap>(StaticPart::offset); }
+std::unique_ptr<Candidate> make_column_fpn() { return std::make_unique<StaticMap>(StaticPart::column); }
+std::unique_ptr<Candidate> make_row_fpn() { return std::make_unique<StaticMap>(StaticPart::row); }
+std::unique_ptr<Candidate> make_shading() { return std::make_unique<StaticMap>(StaticPart::shading); }
+std::unique_ptr<Candidate> make_gain_fpn() { return std::make_unique<SlopeMap>(false); }
+std::unique_ptr<Candidate> make_tau_spread() { return std::make_unique<SlopeMap>(true); }
+std::unique_ptr<Candidate> make_dead_pixels() { return std::make_unique<DeadPixels>(); }
+
+std::vector<std::unique_ptr<Candidate>> make_catalogue() {
+  std::vector<std::unique_ptr<Candidate>> c;
+  c.push_back(make_ffc_step());
+  c.push_back(make_fpa_drift());
+  c.push_back(make_frame_duplication());
+  c.push_back(make_dead_pixels());
+  c.push_back(make_offset_fpn());
+  c.push_back(make_column_fpn());
+  c.push_back(make_row_fpn());
+  c.push_back(make_shading());
+  c.push_back(make_gain_fpn());
+  c.push_back(make_tau_spread());
+  c.push_back(make_thermal_memory());
+  c.push_back(make_tau_temperature());
+  c.push_back(make_rolling_readout());
+  c.push_back(make_crosstalk());
+  c.push_back(make_nonlinearity());
+  c.push_back(make_temporal_filter());
+  return c;
+}
+
+}  // namespace bolo::diag

@@ -1,0 +1,28 @@
+#pragma once
+// Small robust statistics shared by the diagnosis sources.
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace bolo::diag {
+
+template <typename T>
+T median_in_place(std::vector<T>& v) {
+  if (v.empty()) return T(0);
+  auto mid = v.begin() + v.size() / 2;
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+template <typename T>
+T median_of(std::vector<T> v) { return median_in_place(v); }
+
+// Upper tail of the chi-square distribution (Wilson-Hilferty); enough for a reported p-value.
+inline double chi2_sf(double x, double dof) {
+  if (x <= 0) return 1.0;
+  const double z = (std::cbrt(x / dof) - (1 - 2 / (9 * dof))) / std::sqrt(2 / (9 * dof));
+  return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
+}  // namespace bolo::diag

@@ -1,0 +1,79 @@
+// The tool says nothing when there is nothing, and finds concealed effects - each below the
+// per-frame noise - naming the right one with a physical parameter and a held-out improvement.
+
+#include <catch2/catch.hpp>
+
+#include "diagnose_test_support.hpp"
+
+using namespace bolo;
+using namespace bolo::test;
+
+TEST_CASE("null recordings: baseline only gives no findings", "[diagnose][null]") {
+  TempDir tmp;
+  for (int seed : {11, 12}) {
+    const fs::path rec = simulate(tmp, "null" + std::to_string(seed), {}, seed);
+    const nlohmann::json d = diagnose(rec, tmp / ("null" + std::to_string(seed) + ".d"));
+    INFO(d["findings"].dump());
+    CHECK(d["findings"].empty());
+    // The baseline explains it down to the noise: held-out RMS within 5 % of the noise floor.
+    CHECK(d["baseline"]["heldout_rms"].get<double>() < 1.05 * d["noise_floor_rms"].get<double>());
+    CHECK(d["baseline"]["params"]["tau_c_s"].get<double>() == Approx(0.012).epsilon(0.05));
+  }
+}
+
+TEST_CASE("null at 8.7 Hz (lepton3 preset): no findings", "[diagnose][null]") {
+  TempDir tmp;
+  const fs::path rec = simulate(tmp, "slow", {}, 21, {"--preset", "lepton3"});
+  const nlohmann::json d = diagnose(rec, tmp / "slow.d");
+  INFO(d["findings"].dump());
+  CHECK(d["findings"].empty());
+}
+
+TEST_CASE("concealed offset FPN (sigma 0.5 x noise) is found with its sigma", "[diagnose][concealed]") {
+  TempDir tmp;
+  const nlohmann::json d = diagnose(simulate(tmp, "fpn", {"offset_fpn:sigma=1"}, 3), tmp / "fpn.d");
+  const nlohmann::json* f = finding(d, "offset_fpn");
+  REQUIRE(f);
+  CHECK(found(d).front() == "offset_fpn");
+  CHECK((*f)["params"]["sigma"].get<double>() == Approx(1.0).epsilon(0.3));
+  CHECK((*f)["heldout_rms_after"].get<double>() < (*f)["heldout_rms_before"].get<double>());
+}
+
+TEST_CASE("concealed column FPN under a 4x larger offset FPN", "[diagnose][concealed]") {
+  TempDir tmp;
+  const nlohmann::json d =
+      diagnose(simulate(tmp, "col", {"column_fpn:sigma=1", "offset_fpn:sigma=4"}, 4), tmp / "col.d");
+  INFO(d["findings"].dump());
+  CHECK(finding(d, "offset_fpn"));
+  REQUIRE(finding(d, "column_fpn"));
+  CHECK((*finding(d, "column_fpn"))["params"]["sigma"].get<double>() == Approx(1.0).epsilon(0.5));
+}
+
+TEST_CASE("unflagged shutter steps of half the noise are located at their frames", "[diagnose][concealed]") {
+  TempDir tmp;
+  const nlohmann::json d =
+      diagnose(simulate(tmp, "ffc", {"ffc_step:frames=40/90,step=1,flagged=0"}, 5), tmp / "ffc.d");
+  const nlohmann::json* f = finding(d, "ffc_step");
+  REQUIRE(f);
+  CHECK((*f)["params"]["frames"] == nlohmann::json({40, 90}));
+}
+
+TEST_CASE("dead pixels and repeated frames are found", "[diagnose][concealed]") {
+  TempDir tmp;
+  const nlohmann::json d =
+      diagnose(simulate(tmp, "dead", {"dead_pixels:count=3", "frame_duplication:every=10"}, 6), tmp / "dead.d");
+  INFO(d["findings"].dump());
+  REQUIRE(finding(d, "dead_pixels"));
+  CHECK((*finding(d, "dead_pixels"))["params"]["count"] == 3);
+  REQUIRE(finding(d, "frame_duplication"));
+  CHECK((*finding(d, "frame_duplication"))["params"]["every"] == 10);
+}
+
+TEST_CASE("slow drift below the noise tracks the FPA temperature", "[diagnose][concealed]") {
+  TempDir tmp;
+  // 0.01 K/s x 50 counts/K over 4 s: 2 counts at the end, one noise sigma.
+  const nlohmann::json d = diagnose(simulate(tmp, "drift", {"fpa_drift:rate=0.01,k=50"}, 7), tmp / "drift.d");
+  const nlohmann::json* f = finding(d, "fpa_drift");
+  REQUIRE(f);
+  CHECK((*f)["params"]["k"].get<double>() == Approx(50).epsilon(0.3));
+}
