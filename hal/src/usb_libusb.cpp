@@ -123,16 +123,10 @@ struct LibusbTransport::Impl {
       }
       claimed.push_back(iface);
     }
-    for (const ControlStep& s : config.start) {
-      rc = libusb_control_transfer(handle, s.request_type, s.request, s.value, s.index, nullptr, 0, 1000);
-      if (rc < 0) {
-        close();
-        why = std::string("start request ") + std::to_string(s.request) + ": " + libusb_error_name(rc);
-        return false;
-      }
-    }
     gone = false;
     endpoint = opened.endpoint;
+    stream_interface = opened.interface_number;
+    send(config.start);
     return true;
   }
 
@@ -190,9 +184,22 @@ struct LibusbTransport::Impl {
     done.clear();
   }
 
+  int stream_interface = -1;
+  std::uint64_t failed_steps = 0;
+
+  void send(const std::vector<ControlStep>& steps) {
+    for (const ControlStep& s : steps) {
+      const std::uint16_t index =
+          s.index_is_stream_interface ? static_cast<std::uint16_t>(stream_interface) : s.index;
+      if (libusb_control_transfer(handle, s.request_type, s.request, s.value, index, nullptr, 0, 1000) < 0)
+        ++failed_steps;
+    }
+  }
+
   void close() {
     if (!handle) return;
     cancel_all();
+    if (!gone) send(config.stop);
     for (int iface : claimed) libusb_release_interface(handle, iface);
     claimed.clear();
     libusb_close(handle);
@@ -342,6 +349,8 @@ LibusbConfig flirone_libusb_config() {
   c.product_ids = {0x1996};
   c.endpoint = EndpointChoice::last_bulk_in;
   c.claim_all_interfaces = true;
+  c.start = {{kVendorOut, 0x0b, 1, 0, true}};
+  c.stop = {{kVendorOut, 0x0b, 0, 0, true}};
   c.streaming = true;
   c.transfer_bytes = 64 * 1024;
   c.in_flight = 4;
