@@ -23,4 +23,22 @@ run() {  # name, emulator arguments, host arguments
 run replay "--replay" "--capture flirone-pro"
 run clean "--frames $frames --jpeg-bytes 0" "--min-frames $frames"
 run faults "--frames $frames --jpeg-bytes 0 --fault-rate 0.01 --faults all --seed 7" "--min-frames $((frames * 9 / 10))"
+
+run_hal() {  # name, emulator arguments, host arguments: through the project's FlirOneSource
+  name="$1"
+  echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
+  ./flirone_emulator --name "$name" --autostart --capture flirone-pro --log "/tmp/$name.log" \
+    --ready "/tmp/$name.ready" --done "/tmp/$name.done" --finished "/tmp/$name.finished" $2 &
+  emulator=$!
+  ./hil_flirone_hal --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 || failed=1
+  touch "/tmp/$name.finished"
+  wait $emulator || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+  echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+}
+if [ -x ./hil_flirone_hal ]; then
+  run_hal hal_clean "--frames $frames --jpeg-bytes 0" "--min-frames $frames"
+  run_hal hal_faults "--frames $frames --jpeg-bytes 0 --fault-rate 0.01 --faults all --seed 11" "--min-frames $((frames * 9 / 10))"
+else
+  echo "HIL-STEP hal: skipped, the HAL was built without libusb"
+fi
 exit $failed
