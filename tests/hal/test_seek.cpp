@@ -138,3 +138,18 @@ TEST_CASE("seek source: a camera that never sends an image gives faults, not a h
   CHECK(source.stream_frame(sink) == hal::StreamStatus::fault);
   CHECK(source.counters().calibration_frames == 16);
 }
+
+TEST_CASE("seek source: a refused start-up is a counted fault, an unplugged camera a disconnect", "[hal][seek]") {
+  test::FakeSeek cam(hal::kSeekCompact);
+  cam.unplugged = true;
+  cam.replug = false;
+  hal::SeekSource source(cam, hal::kSeekCompact);
+  test::FrameCollector sink(208, 156);
+  CHECK(source.stream_frame(sink) == hal::StreamStatus::fault);
+  CHECK(source.stats().disconnects == 1);
+  CHECK(cam.reconnects == 1);
+  cam.unplugged = false;
+  cam.fail_first_write = true;  // fails once: the retry inside start() succeeds
+  CHECK(source.stream_frame(sink) == hal::StreamStatus::frame);
+  CHECK(source.counters().start_failures == 1);
+}

@@ -64,7 +64,7 @@ class SeekSource final : public FrameSource {
 
  private:
   enum class Read : std::uint8_t { frame, lost, gone };
-  bool start();
+  TransferStatus start();
   Read read_frame(std::int64_t& arrival_ns);
   StreamStatus device_gone();
 
