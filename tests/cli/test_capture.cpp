@@ -147,6 +147,15 @@ TEST_CASE("capture: refusals name the device, flag or file and leave nothing beh
   CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
                      "gpiochip0:led=3"}),
             "'led=3': expected sync=N, shutter=N or imminent=N"));
+#if defined(BOLO_HAVE_LIBGPIOD)
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
+                     "bolo-no-such-chip:sync=3"}),
+            "--gpio bolo-no-such-chip:sync=3: gpio bolo-no-such-chip: cannot open the chip"));
+#else
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
+                     "gpiochip0:sync=3"}),
+            "this build has no GPIO backend"));
+#endif
   CHECK(entries(tmp.path()) == before);
 }
 
