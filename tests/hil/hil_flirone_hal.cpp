@@ -94,9 +94,23 @@ int main(int argc, char** argv) {
     std::uint64_t faults = 0, ends = 0;
     std::optional<bolo::hil::Expectation> expected;
     std::optional<Clock::time_point> done_seen;
+    auto last_progress = Clock::now();
+    std::size_t delivered_before = 0;
     for (;;) {
       const hal::StreamStatus status = source.stream_frame(sink);
       if (status == hal::StreamStatus::fault) ++faults;
+      if (sink.hashes.size() != delivered_before) {
+        delivered_before = sink.hashes.size();
+        last_progress = Clock::now();
+      } else if (Clock::now() - last_progress > std::chrono::seconds(15)) {
+        const hal::SourceStats st = source.stats();
+        std::printf("hil_flirone_hal: FAIL no frame for 15 s after %zu frames (timeouts %llu short %llu "
+                    "corrupt %llu disconnects %llu)\n", sink.hashes.size(),
+                    static_cast<unsigned long long>(st.timeouts), static_cast<unsigned long long>(st.short_transfers),
+                    static_cast<unsigned long long>(st.corrupt_transfers),
+                    static_cast<unsigned long long>(st.disconnects));
+        return 1;
+      }
       if (status == hal::StreamStatus::end_of_stream && ++ends > 3) break;
       if (!expected && exists(done)) {
         expected = bolo::hil::read_send_log(send_log);
