@@ -46,6 +46,12 @@ if [ "$arch" = aarch64 ] && [ -z "$sysroot" ]; then
   skip "no BOLO_HIL_SYSROOT with the arm64 runtime libraries (toolchain/vm/arm64-sysroot.sh)"
 fi
 
+# Frames per run: 10000 on x86-64; the arm64 VM streams ~4x slower under TCG, so 2000 there
+# unless BOLO_HIL_FRAMES says otherwise.
+if [ -z "${BOLO_HIL_FRAMES:-}" ]; then
+  export BOLO_HIL_FRAMES=10000
+  [ "$arch" = aarch64 ] && export BOLO_HIL_FRAMES=2000
+fi
 args=(--arch "$arch" --scenario "$scenario" --file "$capture")
 [ -n "$sysroot" ] && args+=(--sysroot "$sysroot")
 for f in "${files[@]}"; do args+=(--file "$f"); done

@@ -108,7 +108,7 @@ out="${log:-$work/serial.log}"
 start=$(date +%s.%N)
 status=0
 # The serial console streams to our output as the VM runs (and to the log).
-timeout --kill-after=10 "$timeout_s" "${qemu[@]}" </dev/null 2>&1 | tr -d '\r' | tee "$out"
+timeout --kill-after=10 "$timeout_s" "${qemu[@]}" </dev/null 2>&1 | sed -u 's/\r//g' | tee "$out"
 status=${PIPESTATUS[0]}
 end=$(date +%s.%N)
 awk -v a="$arch" -v s="$start" -v e="$end" 'BEGIN { printf "hil-vm: %s VM ran %.1f s\n", a, e - s }'

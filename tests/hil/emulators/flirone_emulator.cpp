@@ -162,18 +162,11 @@ class Emulator {
     return true;
   }
 
-  // The frame in the real device's transfer pattern: header, thermal part, then the rest in
-  // 32 KiB pieces.
+  // The frame in 32 KiB transfers. (The real device sends header and thermal part as transfers
+  // of their own, as the replay does; here a frame without JPEG is one transfer, so a host
+  // must also cope with a frame that does not end at a transfer boundary it expects.)
   bool send_frame(const Bytes& f, std::size_t stop_after) {
-    std::size_t at = 0;
-    const std::size_t pieces[] = {flirone::kHeaderBytes, flirone::kThermalBytes};
-    for (std::size_t piece : pieces) {
-      const std::size_t n = std::min(piece, stop_after - at);
-      if (n == 0) return true;
-      if (!send(f.data() + at, n)) return false;
-      at += n;
-    }
-    while (at < stop_after) {
+    for (std::size_t at = 0; at < stop_after;) {
       const std::size_t n = std::min<std::size_t>(32768, stop_after - at);
       if (!send(f.data() + at, n)) return false;
       at += n;
