@@ -1,0 +1,28 @@
+#!/bin/sh
+# HIL scenario, run inside the VM: the Seek Compact emulator on FunctionFS, the host side
+# through the project's SeekSource: 1) images without faults, shutter cycles every 100 images:
+# none lost, every image bit-exact, every shutter frame an FFC event, the start-up frame's 5
+# dead pixels found; 2) 1 % of the faults the backend survives.
+# BOLO_HIL_SEEK_FRAMES (default 1000; a Seek frame is 6x a FLIR ONE thermal frame) sets the length.
+# device: usb:seek
+# real: echo "usb:seek on a real camera: not written yet (docs/hil.md)"; exit 77
+frames="${BOLO_HIL_SEEK_FRAMES:-1000}"
+failed=0
+
+run() {  # name, emulator arguments, host arguments
+  name="$1"
+  echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
+  ./seek_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" \
+    --done "/tmp/$name.done" --finished "/tmp/$name.finished" $2 &
+  emulator=$!
+  ./hil_seek_hal --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 || failed=1
+  touch "/tmp/$name.finished"
+  wait $emulator || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+  echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+}
+
+run seek_clean "--frames $frames --shutter-period 100" \
+  "--min-frames $frames --shutters $(((frames - 1) / 100)) --dead-pixels 5"
+run seek_faults "--frames $frames --shutter-period 100 --fault-rate 0.01 --seed 3 \
+  --faults short_transfer,timeout,frame_id_jump,duplicate" "--min-frames $((frames * 9 / 10))"
+exit $failed
