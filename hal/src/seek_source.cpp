@@ -92,11 +92,15 @@ SeekSource::Read SeekSource::read_frame(std::int64_t& arrival_ns) {
 }
 
 StreamStatus SeekSource::device_gone() {
-  ++stats_.disconnects;
+  if (connected_) {  // counted once per unplug, however long the camera stays away
+    ++stats_.disconnects;
+    ++sequence_;
+    connected_ = false;
+  }
   started_ = false;
-  ++sequence_;
   if (transport_.reconnect(config_.reconnect_timeout_ms)) {
     ++stats_.reconnects;
+    connected_ = true;
     start();
   }
   return StreamStatus::fault;

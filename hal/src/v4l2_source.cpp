@@ -216,7 +216,11 @@ StreamStatus V4l2Source::stream_frame(fw::LineSink& sink) {
       ++stats_.timeouts;
       return StreamStatus::fault;
     }
-    return lost_device();
+    if (errno == ENODEV) return lost_device();
+    // EIO: the driver dequeued a buffer it could not fill; give it back and go on.
+    ++stats_.corrupt_transfers;
+    if (errno == EIO && buf.index < device_->buffers.size()) xioctl(device_->fd, VIDIOC_QBUF, &buf);
+    return StreamStatus::fault;
   }
   struct Requeue {
     Device& d;

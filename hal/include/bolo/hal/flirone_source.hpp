@@ -51,6 +51,7 @@ class FlirOneSource final : public FrameSource {
   std::vector<std::uint8_t> transfer_;
   std::uint64_t sequence_ = 0;  // frames begun, good or lost: a lost frame leaves a gap
   bool have_previous_ = false;
+  bool connected_ = true;
   std::uint32_t previous_counter_ = 0;
   std::uint32_t previous_ffc_ms_ = 0;
   SourceStats stats_;
