@@ -53,6 +53,9 @@ if [ -z "${BOLO_HIL_FRAMES:-}" ]; then
   [ "$arch" = aarch64 ] && export BOLO_HIL_FRAMES=2000
 fi
 args=(--arch "$arch" --scenario "$scenario" --file "$capture")
+# The recording made from the same capture, for `bolo capture` to reproduce in the VM.
+recording="$shared/real/flirone-lepton-telemetry"
+[ -d "$recording" ] && args+=(--file "$recording")
 [ -n "$sysroot" ] && args+=(--sysroot "$sysroot")
 for f in "${files[@]}"; do args+=(--file "$f"); done
 exec "$repo/toolchain/vm/hil-vm.sh" "${args[@]}"

@@ -27,6 +27,30 @@ run faults "--frames $frames --jpeg-bytes 0 --fault-rate 0.01 --faults all --see
 if [ ! -x ./hil_flirone_hal ]; then  # without the project's backend: the clean run on our reader
   run clean "--frames $frames --jpeg-bytes 0" "--min-frames $frames"
 fi
+# `bolo capture --device usb:flirone` from the emulated camera replaying the real capture must
+# write the frames of the shared recording made from that capture, byte for byte.
+if [ -x ./bolo ] && [ -d flirone-lepton-telemetry ]; then
+  echo "HIL-STEP bolo_capture start $(cut -d' ' -f1 /proc/uptime)"
+  ./flirone_emulator --name capture --autostart --replay --capture flirone-pro --log /tmp/capture.log \
+    --ready /tmp/capture.ready --done /tmp/capture.done --finished /tmp/capture.finished &
+  emulator=$!
+  # bolo opens the camera once: wait until the host has enumerated it.
+  for _ in $(seq 100); do grep -qs 09cb /sys/bus/usb/devices/*/idVendor && break; sleep 0.1; done
+  sleep 0.3
+  if ./bolo capture --device usb:flirone --out /tmp/capture-rec --frames 20 --no-progress &&
+     cmp /tmp/capture-rec/frames.npy flirone-lepton-telemetry/frames.npy; then
+    echo "HIL-STEP bolo_capture: 20 frames, frames.npy identical to real/flirone-lepton-telemetry"
+  else
+    echo "HIL-STEP bolo_capture: FAIL"
+    failed=1
+  fi
+  touch /tmp/capture.finished
+  wait $emulator
+  echo "HIL-STEP bolo_capture end $(cut -d' ' -f1 /proc/uptime)"
+else
+  echo "HIL-STEP bolo_capture: skipped (no bolo CLI in this build, or no shared recording)"
+fi
+
 run_hal() {  # name, emulator arguments, host arguments: through the project's FlirOneSource
   name="$1"
   echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
