@@ -112,7 +112,7 @@ StreamStatus FlirOneSource::deliver(fw::LineSink& sink, std::int64_t arrival_ns)
 
   sink.begin_frame(header);
   for (std::uint32_t row = 0; row < flirone::kHeight; ++row)
-    sink.push_line(row, fw::LineView(&f.pixels[row * flirone::kWidth], flirone::kWidth));
+    sink.push_line(row, fw::LineView(&f.pixels[std::size_t{row} * flirone::kWidth], flirone::kWidth));
   sink.end_frame();
   ++stats_.frames_delivered;
   return StreamStatus::frame;

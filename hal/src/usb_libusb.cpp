@@ -26,8 +26,8 @@ std::string hex4(std::uint16_t v) {
   return s;
 }
 
-constexpr std::uint8_t kVendorOut = 0x40 | 0x01;  // host-to-device, vendor, interface
-constexpr std::uint8_t kVendorIn = 0x80 | 0x40;   // device-to-host, vendor (| recipient)
+constexpr std::uint8_t kVendorToInterface = 0x40 | 0x01;  // host-to-device, vendor, interface
+constexpr std::uint8_t kVendorFromDevice = 0x80 | 0x40;   // device-to-host, vendor (| recipient)
 constexpr std::uint8_t kRecipientInterface = 0x01, kRecipientDevice = 0x00;
 
 TransferStatus status_of(int libusb_error) {
@@ -130,7 +130,7 @@ struct LibusbTransport::Impl {
     return true;
   }
 
-  std::vector<int> interfaces_to_claim() {
+  std::vector<int> interfaces_to_claim() const {
     std::vector<int> out;
     if (!config.claim_all_interfaces) return {0};
     libusb_config_descriptor* cfg = nullptr;
@@ -143,7 +143,7 @@ struct LibusbTransport::Impl {
 
   // The first bulk IN endpoint of each interface; the configuration picks the lowest or the
   // highest interface that has one.
-  bool find_endpoint(libusb_device* dev, LibusbOpened& opened) {
+  bool find_endpoint(libusb_device* dev, LibusbOpened& opened) const {
     libusb_config_descriptor* cfg = nullptr;
     if (libusb_get_active_config_descriptor(dev, &cfg) != 0 &&
         libusb_get_config_descriptor(dev, 0, &cfg) != 0)
@@ -309,14 +309,14 @@ bool LibusbTransport::reconnect(std::uint32_t timeout_ms) {
   }
 }
 
-Transfer LibusbTransport::control_out(std::uint8_t request, std::span<const std::uint8_t> data) {
+Transfer LibusbTransport::control_out(std::uint8_t code, std::span<const std::uint8_t> data) {
   Transfer out;
   if (!impl_->handle) {
     out.status = TransferStatus::disconnected;
     return out;
   }
   const int rc = libusb_control_transfer(
-      impl_->handle, kVendorOut, request, 0, 0,
+      impl_->handle, kVendorToInterface, code, 0, 0,
       const_cast<unsigned char*>(data.data()), static_cast<std::uint16_t>(data.size()), 1000);
   out.status = rc < 0 ? status_of(rc) : TransferStatus::ok;
   out.bytes = rc < 0 ? 0 : static_cast<std::size_t>(rc);
@@ -325,7 +325,7 @@ Transfer LibusbTransport::control_out(std::uint8_t request, std::span<const std:
 }
 
 // Public drivers read with the interface or the device as recipient: try one, then the other.
-Transfer LibusbTransport::control_in(std::uint8_t request, std::span<std::uint8_t> data) {
+Transfer LibusbTransport::control_in(std::uint8_t code, std::span<std::uint8_t> data) {
   Transfer out;
   if (!impl_->handle) {
     out.status = TransferStatus::disconnected;
@@ -333,8 +333,8 @@ Transfer LibusbTransport::control_in(std::uint8_t request, std::span<std::uint8_
   }
   int rc = LIBUSB_ERROR_PIPE;
   for (std::uint8_t recipient : {kRecipientInterface, kRecipientDevice}) {
-    rc = libusb_control_transfer(impl_->handle, static_cast<std::uint8_t>(kVendorIn | recipient),
-                                 request, 0, 0, data.data(), static_cast<std::uint16_t>(data.size()), 1000);
+    rc = libusb_control_transfer(impl_->handle, static_cast<std::uint8_t>(kVendorFromDevice | recipient),
+                                 code, 0, 0, data.data(), static_cast<std::uint16_t>(data.size()), 1000);
     if (rc >= 0 || rc == LIBUSB_ERROR_NO_DEVICE) break;
   }
   out.status = rc < 0 ? status_of(rc) : TransferStatus::ok;
@@ -349,10 +349,10 @@ LibusbConfig flirone_libusb_config() {
   c.product_ids = {0x1996};
   c.endpoint = EndpointChoice::last_bulk_in;
   c.claim_all_interfaces = true;
-  c.start = {{kVendorOut, 0x0b, 1, 0, true}};
-  c.stop = {{kVendorOut, 0x0b, 0, 0, true}};
+  c.start = {{kVendorToInterface, 0x0b, 1, 0, true}};
+  c.stop = {{kVendorToInterface, 0x0b, 0, 0, true}};
   c.streaming = true;
-  c.transfer_bytes = 64 * 1024;
+  c.transfer_bytes = std::size_t{64} * 1024;
   c.in_flight = 4;
   return c;
 }

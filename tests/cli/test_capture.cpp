@@ -147,6 +147,10 @@ TEST_CASE("capture: refusals name the device, flag or file and leave nothing beh
   CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
                      "gpiochip0:led=3"}),
             "'led=3': expected sync=N, shutter=N or imminent=N"));
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--shutter-at", "3"}),
+            "--shutter-at: file:" + (tmp / "rec").string() + " has no shutter control here (use --gpio CHIP:shutter=N, or usb:seek)"));
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--shutter-at", "-2"}),
+            "--shutter-at: must not be negative, got -2"));
 #if defined(BOLO_HAVE_LIBGPIOD)
   CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
                      "bolo-no-such-chip:sync=3"}),

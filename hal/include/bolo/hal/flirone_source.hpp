@@ -24,7 +24,7 @@ struct FlirOneSourceConfig {
   bool skip_duplicates = false;  // the core exports some frames twice; keep them by default
   FlirOneClock clock = FlirOneClock::camera;
   std::size_t max_frame_bytes = flirone::kDefaultMaxFrameBytes;
-  std::size_t transfer_bytes = 64 * 1024;
+  std::size_t transfer_bytes = std::size_t{64} * 1024;
 };
 
 class FlirOneSource final : public FrameSource {

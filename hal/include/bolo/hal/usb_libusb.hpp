@@ -35,7 +35,7 @@ struct LibusbConfig {
   std::vector<ControlStep> start;
   std::vector<ControlStep> stop;
   bool streaming = false;             // keep `in_flight` reads queued (else one read per next())
-  std::size_t transfer_bytes = 64 * 1024;
+  std::size_t transfer_bytes = std::size_t{64} * 1024;
   int in_flight = 4;
 };
 
@@ -56,8 +56,8 @@ class LibusbTransport final : public VendorUsbTransport {
 
   Transfer next(std::span<std::uint8_t> buffer, std::uint32_t timeout_ms) override;
   bool reconnect(std::uint32_t timeout_ms) override;
-  Transfer control_out(std::uint8_t request, std::span<const std::uint8_t> data) override;
-  Transfer control_in(std::uint8_t request, std::span<std::uint8_t> data) override;
+  Transfer control_out(std::uint8_t code, std::span<const std::uint8_t> data) override;
+  Transfer control_in(std::uint8_t code, std::span<std::uint8_t> data) override;
 
   const LibusbOpened& opened() const { return opened_; }
 
