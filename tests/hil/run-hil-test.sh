@@ -52,6 +52,10 @@ if [ -z "${BOLO_HIL_FRAMES:-}" ]; then
   export BOLO_HIL_FRAMES=10000
   [ "$arch" = aarch64 ] && export BOLO_HIL_FRAMES=2000
 fi
+if [ -z "${BOLO_HIL_SEEK_FRAMES:-}" ]; then
+  export BOLO_HIL_SEEK_FRAMES=10000
+  [ "$arch" = aarch64 ] && export BOLO_HIL_SEEK_FRAMES=1000
+fi
 # gpio-sim for the VM's kernel, built once and cached; without it GPIO scenarios skip.
 if [ "$arch" = x86_64 ]; then
   "$repo/toolchain/vm/gpio-sim.sh" >/dev/null || echo "run-hil-test: gpio-sim build failed; GPIO steps will skip" >&2
