@@ -174,11 +174,13 @@ SourceFormat V4l2Source::format() const {
 }
 
 StreamStatus V4l2Source::lost_device() {
-  ++stats_.disconnects;
-  device_->close();
-  sequence_offset_ = last_sequence_ + 2;  // a gap: the driver starts again at 0
-  have_sequence_ = false;
-  have_ffc_stamp_ = false;
+  if (device_->fd >= 0) {  // counted once per unplug, however long the camera stays away
+    ++stats_.disconnects;
+    device_->close();
+    sequence_offset_ = last_sequence_ + 2;  // a gap: the driver starts again at 0
+    have_sequence_ = false;
+    have_ffc_stamp_ = false;
+  }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(config_.reconnect_timeout_ms);
   while (std::chrono::steady_clock::now() < deadline) {
     V4l2Negotiated again;
