@@ -3,7 +3,7 @@
 # through the project's SeekSource: 1) images without faults, shutter cycles every 100 images:
 # none lost, every image bit-exact, every shutter frame an FFC event, the start-up frame's 5
 # dead pixels found; 2) 1 % of the faults the backend survives.
-# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 10000 on x86-64, 1000 in the arm64 VM) sets the clean
+# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 3000 on x86-64, 1000 in the arm64 VM) sets the clean
 # run's length; the fault run streams a quarter of it.
 # device: usb:seek
 # real: echo "usb:seek on a real camera: not written yet (docs/hil.md)"; exit 77
