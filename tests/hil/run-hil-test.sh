@@ -28,8 +28,10 @@ capture="$shared/usb/flirone-pro"
 if [ -n "${BOLO_HIL_DEVICE:-}" ]; then
   # A real camera on this machine: the host-side program of the scenario's device, no VM.
   scenario_device="$(sed -n 's/^# device: //p' "$scenario")"
-  [ "$BOLO_HIL_DEVICE" = "$scenario_device" ] ||
-    skip "BOLO_HIL_DEVICE=$BOLO_HIL_DEVICE; this scenario needs $scenario_device"
+  case "$BOLO_HIL_DEVICE" in
+    "$scenario_device" | "$scenario_device":*) ;;  # v4l2 matches v4l2:/dev/videoN
+    *) skip "BOLO_HIL_DEVICE=$BOLO_HIL_DEVICE; this scenario needs $scenario_device" ;;
+  esac
   real_command="$(sed -n 's/^# real: //p' "$scenario")"
   for f in "${files[@]}"; do PATH="$(dirname "$f"):$PATH"; done
   export PATH
