@@ -73,7 +73,7 @@ TEST_CASE("capture: file: re-records a recording frame for frame", "[cli][captur
   CHECK(fs::exists(tmp / "out" / "capture.json"));
 }
 
-TEST_CASE("capture: --frames stops early; the source ending first is reported", "[cli][capture]") {
+TEST_CASE("capture: --frames stops early, the source ending first is reported", "[cli][capture]") {
   TempDir tmp;
   SmallRecording::write(tmp / "rec");
   CliResult r = run_bolo({"capture", "--device", "file:" + (tmp / "rec").string(), "--out",

@@ -40,7 +40,7 @@ TEST_CASE("seek parser: frame types, counter, dead pixels for both models", "[ha
   CHECK(hal::seek_frame_kind(25) == SeekFrameKind::other);
 }
 
-TEST_CASE("seek parser: chunks assemble a frame; a zero-length or overlong read gives it up", "[hal][seek]") {
+TEST_CASE("seek parser: chunks assemble a frame, a zero-length or overlong read gives it up", "[hal][seek]") {
   const hal::SeekModel m = hal::kSeekCompact;
   hal::SeekFrameParser p(m);
   const auto frame = test::make_seek_frame(m, 3, 1);

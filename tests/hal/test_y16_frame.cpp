@@ -58,7 +58,7 @@ TEST_CASE("y16: padded rows, telemetry row A decoded from the first telemetry ro
   }
 }
 
-TEST_CASE("y16: short buffers and impossible layouts are refused; no telemetry without its rows", "[hal][v4l2]") {
+TEST_CASE("y16: short buffers and impossible layouts are refused, no telemetry without its rows", "[hal][v4l2]") {
   const auto buf = lepton_buffer(320, 0);
   // The last row needs no padding after it.
   CHECK(Y16Frame::check({buf.data(), 121 * 384 + 320}, Y16Layout{160, 120, 2, 384}) == Y16Check::ok);
