@@ -47,4 +47,5 @@ sed -i 's/handle_simple_irq(irq_to_desc(irqnum));/generic_handle_irq(irqnum);/' 
 printf 'obj-m := gpio-sim.o\ngpio-sim-y := gpio-sim-main.o irq_sim.o\n' >"$out/Kbuild"
 make -s -C "$headers" M="$out" modules >&2
 echo "$kver" >"$out/kver"
+rm -rf "$root"  # the unpacked headers/kbuild (~300 MB); the .debs stay in the cache
 echo "$out/gpio-sim.ko"
