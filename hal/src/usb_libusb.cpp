@@ -73,6 +73,7 @@ struct LibusbTransport::Impl {
       case LIBUSB_TRANSFER_TIMED_OUT: s = TransferStatus::timeout; break;
       case LIBUSB_TRANSFER_NO_DEVICE: s = TransferStatus::disconnected; break;
       case LIBUSB_TRANSFER_CANCELLED: return;  // closing: nobody waits for it
+      case LIBUSB_TRANSFER_STALL: slot->owner->stalled = true; break;
       default: s = TransferStatus::error; break;
     }
     if (s == TransferStatus::disconnected) slot->owner->gone = true;
@@ -186,6 +187,14 @@ struct LibusbTransport::Impl {
 
   int stream_interface = -1;
   std::uint64_t failed_steps = 0;
+  bool stalled = false;  // the endpoint halted: cleared before the next submission
+
+  // A halted endpoint fails every later transfer until the halt is cleared.
+  void clear_stall() {
+    if (!stalled || !handle) return;
+    stalled = false;
+    if (libusb_clear_halt(handle, endpoint) == LIBUSB_ERROR_NO_DEVICE) gone = true;
+  }
 
   void send(const std::vector<ControlStep>& steps) {
     for (const ControlStep& s : steps) {
@@ -207,10 +216,12 @@ struct LibusbTransport::Impl {
   }
 
   bool submit(Slot& s, std::uint32_t timeout_ms) {
+    clear_stall();
     libusb_fill_bulk_transfer(s.transfer, handle, endpoint, s.buffer.data(), static_cast<int>(s.buffer.size()),
                               on_complete, &s, config.streaming ? 0 : timeout_ms);
     const int rc = libusb_submit_transfer(s.transfer);
     if (rc == LIBUSB_ERROR_NO_DEVICE) gone = true;
+    if (rc == LIBUSB_ERROR_PIPE) stalled = true;
     s.busy = rc == 0;
     return s.busy;
   }
@@ -243,7 +254,7 @@ LibusbTransport::LibusbTransport(const LibusbConfig& config) : impl_(std::make_u
 LibusbTransport::~LibusbTransport() {
   impl_->close();
   for (auto& s : impl_->slots) libusb_free_transfer(s.transfer);
-  libusb_exit(impl_->ctx);
+  if (impl_->ctx) libusb_exit(impl_->ctx);
 }
 
 Transfer LibusbTransport::next(std::span<std::uint8_t> buffer, std::uint32_t timeout_ms) {
@@ -298,6 +309,14 @@ bool LibusbTransport::reconnect(std::uint32_t timeout_ms) {
   m.close();
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   for (;;) {
+    // A fresh context each attempt: without udev (minimal boards, the HIL VM) a context gets no
+    // hot-plug events and never lists the replugged device.
+    if (m.ctx) libusb_exit(m.ctx);
+    m.ctx = nullptr;
+    if (libusb_init(&m.ctx) != 0) {
+      m.ctx = nullptr;
+      return false;
+    }
     LibusbOpened opened;
     std::string why;
     if (m.open(opened, why)) {
