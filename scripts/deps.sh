@@ -8,7 +8,16 @@ packages=(
   libusb-1.0-0-dev libgpiod-dev libbenchmark-dev
   g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user
   clang libclang-rt-14-dev llvm clang-tidy cppcheck
+  qemu-system-x86 qemu-system-arm busybox-static kmod cpio  # HIL VMs (docs/hil.md)
 )
+
+# The arm64 HIL VM's kernel and libraries are fetched as arm64 packages (apt-get download).
+if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo dpkg --add-architecture arm64
+  $sudo apt-get update -qq
+fi
 
 missing=()
 for p in "${packages[@]}"; do

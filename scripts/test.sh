@@ -5,6 +5,7 @@
 #   2. static analysis of firmware/, fixed_point/, hal/ (scripts/static-analysis.sh);
 #   3. the whole host suite under AddressSanitizer + UBSan (scripts/sanitize.sh);
 #   4. every fuzz target for a short fixed time (scripts/fuzz-smoke.sh);
+#   4b. the hardware-in-loop suite in an arm64 VM (toolchain/vm/hil-arm64.sh; x86-64's runs in 5);
 #   5. the whole host test suite, whose ctest summary ends the output.
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -15,6 +16,7 @@ scripts/cross-test.sh || failed+=(cross-test)
 scripts/static-analysis.sh || failed+=(static-analysis)
 scripts/sanitize.sh || failed+=(sanitize)
 scripts/fuzz-smoke.sh || failed+=(fuzz-smoke)
+toolchain/vm/hil-arm64.sh || failed+=(hil-arm64)   # the HIL suite in an arm64 VM (docs/hil.md)
 ctest --test-dir build --output-on-failure -j "$(nproc)"
 host=$?
 [ ${#failed[@]} -eq 0 ] || echo "test.sh: failed: ${failed[*]} (see above)" >&2

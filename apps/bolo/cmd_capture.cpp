@@ -3,6 +3,7 @@
 // the atomic RecordingWriter. Device faults are counted and reported; too many of them in a row
 // give up with nothing written.
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -40,6 +41,7 @@ struct CaptureOptions {
   std::uint64_t frames = 0;  // 0 = until the source ends (file:, flirone-log: only)
   std::uint64_t max_faults = 50;
   std::string gpio;
+  std::vector<std::uint64_t> shutter_at;  // frames before which a shutter event is requested
   bool overwrite = false;
   bool progress = true;
 };
@@ -51,6 +53,7 @@ struct OpenedDevice {
   std::unique_ptr<hal::BulkInTransport> transport;
   std::unique_ptr<hal::VendorUsbTransport> vendor_transport;
   std::unique_ptr<hal::FrameSource> source;
+  hal::SeekSource* seek = nullptr;  // the one backend with its own shutter command
 };
 
 #if !defined(BOLO_HAVE_LIBUSB)
@@ -111,7 +114,9 @@ OpenedDevice open_device(const hal::DeviceSpec& spec, const std::string& text) {
         const hal::SeekModel& model = usb->opened().product_id == hal::kSeekCompactPro.product_id
                                           ? hal::kSeekCompactPro
                                           : hal::kSeekCompact;
-        d.source = std::make_unique<hal::SeekSource>(*usb, model);
+        auto seek = std::make_unique<hal::SeekSource>(*usb, model);
+        d.seek = seek.get();
+        d.source = std::move(seek);
         d.vendor_transport = std::move(usb);
         d.sensor = std::string("Seek Thermal ") + model.name;
         break;
@@ -221,6 +226,9 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
       fail("--gpio ", o.gpio, ": this build has no GPIO backend (libgpiod was not found when it was configured)");
   }
   const hal::DeviceSpec spec = parse_device(o.device);
+  const bool gpio_shutter = gpio_config && gpio_config->shutter_line >= 0;
+  if (!o.shutter_at.empty() && !gpio_shutter && spec.kind != hal::DeviceKind::usb_seek)
+    fail("--shutter-at: ", o.device, " has no shutter control here (use --gpio CHIP:shutter=N, or usb:seek)");
   if (!finite(spec) && o.frames == 0) fail("--frames: required for a live camera (", o.device, ")");
   OpenedDevice device = open_device(spec, o.device);
 
@@ -257,7 +265,16 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
   std::uint64_t faults_in_a_row = 0, captured = 0;
   bool ended = false;
   const auto start = std::chrono::steady_clock::now();
+  std::uint64_t shutters = 0;
+  std::size_t next_shutter = 0;
+  std::vector<std::uint64_t> shutter_at = o.shutter_at;
+  std::sort(shutter_at.begin(), shutter_at.end());
   while (o.frames == 0 || captured < o.frames) {
+    if (next_shutter < shutter_at.size() && shutter_at[next_shutter] <= captured) {
+      ++next_shutter;
+      const bool ok = synced && gpio_shutter ? synced->request_shutter() : device.seek && device.seek->request_shutter();
+      shutters += ok ? 1 : 0;
+    }
     const hal::StreamStatus s = source->stream_frame(grab);
     if (s == hal::StreamStatus::end_of_stream) {
       ended = true;
@@ -290,6 +307,7 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
   if (ended && o.frames != 0 && captured < o.frames)
     out << "the source ended after " << captured << " of " << o.frames << " frames\n";
   out << "device faults: " << stats_text(stats) << "\n";
+  if (!shutter_at.empty()) out << "shutter events requested: " << shutters << " of " << shutter_at.size() << "\n";
   if (clock.not_increasing > 0)
     out << clock.not_increasing << " frames with a time stamp not after the previous one: t_s left empty\n";
   if (synced && synced->latency().count > 0)
@@ -324,6 +342,10 @@ Command add_capture_command(CLI::App& parent) {
       ->check(not_negative());
   app->add_option("--gpio", o->gpio,
                   "GPIO lines beside the camera, CHIP:sync=N,shutter=N,imminent=N (sync-to-frame latency)");
+  app->add_option("--shutter-at", o->shutter_at,
+                  "Request a shutter (FFC) event before frame N (repeatable; through --gpio's shutter line, or\n"
+                  "usb:seek's own command); the frame after it is marked ffc in frames.csv")
+      ->check(not_negative());
   app->add_flag("--overwrite", o->overwrite, "Replace OUT if it exists");
   app->add_flag("--no-progress", [o](std::int64_t) { o->progress = false; },
                 "Never draw the progress bar (it is drawn only when stderr is a terminal)");

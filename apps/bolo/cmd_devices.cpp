@@ -18,11 +18,13 @@
 namespace bolo::cli {
 namespace {
 
+#if defined(BOLO_HAVE_LIBUSB)
 std::string hex4(unsigned v) {
   std::ostringstream o;
   o << std::hex << std::setw(4) << std::setfill('0') << v;
   return o.str();
 }
+#endif
 
 int run_devices(bool json, std::ostream& out) {
   const auto v4l2 = hal::list_v4l2_y16_devices();

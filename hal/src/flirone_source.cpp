@@ -55,11 +55,17 @@ StreamStatus FlirOneSource::stream_frame(fw::LineSink& sink) {
         reassembler_.reset();
         return StreamStatus::fault;
       case TransferStatus::disconnected:
-        ++stats_.disconnects;
-        ++sequence_;  // a gap: nothing before the unplug is a predecessor of what follows
-        reassembler_.reset();
-        have_previous_ = false;  // the core restarts: no predecessor across an unplug
-        if (transport_.reconnect(config_.reconnect_timeout_ms)) ++stats_.reconnects;
+        if (connected_) {  // counted once per unplug, however long the device stays away
+          ++stats_.disconnects;
+          ++sequence_;  // a gap: nothing before the unplug is a predecessor of what follows
+          reassembler_.reset();
+          have_previous_ = false;  // the core restarts: no predecessor across an unplug
+          connected_ = false;
+        }
+        if (transport_.reconnect(config_.reconnect_timeout_ms)) {
+          ++stats_.reconnects;
+          connected_ = true;
+        }
         return StreamStatus::fault;
     }
     before = reassembler_.counters();
@@ -106,7 +112,7 @@ StreamStatus FlirOneSource::deliver(fw::LineSink& sink, std::int64_t arrival_ns)
 
   sink.begin_frame(header);
   for (std::uint32_t row = 0; row < flirone::kHeight; ++row)
-    sink.push_line(row, fw::LineView(&f.pixels[row * flirone::kWidth], flirone::kWidth));
+    sink.push_line(row, fw::LineView(&f.pixels[std::size_t{row} * flirone::kWidth], flirone::kWidth));
   sink.end_frame();
   ++stats_.frames_delivered;
   return StreamStatus::frame;

@@ -28,24 +28,33 @@ SourceFormat SeekSource::format() const {
 
 // The start-up sequence of usb-thermal-cores.md. The factory-settings write/read pairs are not
 // sent: the facts do not give their payloads.
-bool SeekSource::start() {
+TransferStatus SeekSource::start() {
   const std::uint8_t platform[1] = {1}, idle[2] = {0, 0}, processing[2] = {8, 0}, run[2] = {1, 0};
+  TransferStatus last = TransferStatus::error;
   for (int attempt = 0; attempt < 2; ++attempt) {
-    if (!ok(transport_.control_out(seek::kTargetPlatform, platform))) {
+    last = transport_.control_out(seek::kTargetPlatform, platform).status;
+    if (last == TransferStatus::disconnected) break;
+    if (last != TransferStatus::ok) {
       transport_.control_out(seek::kSetOperationMode, idle);  // close, then try once more
       continue;
     }
-    if (ok(transport_.control_out(seek::kSetOperationMode, idle)) &&
-        ok(transport_.control_in(seek::kGetFirmwareInfo, firmware_)) &&
-        ok(transport_.control_in(seek::kReadChipId, chip_id_)) &&
-        ok(transport_.control_out(seek::kSetImageProcessingMode, processing)) &&
-        ok(transport_.control_out(seek::kSetOperationMode, run))) {
+    const TransferStatus steps[] = {
+        transport_.control_out(seek::kSetOperationMode, idle).status,
+        transport_.control_in(seek::kGetFirmwareInfo, firmware_).status,
+        transport_.control_in(seek::kReadChipId, chip_id_).status,
+        transport_.control_out(seek::kSetImageProcessingMode, processing).status,
+        transport_.control_out(seek::kSetOperationMode, run).status};
+    last = TransferStatus::ok;
+    for (TransferStatus s : steps)
+      if (s != TransferStatus::ok && last == TransferStatus::ok) last = s;
+    if (last == TransferStatus::ok) {
       started_ = true;
-      return true;
+      return last;
     }
+    if (last == TransferStatus::disconnected) break;
   }
   ++counters_.start_failures;
-  return false;
+  return last;
 }
 
 bool SeekSource::request_shutter() {
@@ -83,18 +92,29 @@ SeekSource::Read SeekSource::read_frame(std::int64_t& arrival_ns) {
 }
 
 StreamStatus SeekSource::device_gone() {
-  ++stats_.disconnects;
+  if (connected_) {  // counted once per unplug, however long the camera stays away
+    ++stats_.disconnects;
+    ++sequence_;
+    connected_ = false;
+  }
   started_ = false;
-  ++sequence_;
   if (transport_.reconnect(config_.reconnect_timeout_ms)) {
     ++stats_.reconnects;
+    connected_ = true;
     start();
   }
   return StreamStatus::fault;
 }
 
 StreamStatus SeekSource::stream_frame(fw::LineSink& sink) {
-  if (!started_ && !start()) return StreamStatus::fault;
+  if (!started_) {
+    const TransferStatus s = start();
+    if (s == TransferStatus::disconnected) return device_gone();
+    if (s != TransferStatus::ok) {
+      ++stats_.corrupt_transfers;  // the camera refused its start-up: no frame this call
+      return StreamStatus::fault;
+    }
+  }
   for (std::uint32_t n = 0; n < config_.max_frames_without_image; ++n) {
     std::int64_t arrival_ns = 0;
     const Read r = read_frame(arrival_ns);

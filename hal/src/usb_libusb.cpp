@@ -26,8 +26,8 @@ std::string hex4(std::uint16_t v) {
   return s;
 }
 
-constexpr std::uint8_t kVendorOut = 0x40 | 0x01;  // host-to-device, vendor, interface
-constexpr std::uint8_t kVendorIn = 0x80 | 0x40;   // device-to-host, vendor (| recipient)
+constexpr std::uint8_t kVendorToInterface = 0x40 | 0x01;  // host-to-device, vendor, interface
+constexpr std::uint8_t kVendorFromDevice = 0x80 | 0x40;   // device-to-host, vendor (| recipient)
 constexpr std::uint8_t kRecipientInterface = 0x01, kRecipientDevice = 0x00;
 
 TransferStatus status_of(int libusb_error) {
@@ -73,6 +73,7 @@ struct LibusbTransport::Impl {
       case LIBUSB_TRANSFER_TIMED_OUT: s = TransferStatus::timeout; break;
       case LIBUSB_TRANSFER_NO_DEVICE: s = TransferStatus::disconnected; break;
       case LIBUSB_TRANSFER_CANCELLED: return;  // closing: nobody waits for it
+      case LIBUSB_TRANSFER_STALL: slot->owner->stalled = true; break;
       default: s = TransferStatus::error; break;
     }
     if (s == TransferStatus::disconnected) slot->owner->gone = true;
@@ -123,20 +124,14 @@ struct LibusbTransport::Impl {
       }
       claimed.push_back(iface);
     }
-    for (const ControlStep& s : config.start) {
-      rc = libusb_control_transfer(handle, s.request_type, s.request, s.value, s.index, nullptr, 0, 1000);
-      if (rc < 0) {
-        close();
-        why = std::string("start request ") + std::to_string(s.request) + ": " + libusb_error_name(rc);
-        return false;
-      }
-    }
     gone = false;
     endpoint = opened.endpoint;
+    stream_interface = opened.interface_number;
+    send(config.start);
     return true;
   }
 
-  std::vector<int> interfaces_to_claim() {
+  std::vector<int> interfaces_to_claim() const {
     std::vector<int> out;
     if (!config.claim_all_interfaces) return {0};
     libusb_config_descriptor* cfg = nullptr;
@@ -149,7 +144,7 @@ struct LibusbTransport::Impl {
 
   // The first bulk IN endpoint of each interface; the configuration picks the lowest or the
   // highest interface that has one.
-  bool find_endpoint(libusb_device* dev, LibusbOpened& opened) {
+  bool find_endpoint(libusb_device* dev, LibusbOpened& opened) const {
     libusb_config_descriptor* cfg = nullptr;
     if (libusb_get_active_config_descriptor(dev, &cfg) != 0 &&
         libusb_get_config_descriptor(dev, 0, &cfg) != 0)
@@ -190,9 +185,30 @@ struct LibusbTransport::Impl {
     done.clear();
   }
 
+  int stream_interface = -1;
+  std::uint64_t failed_steps = 0;
+  bool stalled = false;  // the endpoint halted: cleared before the next submission
+
+  // A halted endpoint fails every later transfer until the halt is cleared.
+  void clear_stall() {
+    if (!stalled || !handle) return;
+    stalled = false;
+    if (libusb_clear_halt(handle, endpoint) == LIBUSB_ERROR_NO_DEVICE) gone = true;
+  }
+
+  void send(const std::vector<ControlStep>& steps) {
+    for (const ControlStep& s : steps) {
+      const std::uint16_t index =
+          s.index_is_stream_interface ? static_cast<std::uint16_t>(stream_interface) : s.index;
+      if (libusb_control_transfer(handle, s.request_type, s.request, s.value, index, nullptr, 0, 1000) < 0)
+        ++failed_steps;
+    }
+  }
+
   void close() {
     if (!handle) return;
     cancel_all();
+    if (!gone) send(config.stop);
     for (int iface : claimed) libusb_release_interface(handle, iface);
     claimed.clear();
     libusb_close(handle);
@@ -200,10 +216,12 @@ struct LibusbTransport::Impl {
   }
 
   bool submit(Slot& s, std::uint32_t timeout_ms) {
+    clear_stall();
     libusb_fill_bulk_transfer(s.transfer, handle, endpoint, s.buffer.data(), static_cast<int>(s.buffer.size()),
                               on_complete, &s, config.streaming ? 0 : timeout_ms);
     const int rc = libusb_submit_transfer(s.transfer);
     if (rc == LIBUSB_ERROR_NO_DEVICE) gone = true;
+    if (rc == LIBUSB_ERROR_PIPE) stalled = true;
     s.busy = rc == 0;
     return s.busy;
   }
@@ -236,7 +254,7 @@ LibusbTransport::LibusbTransport(const LibusbConfig& config) : impl_(std::make_u
 LibusbTransport::~LibusbTransport() {
   impl_->close();
   for (auto& s : impl_->slots) libusb_free_transfer(s.transfer);
-  libusb_exit(impl_->ctx);
+  if (impl_->ctx) libusb_exit(impl_->ctx);
 }
 
 Transfer LibusbTransport::next(std::span<std::uint8_t> buffer, std::uint32_t timeout_ms) {
@@ -291,6 +309,14 @@ bool LibusbTransport::reconnect(std::uint32_t timeout_ms) {
   m.close();
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   for (;;) {
+    // A fresh context each attempt: without udev (minimal boards, the HIL VM) a context gets no
+    // hot-plug events and never lists the replugged device.
+    if (m.ctx) libusb_exit(m.ctx);
+    m.ctx = nullptr;
+    if (libusb_init(&m.ctx) != 0) {
+      m.ctx = nullptr;
+      return false;
+    }
     LibusbOpened opened;
     std::string why;
     if (m.open(opened, why)) {
@@ -302,14 +328,14 @@ bool LibusbTransport::reconnect(std::uint32_t timeout_ms) {
   }
 }
 
-Transfer LibusbTransport::control_out(std::uint8_t request, std::span<const std::uint8_t> data) {
+Transfer LibusbTransport::control_out(std::uint8_t code, std::span<const std::uint8_t> data) {
   Transfer out;
   if (!impl_->handle) {
     out.status = TransferStatus::disconnected;
     return out;
   }
   const int rc = libusb_control_transfer(
-      impl_->handle, kVendorOut, request, 0, 0,
+      impl_->handle, kVendorToInterface, code, 0, 0,
       const_cast<unsigned char*>(data.data()), static_cast<std::uint16_t>(data.size()), 1000);
   out.status = rc < 0 ? status_of(rc) : TransferStatus::ok;
   out.bytes = rc < 0 ? 0 : static_cast<std::size_t>(rc);
@@ -318,7 +344,7 @@ Transfer LibusbTransport::control_out(std::uint8_t request, std::span<const std:
 }
 
 // Public drivers read with the interface or the device as recipient: try one, then the other.
-Transfer LibusbTransport::control_in(std::uint8_t request, std::span<std::uint8_t> data) {
+Transfer LibusbTransport::control_in(std::uint8_t code, std::span<std::uint8_t> data) {
   Transfer out;
   if (!impl_->handle) {
     out.status = TransferStatus::disconnected;
@@ -326,8 +352,8 @@ Transfer LibusbTransport::control_in(std::uint8_t request, std::span<std::uint8_
   }
   int rc = LIBUSB_ERROR_PIPE;
   for (std::uint8_t recipient : {kRecipientInterface, kRecipientDevice}) {
-    rc = libusb_control_transfer(impl_->handle, static_cast<std::uint8_t>(kVendorIn | recipient),
-                                 request, 0, 0, data.data(), static_cast<std::uint16_t>(data.size()), 1000);
+    rc = libusb_control_transfer(impl_->handle, static_cast<std::uint8_t>(kVendorFromDevice | recipient),
+                                 code, 0, 0, data.data(), static_cast<std::uint16_t>(data.size()), 1000);
     if (rc >= 0 || rc == LIBUSB_ERROR_NO_DEVICE) break;
   }
   out.status = rc < 0 ? status_of(rc) : TransferStatus::ok;
@@ -342,8 +368,10 @@ LibusbConfig flirone_libusb_config() {
   c.product_ids = {0x1996};
   c.endpoint = EndpointChoice::last_bulk_in;
   c.claim_all_interfaces = true;
+  c.start = {{kVendorToInterface, 0x0b, 1, 0, true}};
+  c.stop = {{kVendorToInterface, 0x0b, 0, 0, true}};
   c.streaming = true;
-  c.transfer_bytes = 64 * 1024;
+  c.transfer_bytes = std::size_t{64} * 1024;
   c.in_flight = 4;
   return c;
 }

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -54,6 +55,33 @@ bool lepton_telemetry_size(std::uint32_t w, std::uint32_t h) { return w == 160 &
 
 }  // namespace
 
+std::optional<std::pair<std::uint32_t, std::uint32_t>> choose_y16_size(
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& sizes, const V4l2Config& c) {
+  // The largest size that fits the request; with automatic telemetry that is the Lepton's
+  // 160x122 over its 160x120. Unasked, only sizes up to max_auto_pixels count (thermal cores are
+  // far below it; a test pattern generator's 16k modes would not fit a board's memory); when
+  // none is that small, the smallest.
+  std::optional<std::pair<std::uint32_t, std::uint32_t>> pick;
+  for (auto [w, h] : sizes) {
+    if (w == 0 || h == 0) continue;
+    const bool tel = lepton_telemetry_size(w, h);
+    const std::uint32_t image_h = tel ? h - 2 : h;
+    if (c.telemetry == TelemetryRows::on && !tel) continue;
+    if (c.telemetry == TelemetryRows::off && tel) continue;
+    if (c.width != 0 && (w != c.width || image_h != c.height)) continue;
+    const std::uint64_t area = std::uint64_t{w} * h;
+    if (!pick) {
+      pick = {w, h};
+      continue;
+    }
+    const std::uint64_t best = std::uint64_t{pick->first} * pick->second;
+    const bool fits = c.width != 0 || area <= c.max_auto_pixels;
+    const bool best_fits = c.width != 0 || best <= c.max_auto_pixels;
+    if ((fits && (!best_fits || area > best)) || (!fits && !best_fits && area < best)) pick = {w, h};
+  }
+  return pick;
+}
+
 struct V4l2Source::Device {
   int fd = -1;
   struct Buffer {
@@ -92,20 +120,10 @@ struct V4l2Source::Device {
 
     auto sizes = y16_sizes(fd);
     if (sizes.empty()) return "offers no Y16 format (raw 16-bit); GREY/UYVY/RGB are display formats";
-    // The largest size that fits the request; with automatic telemetry that is the Lepton's
-    // 160x122 over its 160x120.
     const bool enumerated = !(sizes.size() == 1 && sizes[0].first == 0);
-    std::pair<std::uint32_t, std::uint32_t> pick{0, 0};
-    bool found = false;
-    for (auto [w, h] : sizes) {
-      const bool tel = lepton_telemetry_size(w, h);
-      const std::uint32_t image_h = tel ? h - 2 : h;
-      if (c.telemetry == TelemetryRows::on && !tel) continue;
-      if (c.telemetry == TelemetryRows::off && tel) continue;
-      if (c.width != 0 && (w != c.width || image_h != c.height)) continue;
-      if (!found || std::uint64_t{w} * h > std::uint64_t{pick.first} * pick.second) pick = {w, h};
-      found = true;
-    }
+    const auto chosen = choose_y16_size(sizes, c);
+    const bool found = chosen.has_value();
+    const std::pair<std::uint32_t, std::uint32_t> pick = chosen.value_or(std::pair<std::uint32_t, std::uint32_t>{0, 0});
     if (enumerated && !found) return "no Y16 size matches the request (see `bolo devices`)";
 
     v4l2_format fmt{};
@@ -174,11 +192,13 @@ SourceFormat V4l2Source::format() const {
 }
 
 StreamStatus V4l2Source::lost_device() {
-  ++stats_.disconnects;
-  device_->close();
-  sequence_offset_ = last_sequence_ + 2;  // a gap: the driver starts again at 0
-  have_sequence_ = false;
-  have_ffc_stamp_ = false;
+  if (device_->fd >= 0) {  // counted once per unplug, however long the camera stays away
+    ++stats_.disconnects;
+    device_->close();
+    sequence_offset_ = last_sequence_ + 2;  // a gap: the driver starts again at 0
+    have_sequence_ = false;
+    have_ffc_stamp_ = false;
+  }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(config_.reconnect_timeout_ms);
   while (std::chrono::steady_clock::now() < deadline) {
     V4l2Negotiated again;
@@ -216,7 +236,11 @@ StreamStatus V4l2Source::stream_frame(fw::LineSink& sink) {
       ++stats_.timeouts;
       return StreamStatus::fault;
     }
-    return lost_device();
+    if (errno == ENODEV) return lost_device();
+    // EIO: the driver dequeued a buffer it could not fill; give it back and go on.
+    ++stats_.corrupt_transfers;
+    if (errno == EIO && buf.index < device_->buffers.size()) xioctl(device_->fd, VIDIOC_QBUF, &buf);
+    return StreamStatus::fault;
   }
   struct Requeue {
     Device& d;

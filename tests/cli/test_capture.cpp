@@ -73,7 +73,7 @@ TEST_CASE("capture: file: re-records a recording frame for frame", "[cli][captur
   CHECK(fs::exists(tmp / "out" / "capture.json"));
 }
 
-TEST_CASE("capture: --frames stops early; the source ending first is reported", "[cli][capture]") {
+TEST_CASE("capture: --frames stops early, the source ending first is reported", "[cli][capture]") {
   TempDir tmp;
   SmallRecording::write(tmp / "rec");
   CliResult r = run_bolo({"capture", "--device", "file:" + (tmp / "rec").string(), "--out",
@@ -147,6 +147,19 @@ TEST_CASE("capture: refusals name the device, flag or file and leave nothing beh
   CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
                      "gpiochip0:led=3"}),
             "'led=3': expected sync=N, shutter=N or imminent=N"));
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--shutter-at", "3"}),
+            "--shutter-at: file:" + (tmp / "rec").string() + " has no shutter control here (use --gpio CHIP:shutter=N, or usb:seek)"));
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--shutter-at", "-2"}),
+            "--shutter-at: must not be negative, got -2"));
+#if defined(BOLO_HAVE_LIBGPIOD)
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
+                     "bolo-no-such-chip:sync=3"}),
+            "--gpio bolo-no-such-chip:sync=3: gpio bolo-no-such-chip: cannot open the chip"));
+#else
+  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
+                     "gpiochip0:sync=3"}),
+            "this build has no GPIO backend"));
+#endif
   CHECK(entries(tmp.path()) == before);
 }
 

@@ -125,7 +125,7 @@ TEST_CASE("flirone: inconsistent or oversized header lengths are refused", "[hal
   CHECK(r.buffered() == 0);
 }
 
-TEST_CASE("flirone: the JSON status is read field by field; a broken one leaves the frame good", "[hal][flirone]") {
+TEST_CASE("flirone: the JSON status is read field by field, a broken one leaves the frame good", "[hal][flirone]") {
   FlirOneReassembler r;
   SECTION("unreadable") {
     CHECK(r.push_transfer(make_flirone_frame({.json = R"({"shutterState":"ON)"})));

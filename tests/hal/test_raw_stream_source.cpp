@@ -14,7 +14,7 @@
 
 using namespace bolo;
 
-TEST_CASE("raw Y16 frames stream line by line; a cut-off frame is counted", "[hal][raw]") {
+TEST_CASE("raw Y16 frames stream line by line, a cut-off frame is counted", "[hal][raw]") {
   bolo::test::TempDir tmp;
   const auto file = tmp / "in.y16";
   constexpr std::uint32_t W = 5, H = 3;

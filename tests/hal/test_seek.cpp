@@ -40,7 +40,7 @@ TEST_CASE("seek parser: frame types, counter, dead pixels for both models", "[ha
   CHECK(hal::seek_frame_kind(25) == SeekFrameKind::other);
 }
 
-TEST_CASE("seek parser: chunks assemble a frame; a zero-length or overlong read gives it up", "[hal][seek]") {
+TEST_CASE("seek parser: chunks assemble a frame, a zero-length or overlong read gives it up", "[hal][seek]") {
   const hal::SeekModel m = hal::kSeekCompact;
   hal::SeekFrameParser p(m);
   const auto frame = test::make_seek_frame(m, 3, 1);
@@ -137,4 +137,19 @@ TEST_CASE("seek source: a camera that never sends an image gives faults, not a h
   test::FrameCollector sink(208, 156);
   CHECK(source.stream_frame(sink) == hal::StreamStatus::fault);
   CHECK(source.counters().calibration_frames == 16);
+}
+
+TEST_CASE("seek source: a refused start-up is a counted fault, an unplugged camera a disconnect", "[hal][seek]") {
+  test::FakeSeek cam(hal::kSeekCompact);
+  cam.unplugged = true;
+  cam.replug = false;
+  hal::SeekSource source(cam, hal::kSeekCompact);
+  test::FrameCollector sink(208, 156);
+  CHECK(source.stream_frame(sink) == hal::StreamStatus::fault);
+  CHECK(source.stats().disconnects == 1);
+  CHECK(cam.reconnects == 1);
+  cam.unplugged = false;
+  cam.fail_first_write = true;  // fails once: the retry inside start() succeeds
+  CHECK(source.stream_frame(sink) == hal::StreamStatus::frame);
+  CHECK(source.counters().start_failures == 1);
 }

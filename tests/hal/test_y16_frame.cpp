@@ -58,7 +58,7 @@ TEST_CASE("y16: padded rows, telemetry row A decoded from the first telemetry ro
   }
 }
 
-TEST_CASE("y16: short buffers and impossible layouts are refused; no telemetry without its rows", "[hal][v4l2]") {
+TEST_CASE("y16: short buffers and impossible layouts are refused, no telemetry without its rows", "[hal][v4l2]") {
   const auto buf = lepton_buffer(320, 0);
   // The last row needs no padding after it.
   CHECK(Y16Frame::check({buf.data(), 121 * 384 + 320}, Y16Layout{160, 120, 2, 384}) == Y16Check::ok);
@@ -87,4 +87,24 @@ TEST_CASE("v4l2: nodes that are not Y16 capture devices are refused by name", "[
   };
   CHECK(refused("/dev/null") == "/dev/null: not a V4L2 device");
   CHECK(refused("/nonexistent/video9").rfind("/nonexistent/video9: cannot open: ", 0) == 0);
+}
+
+TEST_CASE("v4l2: the Y16 size asked for among what the driver offers", "[hal][v4l2]") {
+  using Sizes = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+  using Size = std::pair<std::uint32_t, std::uint32_t>;
+  const Sizes lepton{{160, 120}, {160, 122}};
+  CHECK(choose_y16_size(lepton, {}) == Size{160, 122});  // telemetry rows when offered
+  CHECK(choose_y16_size(lepton, {.telemetry = TelemetryRows::off}) == Size{160, 120});
+  CHECK(choose_y16_size(lepton, {.width = 160, .height = 120}) == Size{160, 122});
+  CHECK(choose_y16_size(lepton, {.width = 160, .height = 120, .telemetry = TelemetryRows::off}) == Size{160, 120});
+  const Sizes boson{{320, 256}, {640, 512}};
+  CHECK(choose_y16_size(boson, {}) == Size{640, 512});
+  CHECK_FALSE(choose_y16_size(boson, {.telemetry = TelemetryRows::on}).has_value());
+  CHECK_FALSE(choose_y16_size(boson, {.width = 160, .height = 120}).has_value());
+  // A test pattern generator's huge modes: the largest one up to the limit, unless asked for.
+  const Sizes vivid{{16384, 8640}, {3840, 2160}, {640, 480}, {1280, 720}};
+  CHECK(choose_y16_size(vivid, {}) == Size{1280, 720});
+  CHECK(choose_y16_size(vivid, {.width = 3840, .height = 2160}) == Size{3840, 2160});
+  CHECK(choose_y16_size(Sizes{{16384, 8640}, {3840, 2160}}, {}) == Size{3840, 2160});  // none fits: smallest
+  CHECK_FALSE(choose_y16_size(Sizes{}, {}).has_value());
 }

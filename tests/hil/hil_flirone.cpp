@@ -206,6 +206,12 @@ void check_against_capture(const Options& o, const Stream& s) {
   expect(s.kept.size() == frames.size(), "replayed frames: " + vs(s.kept.size(), frames.size()));
   for (std::size_t i = 0; i < std::min(frames.size(), s.kept.size()); ++i)
     expect(s.kept[i] == frames[i], "replayed frame " + std::to_string(i) + " differs from the capture");
+  // The emulator's simulated frames carry CRCs computed as the real camera computes them.
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    flirone::Bytes resealed = frames[i];
+    flirone::seal_packets(resealed);
+    expect(resealed == frames[i], "capture frame " + std::to_string(i) + ": VoSPI CRC model disagrees");
+  }
 }
 
 }  // namespace

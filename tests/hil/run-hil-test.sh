@@ -28,8 +28,10 @@ capture="$shared/usb/flirone-pro"
 if [ -n "${BOLO_HIL_DEVICE:-}" ]; then
   # A real camera on this machine: the host-side program of the scenario's device, no VM.
   scenario_device="$(sed -n 's/^# device: //p' "$scenario")"
-  [ "$BOLO_HIL_DEVICE" = "$scenario_device" ] ||
-    skip "BOLO_HIL_DEVICE=$BOLO_HIL_DEVICE; this scenario needs $scenario_device"
+  case "$BOLO_HIL_DEVICE" in
+    "$scenario_device" | "$scenario_device":*) ;;  # v4l2 matches v4l2:/dev/videoN
+    *) skip "BOLO_HIL_DEVICE=$BOLO_HIL_DEVICE; this scenario needs $scenario_device" ;;
+  esac
   real_command="$(sed -n 's/^# real: //p' "$scenario")"
   for f in "${files[@]}"; do PATH="$(dirname "$f"):$PATH"; done
   export PATH
@@ -46,7 +48,25 @@ if [ "$arch" = aarch64 ] && [ -z "$sysroot" ]; then
   skip "no BOLO_HIL_SYSROOT with the arm64 runtime libraries (toolchain/vm/arm64-sysroot.sh)"
 fi
 
+# Frames per run: 10000 on x86-64; the arm64 VM streams ~4x slower under TCG, so 2000 there
+# unless BOLO_HIL_FRAMES says otherwise.
+if [ -z "${BOLO_HIL_FRAMES:-}" ]; then
+  export BOLO_HIL_FRAMES=10000
+  [ "$arch" = aarch64 ] && export BOLO_HIL_FRAMES=2000
+fi
+# Seek frames are 6x larger (64896 bytes; dummy_hcd under TCG moves 1.5-5 MB/s): 3000 on x86-64.
+if [ -z "${BOLO_HIL_SEEK_FRAMES:-}" ]; then
+  export BOLO_HIL_SEEK_FRAMES=3000
+  [ "$arch" = aarch64 ] && export BOLO_HIL_SEEK_FRAMES=1000
+fi
+# gpio-sim for the VM's kernel, built once and cached; without it GPIO scenarios skip.
+if [ "$arch" = x86_64 ]; then
+  "$repo/toolchain/vm/gpio-sim.sh" >/dev/null || echo "run-hil-test: gpio-sim build failed; GPIO steps will skip" >&2
+fi
 args=(--arch "$arch" --scenario "$scenario" --file "$capture")
+# The recording made from the same capture, for `bolo capture` to reproduce in the VM.
+recording="$shared/real/flirone-lepton-telemetry"
+[ -d "$recording" ] && args+=(--file "$recording")
 [ -n "$sysroot" ] && args+=(--sysroot "$sysroot")
 for f in "${files[@]}"; do args+=(--file "$f"); done
 exec "$repo/toolchain/vm/hil-vm.sh" "${args[@]}"

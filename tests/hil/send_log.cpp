@@ -14,18 +14,20 @@ Expectation read_send_log(const std::string& path) {
   int number = 0;
   while (std::getline(in, line)) {
     ++number;
+    if (!line.empty() && line[0] == '#') continue;  // frames the host consumes without delivering
     if (line == "lost-by-emulator") {
       ++e.lost_by_emulator;
       continue;
     }
     std::istringstream fields(line);
-    std::string tag, fault, hash;
+    std::string tag, fault, hash, image;
     SentFrame f;
     std::size_t size = 0;
-    if (!(fields >> tag >> f.index >> fault >> hash >> f.counter >> size) || tag != "frame")
+    if (!(fields >> tag >> f.index >> fault >> hash >> f.counter >> size >> image) || tag != "frame")
       throw std::runtime_error(path + ":" + std::to_string(number) + ": malformed send-log line");
     f.fault = parse_fault(fault);
     f.hash = std::stoull(hash, nullptr, 16);
+    f.image_hash = std::stoull(image, nullptr, 16);
     ++e.frames_sent;
     ++e.injected[static_cast<std::size_t>(f.fault)];
     if (!fault_loses_frame(f.fault)) e.deliver.push_back(f);

@@ -1,5 +1,5 @@
 #pragma once
-// An emulator's send log ("frame INDEX FAULT HASH COUNTER SIZE" per frame sent) turned into
+// An emulator's send log ("frame INDEX FAULT HASH COUNTER SIZE IMAGE_HASH" per frame) turned into
 // what the host must see: the frames it must deliver, in order, and the faults it must count.
 
 #include <array>
@@ -16,6 +16,7 @@ struct SentFrame {
   Fault fault = Fault::none;
   std::uint64_t hash = 0;
   std::uint32_t counter = 0;
+  std::uint64_t image_hash = 0;  // the 80x60 pixels only
 };
 
 struct Expectation {

@@ -107,12 +107,13 @@ qemu+=(-accel tcg -nographic -no-reboot -nic none)
 out="${log:-$work/serial.log}"
 start=$(date +%s.%N)
 status=0
-timeout --kill-after=10 "$timeout_s" "${qemu[@]}" </dev/null >"$out" 2>&1 || status=$?
+# The serial console streams to our output as the VM runs (and to the log).
+timeout --kill-after=10 "$timeout_s" "${qemu[@]}" </dev/null 2>&1 | sed -u 's/\r//g' | tee "$out"
+status=${PIPESTATUS[0]}
 end=$(date +%s.%N)
-tr -d '\r' <"$out"
 awk -v a="$arch" -v s="$start" -v e="$end" 'BEGIN { printf "hil-vm: %s VM ran %.1f s\n", a, e - s }'
 [ $status -eq 124 ] && { echo "hil-vm: VM timed out after ${timeout_s}s" >&2; exit 1; }
-result="$(tr -d '\r' <"$out" | grep -a '^HIL-RESULT ' | tail -1 || true)"
+result="$(grep -a '^HIL-RESULT ' "$out" | tail -1 || true)"
 case "$result" in
   "HIL-RESULT pass") exit 0 ;;
   "HIL-RESULT skip"*) echo "hil-vm: skipped: ${result#HIL-RESULT skip}"; exit 77 ;;

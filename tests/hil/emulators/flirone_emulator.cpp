@@ -6,12 +6,14 @@
 //
 //   flirone_emulator --capture DIR --log FILE [--replay | --frames N] [--jpeg-bytes N]
 //                    [--fault-rate R --faults all|a,b --seed S] [--quiet-ms MS] [--fps F]
+//                    [--autostart]
 //
 // Interfaces as on the real device: 0 config (bulk in/out), 1 file I/O (bulk in/out), 2 frames
 // (bulk in; 0x85 on the real device, the UDC picks the number here: hosts read it from the
 // descriptors). Streaming starts on vendor request 0x0b (wValue 1) to interface 2, stops with
 // wValue 0; the real device takes the same request as a standard SET_INTERFACE, which the
-// kernel's composite layer refuses for FunctionFS functions without get_alt.
+// kernel's composite layer refuses for FunctionFS functions without get_alt. --autostart streams
+// as soon as the host configures the device (for hosts that send no start request).
 
 #include <unistd.h>
 
@@ -46,6 +48,7 @@ struct Options {
   std::string log = "/tmp/flirone-sent.log";
   std::string capture;  // the real capture: replayed, or the template of simulated frames
   bool replay = false;
+  bool autostart = false;  // stream once configured, without the start request
   std::uint64_t frames = 100;
   std::size_t jpeg_bytes = 1u << 30;
   double fault_rate = 0;
@@ -70,6 +73,7 @@ Options parse(int argc, char** argv) {
     if (a == "--log") o.log = value();
     else if (a == "--capture") o.capture = value();
     else if (a == "--replay") o.replay = true;
+    else if (a == "--autostart") o.autostart = true;
     else if (a == "--frames") o.frames = std::stoull(value());
     else if (a == "--jpeg-bytes") o.jpeg_bytes = std::stoull(value());
     else if (a == "--fault-rate") o.fault_rate = std::stod(value());
@@ -95,12 +99,15 @@ struct Link {
   bool streaming = false;
 };
 
-void serve_ep0(FunctionFs& ffs, Link& link) {
+void serve_ep0(FunctionFs& ffs, Link& link, bool autostart) {
   for (;;) {
     const FfsEvent event = ffs.next_event();
     std::unique_lock lock(link.mutex);
     switch (event.type) {
-      case FfsEventType::enable: link.enabled = true; break;
+      case FfsEventType::enable:
+        link.enabled = true;
+        if (autostart) link.streaming = true;
+        break;
       case FfsEventType::disable:
       case FfsEventType::unbind: link.enabled = false; link.streaming = false; break;
       case FfsEventType::setup: {
@@ -155,18 +162,11 @@ class Emulator {
     return true;
   }
 
-  // The frame in the real device's transfer pattern: header, thermal part, then the rest in
-  // 32 KiB pieces.
+  // The frame in 32 KiB transfers. (The real device sends header and thermal part as transfers
+  // of their own, as the replay does; here a frame without JPEG is one transfer, so a host
+  // must also cope with a frame that does not end at a transfer boundary it expects.)
   bool send_frame(const Bytes& f, std::size_t stop_after) {
-    std::size_t at = 0;
-    const std::size_t pieces[] = {flirone::kHeaderBytes, flirone::kThermalBytes};
-    for (std::size_t piece : pieces) {
-      const std::size_t n = std::min(piece, stop_after - at);
-      if (n == 0) return true;
-      if (!send(f.data() + at, n)) return false;
-      at += n;
-    }
-    while (at < stop_after) {
+    for (std::size_t at = 0; at < stop_after;) {
       const std::size_t n = std::min<std::size_t>(32768, stop_after - at);
       if (!send(f.data() + at, n)) return false;
       at += n;
@@ -176,9 +176,10 @@ class Emulator {
 
   void record(std::uint64_t index, Fault fault, const Bytes& f) {
     char line[160];
-    std::snprintf(line, sizeof line, "frame %llu %s %016llx %u %zu\n",
+    std::snprintf(line, sizeof line, "frame %llu %s %016llx %u %zu %016llx\n",
                   static_cast<unsigned long long>(index), fault_name(fault),
-                  static_cast<unsigned long long>(flirone::fnv1a(f)), flirone::frame_counter(f), f.size());
+                  static_cast<unsigned long long>(flirone::fnv1a(f)), flirone::frame_counter(f), f.size(),
+                  static_cast<unsigned long long>(flirone::image_hash(f)));
     log_ << line;
     log_.flush();
   }
@@ -210,7 +211,7 @@ class Emulator {
       if (fault == Fault::frame_id_jump) counter += 1'000'003;  // a core restart, seen from the host
       Bytes f = frames.frame(i, counter);
       counter += 3;  // the core runs 3x faster than the USB export
-      if (fault == Fault::corrupt) flirone::set_packet_row(f, 30, 31);
+      if (fault == Fault::corrupt) flirone::set_packet_row(f, 30, 31);  // CRC left as it was
       pace();
       record(i, fault, f);
       send_with_fault(f, fault);
@@ -284,7 +285,7 @@ int main(int argc, char** argv) {
     Link link;
     std::thread ep0([&] {
       try {
-        serve_ep0(ffs, link);
+        serve_ep0(ffs, link, o.autostart);
       } catch (const std::exception& e) {
         std::fprintf(stderr, "flirone_emulator: ep0: %s\n", e.what());
       }

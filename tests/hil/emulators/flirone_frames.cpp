@@ -107,6 +107,36 @@ std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) {
   return h;
 }
 
+std::uint64_t image_hash(std::span<const std::uint8_t> frame) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (std::size_t row = 0; row < kImageRows; ++row) {
+    const std::size_t at = kHeaderBytes + row * kPacketBytes + 4;
+    for (std::size_t i = 0; i < kWidth * 2; ++i) h = (h ^ frame[at + i]) * 0x100000001b3ULL;
+  }
+  return h;
+}
+
+void seal_packets(Bytes& frame) {
+  for (std::size_t p = 0; p < kPackets; ++p) {
+    const std::size_t at = kHeaderBytes + p * kPacketBytes;
+    std::uint16_t crc = 0;
+    auto step = [&crc](std::uint8_t byte) {
+      crc = static_cast<std::uint16_t>(crc ^ byte << 8);
+      for (int bit = 0; bit < 8; ++bit)
+        crc = static_cast<std::uint16_t>((crc & 0x8000) != 0 ? (crc << 1) ^ 0x1021 : crc << 1);
+    };
+    for (std::size_t w = 0; w < kPacketBytes / 2; ++w) {
+      std::uint8_t high = frame[at + 2 * w + 1];
+      std::uint8_t low = frame[at + 2 * w];
+      if (w == 0) high &= 0x0F;
+      if (w == 1) high = low = 0;
+      step(high);
+      step(low);
+    }
+    put_le16(frame, at + 2, crc);
+  }
+}
+
 std::vector<Bytes> load_capture(const std::string& folder) {
   std::vector<std::pair<long, std::filesystem::path>> files;
   for (const auto& entry : std::filesystem::directory_iterator(folder)) {
@@ -177,6 +207,7 @@ Bytes SimulatedFrames::frame(std::uint64_t index, std::uint32_t counter) const {
     }
   }
   set_frame_counter(f, counter);
+  seal_packets(f);
   return f;
 }
 

@@ -43,6 +43,14 @@ std::uint16_t packet_row(std::span<const std::uint8_t> frame, std::size_t index)
 void set_packet_row(Bytes& frame, std::size_t index, std::uint16_t row);
 
 std::uint64_t fnv1a(std::span<const std::uint8_t> bytes);
+// FNV-1a of the 60 image rows' pixels only (80 little-endian uint16 each, packet headers
+// skipped): what a FrameSource delivers of the frame.
+std::uint64_t image_hash(std::span<const std::uint8_t> frame);
+
+// Sets every packet's CRC field: CRC-16-CCITT (0x1021, initial 0) over the packet read as
+// big-endian 16-bit words, id's top 4 bits and the CRC field taken as zero. The FLIR ONE stores
+// the words little-endian.
+void seal_packets(Bytes& frame);
 
 // The capture folder's transfers (hex text, 1.txt..N.txt in numeric order, empty ones kept as
 // empty). Throws naming the file and offset of bad hex.

@@ -1,8 +1,10 @@
 #!/bin/sh
 # HIL scenario, run inside the VM: the FLIR ONE emulator on FunctionFS (dummy_hcd), the host
-# side through libusb. 1) the real capture replayed, delivered bit-exactly; 2) simulated frames
-# without faults: nothing lost; 3) the same with 1 % injected faults: every fault counted,
-# every good frame delivered, replug recovered within 2 s.
+# side through libusb: 1) the real capture replayed, delivered bit-exactly; 2) simulated frames
+# with 1 % injected faults of every kind: every fault counted, every good frame delivered
+# bit-exactly, replug recovered within 2 s. Then through the project's FlirOneSource: 3) simulated
+# frames without faults: none lost, every image bit-exact; 4) with the faults it survives.
+# BOLO_HIL_FRAMES (run-hil-test.sh: 10000 on x86-64, 2000 in the slower arm64 VM) sets the length.
 # device: usb:flirone
 # real: hil_flirone --real --frames ${BOLO_HIL_FRAMES:-10000}
 frames="${BOLO_HIL_FRAMES:-10000}"
@@ -21,6 +23,64 @@ run() {  # name, emulator arguments, host arguments
 }
 
 run replay "--replay" "--capture flirone-pro"
-run clean "--frames $frames --jpeg-bytes 0" "--min-frames $frames"
 run faults "--frames $frames --jpeg-bytes 0 --fault-rate 0.01 --faults all --seed 7" "--min-frames $((frames * 9 / 10))"
+if [ ! -x ./hil_flirone_hal ]; then  # without the project's backend: the clean run on our reader
+  run clean "--frames $frames --jpeg-bytes 0" "--min-frames $frames"
+fi
+# `bolo capture --device usb:flirone` from the emulated camera replaying the real capture must
+# write the frames of the shared recording made from that capture, byte for byte.
+if [ -x ./bolo ] && [ -d flirone-lepton-telemetry ]; then
+  echo "HIL-STEP bolo_capture start $(cut -d' ' -f1 /proc/uptime)"
+  ./flirone_emulator --name capture --autostart --replay --capture flirone-pro --log /tmp/capture.log \
+    --ready /tmp/capture.ready --done /tmp/capture.done --finished /tmp/capture.finished &
+  emulator=$!
+  # bolo opens the camera once: wait until the host has enumerated it.
+  for _ in $(seq 100); do grep -qs 09cb /sys/bus/usb/devices/*/idVendor && break; sleep 0.1; done
+  sleep 0.3
+  if ./bolo capture --device usb:flirone --out /tmp/capture-rec --frames 20 --no-progress &&
+     cmp /tmp/capture-rec/frames.npy flirone-lepton-telemetry/frames.npy; then
+    echo "HIL-STEP bolo_capture: 20 frames, frames.npy identical to real/flirone-lepton-telemetry"
+  else
+    echo "HIL-STEP bolo_capture: FAIL"
+    failed=1
+  fi
+  touch /tmp/capture.finished
+  wait $emulator
+  echo "HIL-STEP bolo_capture end $(cut -d' ' -f1 /proc/uptime)"
+else
+  echo "HIL-STEP bolo_capture: skipped (no bolo CLI in this build, or no shared recording)"
+fi
+
+run_hal() {  # name, emulator arguments, host arguments: through the project's FlirOneSource
+  name="$1"
+  echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
+  ./flirone_emulator --name "$name" --autostart --capture flirone-pro --log "/tmp/$name.log" \
+    --ready "/tmp/$name.ready" --done "/tmp/$name.done" --finished "/tmp/$name.finished" $2 &
+  emulator=$!
+  ./hil_flirone_hal --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 || failed=1
+  touch "/tmp/$name.finished"
+  wait $emulator || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+  echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+}
+if [ -x ./hil_flirone_hal ]; then
+  run_hal hal_clean "--frames $frames --jpeg-bytes 0" "--min-frames $frames"
+  run_hal hal_faults "--frames $((frames / 4)) --jpeg-bytes 0 --fault-rate 0.01 --seed 11 \
+    --faults short_transfer,corrupt,timeout,frame_id_jump,duplicate" "--min-frames $((frames / 5))"
+  # Known failures of the backend (2026-11-24): a stall is never cleared, and a replugged device
+  # is not found again without udevd. Expected to fail; when it passes, this step fails so that
+  # the stall/disconnect faults move into hal_faults above.
+  saved=$failed
+  failed=0
+  run_hal hal_stall_replug "--frames 300 --jpeg-bytes 0 --fault-rate 0.02 --seed 5 --faults stall,disconnect" ""
+  if [ $failed -eq 0 ]; then
+    echo "HIL-STEP hal_stall_replug: FAIL it passes now: move stall,disconnect into hal_faults"
+    failed=1
+  else
+    echo "HIL-STEP hal_stall_replug: known failure of the FLIR ONE backend (docs/hil.md)"
+    failed=$saved
+  fi
+else
+  echo "HIL-STEP hal: skipped, the HAL was built without libusb"
+fi
 exit $failed
+

@@ -32,7 +32,7 @@ inline constexpr std::size_t kThermalBytes = kPackets * kPacketBytes;  // 10332
 inline constexpr std::uint32_t kWidth = 80;
 inline constexpr std::uint32_t kHeight = 60;                 // image rows 0-59
 inline constexpr std::uint32_t kTelemetryRows = 3;           // rows 60-62 (A, B, C)
-inline constexpr std::size_t kDefaultMaxFrameBytes = 512 * 1024;  // a frame is ~88 KB
+inline constexpr std::size_t kDefaultMaxFrameBytes = std::size_t{512} * 1024;  // a frame is ~88 KB
 }  // namespace flirone
 
 struct FlirOneFrame {

@@ -24,7 +24,7 @@ struct FlirOneSourceConfig {
   bool skip_duplicates = false;  // the core exports some frames twice; keep them by default
   FlirOneClock clock = FlirOneClock::camera;
   std::size_t max_frame_bytes = flirone::kDefaultMaxFrameBytes;
-  std::size_t transfer_bytes = 64 * 1024;
+  std::size_t transfer_bytes = std::size_t{64} * 1024;
 };
 
 class FlirOneSource final : public FrameSource {
@@ -51,6 +51,7 @@ class FlirOneSource final : public FrameSource {
   std::vector<std::uint8_t> transfer_;
   std::uint64_t sequence_ = 0;  // frames begun, good or lost: a lost frame leaves a gap
   bool have_previous_ = false;
+  bool connected_ = true;
   std::uint32_t previous_counter_ = 0;
   std::uint32_t previous_ffc_ms_ = 0;
   SourceStats stats_;

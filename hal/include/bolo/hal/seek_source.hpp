@@ -64,7 +64,7 @@ class SeekSource final : public FrameSource {
 
  private:
   enum class Read : std::uint8_t { frame, lost, gone };
-  bool start();
+  TransferStatus start();
   Read read_frame(std::int64_t& arrival_ns);
   StreamStatus device_gone();
 
@@ -73,6 +73,7 @@ class SeekSource final : public FrameSource {
   SeekFrameParser parser_;
   std::vector<std::uint8_t> chunk_;
   bool started_ = false;
+  bool connected_ = true;
   bool ffc_pending_ = false;
   std::uint64_t sequence_ = 0;
   std::uint8_t firmware_[4] = {};

@@ -19,9 +19,10 @@ enum class EndpointChoice : std::uint8_t {
   last_bulk_in,   // the bulk IN endpoint of the highest interface that has one (FLIR ONE: 0x85)
 };
 
-struct ControlStep {  // one vendor control transfer sent after opening (a stream start)
+struct ControlStep {  // one control transfer without data (a stream start or stop)
   std::uint8_t request_type, request;
   std::uint16_t value, index;
+  bool index_is_stream_interface = false;  // wIndex = the interface the bulk IN endpoint is on
 };
 
 struct LibusbConfig {
@@ -29,9 +30,12 @@ struct LibusbConfig {
   std::vector<std::uint16_t> product_ids;
   EndpointChoice endpoint = EndpointChoice::first_bulk_in;
   bool claim_all_interfaces = false;  // else interface 0 only
-  std::vector<ControlStep> start;     // sent after claiming, in order
+  // Sent after claiming / before releasing, in order. A failed step is not fatal: devices that
+  // stream on their own (or refuse the request) still work.
+  std::vector<ControlStep> start;
+  std::vector<ControlStep> stop;
   bool streaming = false;             // keep `in_flight` reads queued (else one read per next())
-  std::size_t transfer_bytes = 64 * 1024;
+  std::size_t transfer_bytes = std::size_t{64} * 1024;
   int in_flight = 4;
 };
 
@@ -52,8 +56,8 @@ class LibusbTransport final : public VendorUsbTransport {
 
   Transfer next(std::span<std::uint8_t> buffer, std::uint32_t timeout_ms) override;
   bool reconnect(std::uint32_t timeout_ms) override;
-  Transfer control_out(std::uint8_t request, std::span<const std::uint8_t> data) override;
-  Transfer control_in(std::uint8_t request, std::span<std::uint8_t> data) override;
+  Transfer control_out(std::uint8_t code, std::span<const std::uint8_t> data) override;
+  Transfer control_in(std::uint8_t code, std::span<std::uint8_t> data) override;
 
   const LibusbOpened& opened() const { return opened_; }
 
@@ -72,8 +76,9 @@ struct UsbDeviceEntry {
 // USB devices with a known VID:PID (FLIR ONE Pro, Seek Compact/Pro, PureThermal, Boson control).
 std::vector<UsbDeviceEntry> list_known_usb_devices();
 
-// The configurations of the known cores. FLIR ONE's stream-start control transfers are not in
-// the protocol facts, so the table is empty (docs/hal.md); the device must already stream.
+// The configurations of the known cores. FLIR ONE: streaming is switched on and off with request
+// 0x0b (wValue 1 / 0) to the frame interface, as the project's FLIR ONE emulator
+// (tests/hil/emulators) implements it; the protocol facts only say "vendor control transfers".
 LibusbConfig flirone_libusb_config();
 LibusbConfig seek_libusb_config();
 

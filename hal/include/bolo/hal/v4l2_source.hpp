@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,9 +21,10 @@ enum class TelemetryRows : std::uint8_t { automatic, on, off };
 
 struct V4l2Config {
   std::string path;              // /dev/videoN
-  std::uint32_t width = 0;       // 0 = the largest Y16 size offered
+  std::uint32_t width = 0;       // 0 = the largest Y16 size offered up to max_auto_pixels
   std::uint32_t height = 0;      // image rows (telemetry rows come on top)
   TelemetryRows telemetry = TelemetryRows::automatic;
+  std::uint64_t max_auto_pixels = std::uint64_t{1280} * 1024;  // the automatic choice's limit
   std::uint32_t buffers = 4;
   std::uint32_t timeout_ms = 1000;
   std::uint32_t reconnect_timeout_ms = 2000;
@@ -63,6 +65,11 @@ class V4l2Source final : public FrameSource {
   LeptonTelemetry telemetry_;
   SourceStats stats_;
 };
+
+// The Y16 size V4L2Source asks for among the discrete sizes a driver offers (width, height as
+// offered: a Lepton's 160x122 includes its two telemetry rows); nothing when none fits.
+std::optional<std::pair<std::uint32_t, std::uint32_t>> choose_y16_size(
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& sizes, const V4l2Config& config);
 
 struct V4l2DeviceEntry {
   std::string path, card, driver;

@@ -1,0 +1,161 @@
+// HIL test through the project's own backend: bolo::hal::FlirOneSource over LibusbTransport
+// (what `bolo capture --device usb:flirone` uses) streaming from the FLIR ONE emulator. Every
+// delivered 80x60 image must equal, bit for bit and in order, an image the emulator sent whole;
+// every frame the emulator broke must show up in the source's fault counters.
+//
+//   hil_flirone_hal --send-log FILE --done FILE [--min-frames N]
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <thread>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bolo/hal/flirone_source.hpp"
+#include "bolo/hal/usb_libusb.hpp"
+#include "send_log.hpp"
+
+namespace {
+
+using namespace bolo;
+using Clock = std::chrono::steady_clock;
+
+bool exists(const std::string& path) {
+  struct stat st {};
+  return stat(path.c_str(), &st) == 0;
+}
+
+// Hashes the pushed lines the way the emulator hashed its image rows (little-endian pixels).
+class HashingSink final : public fw::LineSink {
+ public:
+  void begin_frame(const fw::FrameHeader& header) override {
+    hash_ = 0xcbf29ce484222325ULL;
+    rows_ = 0;
+    width_ok_ = header.width == 80 && header.height == 60;
+  }
+  void push_line(std::uint32_t row, fw::LineView line) override {
+    if (row != rows_ || line.size() != 80) width_ok_ = false;
+    for (fw::Pixel p : line) {
+      hash_ = (hash_ ^ (p & 0xFF)) * 0x100000001b3ULL;
+      hash_ = (hash_ ^ (p >> 8)) * 0x100000001b3ULL;
+    }
+    ++rows_;
+  }
+  void end_frame() override {
+    hashes.push_back(width_ok_ && rows_ == 60 ? hash_ : 0);
+  }
+  std::vector<std::uint64_t> hashes;
+
+ private:
+  std::uint64_t hash_ = 0;
+  std::uint32_t rows_ = 0;
+  bool width_ok_ = false;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string send_log, done;
+  std::uint64_t min_frames = 1;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i];
+    if (a == "--send-log") send_log = argv[i + 1];
+    else if (a == "--done") done = argv[i + 1];
+    else if (a == "--min-frames") min_frames = std::stoull(argv[i + 1]);
+    else {
+      std::printf("hil_flirone_hal: FAIL unknown option %s\n", a.c_str());
+      return 2;
+    }
+  }
+  try {
+    std::unique_ptr<hal::LibusbTransport> transport;
+    const auto patience = Clock::now() + std::chrono::seconds(20);
+    for (;;) {
+      try {
+        transport = std::make_unique<hal::LibusbTransport>(hal::flirone_libusb_config());
+        break;
+      } catch (const std::exception& e) {
+        if (Clock::now() > patience) throw;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+    }
+    hal::FlirOneSourceConfig config;
+    config.transfer_timeout_ms = 500;
+    config.reconnect_timeout_ms = 2000;
+    hal::FlirOneSource source(*transport, config);
+    HashingSink sink;
+    const auto start = Clock::now();
+    std::uint64_t faults = 0, ends = 0;
+    std::optional<bolo::hil::Expectation> expected;
+    std::optional<Clock::time_point> done_seen;
+    auto last_progress = Clock::now();
+    std::size_t delivered_before = 0;
+    for (;;) {
+      const hal::StreamStatus status = source.stream_frame(sink);
+      if (status == hal::StreamStatus::fault) ++faults;
+      if (sink.hashes.size() != delivered_before) {
+        delivered_before = sink.hashes.size();
+        last_progress = Clock::now();
+      } else if (Clock::now() - last_progress > std::chrono::seconds(15)) {
+        const hal::SourceStats st = source.stats();
+        std::printf("hil_flirone_hal: FAIL no frame for 15 s after %zu frames (timeouts %llu short %llu "
+                    "corrupt %llu disconnects %llu)\n", sink.hashes.size(),
+                    static_cast<unsigned long long>(st.timeouts), static_cast<unsigned long long>(st.short_transfers),
+                    static_cast<unsigned long long>(st.corrupt_transfers),
+                    static_cast<unsigned long long>(st.disconnects));
+        return 1;
+      }
+      if (status == hal::StreamStatus::end_of_stream && ++ends > 3) break;
+      if (!expected && exists(done)) {
+        expected = bolo::hil::read_send_log(send_log);
+        done_seen = Clock::now();
+      }
+      if (expected && sink.hashes.size() >= expected->deliver.size()) break;
+      if (done_seen && Clock::now() - *done_seen > std::chrono::seconds(5)) break;  // frames missing
+    }
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const hal::SourceStats st = source.stats();
+    int failures = 0;
+    auto expect = [&](bool ok, const std::string& what) {
+      if (!ok) {
+        ++failures;
+        std::printf("hil_flirone_hal: FAIL %s\n", what.c_str());
+      }
+    };
+    if (!expected) throw std::runtime_error("the emulator never finished (no " + done + ")");
+    std::uint64_t injected_losses = 0;
+    for (std::size_t f = 0; f < expected->injected.size(); ++f)
+      if (bolo::hil::fault_loses_frame(static_cast<bolo::hil::Fault>(f))) injected_losses += expected->injected[f];
+    expect(sink.hashes.size() == expected->deliver.size(),
+           "frames delivered: got " + std::to_string(sink.hashes.size()) + ", want " +
+               std::to_string(expected->deliver.size()));
+    for (std::size_t i = 0; i < std::min(sink.hashes.size(), expected->deliver.size()); ++i)
+      if (sink.hashes[i] != expected->deliver[i].image_hash) {
+        expect(false, "delivered image " + std::to_string(i) + " differs from emulator frame " +
+                          std::to_string(expected->deliver[i].index));
+        break;
+      }
+    const std::uint64_t counted = st.timeouts + st.short_transfers + st.corrupt_transfers + st.disconnects;
+    expect(counted >= injected_losses, "faults counted " + std::to_string(counted) + " < injected " +
+                                           std::to_string(injected_losses));
+    expect(sink.hashes.size() >= min_frames, "fewer than " + std::to_string(min_frames) + " frames");
+    std::printf("hil_flirone_hal: %s: FlirOneSource delivered %zu frames in %.1f s (%.0f/s); emulator broke %llu "
+                "frames; source counted timeouts %llu short %llu corrupt %llu disconnects %llu (%llu fault returns)\n",
+                failures == 0 ? "PASS" : "FAIL", sink.hashes.size(), seconds,
+                static_cast<double>(sink.hashes.size()) / seconds,
+                static_cast<unsigned long long>(injected_losses), static_cast<unsigned long long>(st.timeouts),
+                static_cast<unsigned long long>(st.short_transfers),
+                static_cast<unsigned long long>(st.corrupt_transfers),
+                static_cast<unsigned long long>(st.disconnects), static_cast<unsigned long long>(faults));
+    return failures == 0 ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::printf("hil_flirone_hal: FAIL %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,152 @@
+// HIL test through the project's Seek backend: bolo::hal::SeekSource over LibusbTransport
+// streaming from the Seek Compact emulator. Every delivered 208x156 image must equal, bit for
+// bit and in order, an image frame the emulator sent whole; shutter frames must show up as FFC
+// events, the start-up frame's dead pixels in the dead-pixel map, broken frames in the counters.
+//
+//   hil_seek_hal --send-log FILE --done FILE [--min-frames N] [--shutters N] [--dead-pixels N]
+
+#include <sys/stat.h>
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bolo/hal/seek_source.hpp"
+#include "bolo/hal/usb_libusb.hpp"
+#include "send_log.hpp"
+
+namespace {
+
+using namespace bolo;
+using Clock = std::chrono::steady_clock;
+
+bool exists(const std::string& path) {
+  struct stat st {};
+  return stat(path.c_str(), &st) == 0;
+}
+
+// Hashes the pushed lines as little-endian bytes (how the emulator hashed its frame words).
+class HashingSink final : public fw::LineSink {
+ public:
+  void begin_frame(const fw::FrameHeader& header) override {
+    hash_ = 0xcbf29ce484222325ULL;
+    ffc_ = header.ffc;
+  }
+  void push_line(std::uint32_t, fw::LineView line) override {
+    for (fw::Pixel p : line) {
+      hash_ = (hash_ ^ (p & 0xFF)) * 0x100000001b3ULL;
+      hash_ = (hash_ ^ (p >> 8)) * 0x100000001b3ULL;
+    }
+  }
+  void end_frame() override {
+    hashes.push_back(hash_);
+    if (ffc_ == fw::FfcState::completed) ++after_ffc;
+  }
+  std::vector<std::uint64_t> hashes;
+  std::uint64_t after_ffc = 0;
+
+ private:
+  std::uint64_t hash_ = 0;
+  fw::FfcState ffc_ = fw::FfcState::unknown;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string send_log, done;
+  std::uint64_t min_frames = 1, want_shutters = 0, want_dead = 0;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i];
+    if (a == "--send-log") send_log = argv[i + 1];
+    else if (a == "--done") done = argv[i + 1];
+    else if (a == "--min-frames") min_frames = std::stoull(argv[i + 1]);
+    else if (a == "--shutters") want_shutters = std::stoull(argv[i + 1]);
+    else if (a == "--dead-pixels") want_dead = std::stoull(argv[i + 1]);
+    else {
+      std::printf("hil_seek_hal: FAIL unknown option %s\n", a.c_str());
+      return 2;
+    }
+  }
+  try {
+    std::unique_ptr<hal::LibusbTransport> transport;
+    const auto patience = Clock::now() + std::chrono::seconds(20);
+    for (;;) {
+      try {
+        transport = std::make_unique<hal::LibusbTransport>(hal::seek_libusb_config());
+        break;
+      } catch (const std::exception&) {
+        if (Clock::now() > patience) throw;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+    }
+    hal::SeekSourceConfig config;
+    config.transfer_timeout_ms = 500;
+    hal::SeekSource source(*transport, hal::kSeekCompact, config);
+    HashingSink sink;
+    const auto start = Clock::now();
+    std::optional<bolo::hil::Expectation> expected;
+    auto last_progress = Clock::now();
+    std::size_t before = 0;
+    for (;;) {
+      source.stream_frame(sink);
+      if (sink.hashes.size() != before) {
+        before = sink.hashes.size();
+        last_progress = Clock::now();
+      } else if (Clock::now() - last_progress > std::chrono::seconds(15)) {
+        std::printf("hil_seek_hal: FAIL no frame for 15 s after %zu frames\n", sink.hashes.size());
+        break;
+      }
+      if (!expected && exists(done)) expected = bolo::hil::read_send_log(send_log);
+      if (expected && sink.hashes.size() >= expected->deliver.size()) break;
+    }
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (!expected) throw std::runtime_error("the emulator never finished (no " + done + ")");
+    int failures = 0;
+    auto expect = [&](bool ok, const std::string& what) {
+      if (!ok) {
+        ++failures;
+        std::printf("hil_seek_hal: FAIL %s\n", what.c_str());
+      }
+    };
+    std::uint64_t broken = 0;
+    for (std::size_t f = 0; f < expected->injected.size(); ++f)
+      if (bolo::hil::fault_loses_frame(static_cast<bolo::hil::Fault>(f))) broken += expected->injected[f];
+    expect(sink.hashes.size() == expected->deliver.size(), "images delivered: got " + std::to_string(sink.hashes.size()) +
+                                                               ", want " + std::to_string(expected->deliver.size()));
+    for (std::size_t i = 0; i < std::min(sink.hashes.size(), expected->deliver.size()); ++i)
+      if (sink.hashes[i] != expected->deliver[i].image_hash) {
+        expect(false, "delivered image " + std::to_string(i) + " differs from emulator image " +
+                          std::to_string(expected->deliver[i].index));
+        break;
+      }
+    const hal::SourceStats st = source.stats();
+    const std::uint64_t counted = st.timeouts + st.short_transfers + st.corrupt_transfers + st.disconnects;
+    expect(counted >= broken, "faults counted " + std::to_string(counted) + " < frames broken " + std::to_string(broken));
+    expect(sink.hashes.size() >= min_frames, "fewer than " + std::to_string(min_frames) + " images");
+    if (want_shutters > 0)
+      expect(source.counters().shutter_frames == want_shutters,
+             "shutter frames: got " + std::to_string(source.counters().shutter_frames) + ", want " +
+                 std::to_string(want_shutters));
+    if (want_dead > 0)
+      expect(source.dead_pixels() == want_dead, "dead pixels: got " + std::to_string(source.dead_pixels()) +
+                                                    ", want " + std::to_string(want_dead));
+    std::printf("hil_seek_hal: %s: SeekSource delivered %zu images in %.1f s (%.0f/s), %llu after FFC; shutter "
+                "frames %llu, dead pixels %u; emulator broke %llu; counted timeouts %llu short %llu corrupt %llu "
+                "disconnects %llu\n",
+                failures == 0 ? "PASS" : "FAIL", sink.hashes.size(), seconds,
+                static_cast<double>(sink.hashes.size()) / seconds, static_cast<unsigned long long>(sink.after_ffc),
+                static_cast<unsigned long long>(source.counters().shutter_frames), source.dead_pixels(),
+                static_cast<unsigned long long>(broken), static_cast<unsigned long long>(st.timeouts),
+                static_cast<unsigned long long>(st.short_transfers), static_cast<unsigned long long>(st.corrupt_transfers),
+                static_cast<unsigned long long>(st.disconnects));
+    return failures == 0 ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::printf("hil_seek_hal: FAIL %s\n", e.what());
+    return 1;
+  }
+}

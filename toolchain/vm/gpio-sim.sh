@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Builds gpio-sim.ko for the HIL VM's kernel out of tree (Debian's kernel has CONFIG_GPIO_SIM off),
+# cached in $BOLO_HIL_CACHE/<arch>/gpio-sim/gpio-sim.ko, which hil-vm.sh then packs and loads.
+# Sources: gpio-sim.c + gpiolib.h from Debian's linux-source-6.1, built against the matching
+# linux-headers/kbuild packages unpacked into the cache (apt-get download, nothing installed).
+# irq_sim.c (CONFIG_IRQ_SIM, also off) is built into the same module; its one call of the
+# unexported irq_to_desc() becomes generic_handle_irq(), which runs the same handler.
+#
+#   gpio-sim.sh [x86_64]     (arm64 needs the arm64 headers and a cross build: not done yet)
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+arch="${1:-x86_64}"
+[ "$arch" = x86_64 ] || { echo "gpio-sim: only x86_64 is built so far" >&2; exit 2; }
+cache="${BOLO_HIL_CACHE:-$HOME/.cache/bolo-hil}"
+# shellcheck source=kernel-cache.sh
+source "$here/kernel-cache.sh"
+kernel_dir="$(hil_kernel_dir "$arch" "$cache")"
+kver="$(cat "$kernel_dir/version")"  # e.g. 6.1.0-56-amd64
+out="$cache/$arch/gpio-sim"
+if [ -f "$out/gpio-sim.ko" ] && [ "$(cat "$out/kver" 2>/dev/null)" = "$kver" ]; then
+  echo "$out/gpio-sim.ko"
+  exit 0
+fi
+
+flavour="${kver##*-}"        # amd64
+abi="${kver%-"$flavour"}"    # 6.1.0-56
+series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"  # 6.1
+root="$cache/$arch/kbuild-$kver"
+rm -rf "$root" "$out"
+mkdir -p "$root" "$out"
+for p in "linux-headers-$kver" "linux-headers-$abi-common" "linux-kbuild-$series" "linux-source-$series"; do
+  hil_fetch_deb "$p" "$root" "$cache" >&2
+done
+headers="$root/usr/src/linux-headers-$kver"
+# The flavour's Makefile includes the common tree by absolute path.
+sed -i "s|^include /usr/src/|include $root/usr/src/|" "$headers/Makefile"
+
+tarball="$root/usr/src/linux-source-$series.tar.xz"
+tar -xJf "$tarball" -C "$out" --strip-components=3 --wildcards \
+  "linux-source-$series/drivers/gpio/gpio-sim.c" "linux-source-$series/drivers/gpio/gpiolib*.h"
+tar -xJf "$tarball" -C "$out" --strip-components=3 "linux-source-$series/kernel/irq/irq_sim.c"
+rm -f "$tarball"  # 140 MB; the .deb stays in the cache
+mv "$out/gpio-sim.c" "$out/gpio-sim-main.c"
+grep -q 'handle_simple_irq(irq_to_desc(irqnum));' "$out/irq_sim.c" ||
+  { echo "gpio-sim: irq_sim.c changed upstream; check the irq_to_desc replacement" >&2; exit 1; }
+sed -i 's/handle_simple_irq(irq_to_desc(irqnum));/generic_handle_irq(irqnum);/' "$out/irq_sim.c"
+printf 'obj-m := gpio-sim.o\ngpio-sim-y := gpio-sim-main.o irq_sim.o\n' >"$out/Kbuild"
+make -s -C "$headers" M="$out" modules >&2
+echo "$kver" >"$out/kver"
+rm -rf "$root"  # the unpacked headers/kbuild (~300 MB); the .debs stay in the cache
+echo "$out/gpio-sim.ko"

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# The HIL suite in an arm64 VM: cross-builds the emulators and host-side tests for aarch64
+# against the arm64 sysroot (arm64-sysroot.sh), then runs ctest's `hil-arm64` tests, which boot
+# Debian's arm64 kernel under qemu-system-aarch64 -M virt -cpu cortex-a53 (TCG).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+sysroot="$(toolchain/vm/arm64-sysroot.sh)"
+dir=build-hil-arm64
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_TOOLCHAIN_FILE=toolchain/vm/aarch64-hil.cmake \
+  -DBOLO_HIL_SYSROOT="$sysroot" -DBOLO_BUILD_HOST_TOOLS=OFF >/dev/null
+targets=(flirone_emulator hil_flirone seek_emulator)
+for optional in hil_flirone_hal hil_seek_hal; do  # the HAL's USB sources, where libusb was found
+  ninja -C "$dir" -t targets all | grep -q "^$optional:" && targets+=("$optional")
+done
+cmake --build "$dir" -j "$(nproc)" --target "${targets[@]}"
+ctest --test-dir "$dir" -L hil-arm64 --output-on-failure "$@"
