@@ -42,5 +42,7 @@ Command add_info_command(CLI::App& parent);     // cmd_info.cpp
 Command add_correct_command(CLI::App& parent);  // cmd_correct.cpp
 Command add_render_command(CLI::App& parent);   // cmd_render.cpp
 Command add_simulate_command(CLI::App& parent);  // cmd_simulate.cpp
+Command add_odometry_command(CLI::App& parent);  // cmd_odometry.cpp
+Command add_evaluate_command(CLI::App& parent);  // cmd_evaluate.cpp
 
 }  // namespace bolo::cli
