@@ -110,3 +110,23 @@ TEST_CASE("epipolar search recovers true inverse depths from the true pose", "[v
   CHECK(rel[rel.size() / 2] < 0.1);
   CHECK(rel[rel.size() * 8 / 10] < 0.3);
 }
+
+TEST_CASE("window bundle adjustment pulls a perturbed keyframe back to the truth", "[vo][ba]") {
+  Fixture f;
+  const double times[] = {2.0, 2.0 + 3.0 / 60.0, 2.0 + 6.0 / 60.0, 2.0 + 9.0 / 60.0};
+  for (double t : times) f.keyframe(t, true);
+  // Perturb the newest keyframe by 10 cm and 0.3 degrees, and all inverse depths by 5 %.
+  vo::Keyframe& newest = f.s->kf[f.s->order[f.s->kf_count - 1]];
+  vo::Vec6 xi;
+  xi << 0.06, -0.05, 0.06, 0.003, -0.003, 0.002;
+  newest.T_cw = vo::Se3::exp(xi) * newest.T_cw;
+  for (auto& kf : f.s->kf)
+    for (std::uint32_t i = 0; i < kf.count; ++i) kf.points[i].idepth *= (i % 2 ? 1.05f : 0.95f);
+  const double before = (newest.T_cw * f.seq.T_cw(times[3]).inverse()).t.norm();
+  vo::window_bundle_adjustment(*f.s);
+  const vo::Se3 error = newest.T_cw * f.seq.T_cw(times[3]).inverse();
+  INFO("newest keyframe error " << before << " m before, " << error.t.norm() << " m after, rotation "
+                                << angle_deg(error.R) << " deg");
+  CHECK(error.t.norm() < 0.3 * before);
+  CHECK(angle_deg(error.R) < 0.15);
+}

@@ -91,7 +91,17 @@ void search_immature_points(State& s) {
       }
       const float ex = du / length, ey = dv / length;
       float refv[kPattern];
-      for (std::uint32_t j = 0; j < kPattern; ++j) refv[j] = bilinear(ref.value, p.u + kPatternX[j], p.v + kPatternY[j]);
+      // How well the pattern's texture pins a position along the line: gradient energy along
+      // the line (a) against across it (b). An edge parallel to the line can slide along it.
+      float along = 0, across = 0;
+      for (std::uint32_t j = 0; j < kPattern; ++j) {
+        const Sample h = bilinear_with_gradient(ref.value, ref.gx, ref.gy, p.u + kPatternX[j], p.v + kPatternY[j]);
+        refv[j] = h.value;
+        const float ga = h.gx * ex + h.gy * ey, gc = -h.gx * ey + h.gy * ex;
+        along += ga * ga, across += gc * gc;
+      }
+      const float pixel_error = 0.2f + 0.2f * (along + across) / std::max(along, 1e-6f);
+      if (pixel_error > 4.0f) continue;  // this line says nothing about the point's depth
       // Discrete search, one pixel per step.
       float best = 1e30f, second = 1e30f, best_s = -1;
       const auto steps = static_cast<std::uint32_t>(length) + 1;
@@ -132,17 +142,26 @@ void search_immature_points(State& s) {
       }
       p.quality = second / std::max(e_final, 1e-3f);
       if (p.quality < 2.0f && length > 3.0f) continue;  // repetitive texture: ambiguous
-      ++p.good;
       // Interval: the match +- (half a pixel + a share of the search length when ambiguous).
-      const float margin = 0.5f + (p.quality < 2.0f ? 1.0f : 0.0f);
+      const float margin = std::max(0.5f, pixel_error) + (p.quality < 2.0f ? 1.0f : 0.0f);
       const bool use_x = std::fabs(ex) >= std::fabs(ey);
       float ia = idepth_at(pr, k, u0 + ex * (sb - margin), v0 + ey * (sb - margin), use_x);
       float ib = idepth_at(pr, k, u0 + ex * (sb + margin), v0 + ey * (sb + margin), use_x);
       float im = idepth_at(pr, k, u0 + ex * sb, v0 + ey * sb, use_x);
       if (ia > ib) std::swap(ia, ib);
       if (!(im > 0) || !(ib > 0)) continue;
-      p.idepth_min = std::max(ia, 0.0f);
-      p.idepth_max = ib;
+      ia = std::max(ia, 0.0f);
+      // Intersect with what earlier frames allowed; a match outside it contradicts them.
+      if (p.idepth_max >= 0 && p.good > 0 && (ib < p.idepth_min || ia > p.idepth_max)) {
+        p.good = 0;
+        if (++p.bad > 4) p.status = PointStatus::empty;
+        p.idepth_min = ia, p.idepth_max = ib, p.idepth = im;
+        continue;
+      }
+      ++p.good;
+      p.idepth_min = p.idepth_max >= 0 ? std::max(ia, p.idepth_min) : ia;
+      p.idepth_max = p.idepth_max >= 0 ? std::min(ib, p.idepth_max) : ib;
+      if (p.idepth_min > p.idepth_max) std::swap(p.idepth_min, p.idepth_max);
       p.idepth = im;
     }
   }
@@ -154,9 +173,9 @@ void activate_mature_points(State& s) {
     if (!host.used) continue;
     for (std::uint32_t i = 0; i < host.count; ++i) {
       Point& p = host.points[i];
-      if (p.status != PointStatus::immature || p.good == 0 || p.idepth_max < 0) continue;
+      if (p.status != PointStatus::immature || p.good < 2 || p.idepth_max < 0) continue;
       const float width = p.idepth_max - p.idepth_min;
-      if (p.idepth > 1e-3f && width < 0.25f * p.idepth && p.quality >= 2.0f) {
+      if (p.idepth > 1e-3f && width < 0.2f * p.idepth && p.quality >= 2.5f) {
         p.status = PointStatus::active;
         p.energy = 0;
       }

@@ -7,9 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#ifdef BOLO_VO_TRACE
-#include <cstdio>
-#endif
 
 #include <Eigen/Cholesky>
 
@@ -22,6 +19,7 @@ using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 constexpr double kDepthPrior = 100;  // per point, pulls towards the mean inverse depth
 constexpr std::uint32_t kMinInitFrames = 10;
+constexpr std::uint32_t kGiveUp = 1000;  // >= the frame loop's restart limit
 constexpr double kInitFlow = 0.02;  // median translation flow, share of width + height
 
 struct InitSystem {
@@ -172,6 +170,7 @@ void start_initialisation(State& s) {
 bool initialise_step(State& s) {
   Keyframe& host = init_host(s);
   Se3 M = s.motion * (s.T_cw * host.T_cw.inverse());  // constant-velocity guess
+  std::uint32_t finest_inliers = 0;
   for (int level = static_cast<int>(s.frame.levels) - 1; level >= 0; --level) {
     const auto l = static_cast<std::uint32_t>(level);
     double lambda = 0.1;
@@ -218,6 +217,7 @@ bool initialise_step(State& s) {
         if (lambda > 1e3) break;
       }
     }
+    if (level == 0) finest_inliers = sys.inliers;
   }
   // Keep the mean inverse depth at 1: the scale of monocular odometry is free.
   const double mean = mean_idepth(host);
@@ -225,14 +225,16 @@ bool initialise_step(State& s) {
     for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = static_cast<float>(host.points[i].idepth / mean);
     M.t *= mean;
   }
+  // Diverged, or the first keyframe no longer matches anything: restart from the next frame.
+  if (!M.t.allFinite() || !M.R.allFinite() || M.t.norm() > 10.0 || finest_inliers * 5 < host.count) {
+    s.init_frames = kGiveUp;
+    return false;
+  }
   const Se3 previous = s.T_cw;
   s.T_cw = M * host.T_cw;
   s.motion = s.T_cw * previous.inverse();
   ++s.init_frames;
   const double flow = translation_flow(s, M);
-#ifdef BOLO_VO_TRACE
-  std::fprintf(stderr, "init t=%.3f frames=%u flow=%.2f t=(%.3f %.3f %.3f)\n", s.t_s, s.init_frames, flow, M.t.x(), M.t.y(), M.t.z());
-#endif
   const double needed = kInitFlow * (s.cfg.width + s.cfg.height);
   if (s.init_frames < kMinInitFrames || flow < needed) return false;
   // Done: the points that fit become the map.

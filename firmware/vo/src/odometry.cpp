@@ -7,9 +7,6 @@
 #include <cmath>
 #include <cstring>
 #include <new>
-#ifdef BOLO_VO_TRACE
-#include <cstdio>
-#endif
 
 #include "bolo/vo/arena.hpp"
 #include "state.hpp"
@@ -29,6 +26,7 @@ namespace {
 
 constexpr std::uint32_t kLostFramesBeforeRestart = 8;
 constexpr std::uint32_t kMaxInitFrames = 90;
+constexpr double kMaxStepFlow = 0.06;  // median translation flow per frame, share of width + height
 
 std::size_t plane(const VoConfig& c) { return std::size_t{c.width} * c.height; }
 
@@ -93,6 +91,38 @@ void keyframe_flow(const State& s, double& flow_t, double& flow_rt, std::uint32_
   }
   flow_t = points ? std::sqrt(st / points) : 0;
   flow_rt = points ? std::sqrt(srt / points) : 0;
+}
+
+// Median pixel flow that the translation of `step` (between two frames) causes on the latest
+// keyframe's active points. A video-rate camera cannot make it large; a tracker that drifts
+// towards infinite translation (every point collapses onto one pixel) makes it huge.
+double step_translation_flow(State& s, const Se3& step) {
+  const Keyframe& kf = s.kf[s.order[s.kf_count - 1]];
+  const Scaled k = camera_at(s.cfg.camera, 0);
+  const Se3 M = s.T_cw * kf.T_cw.inverse();
+  float* flows = s.ba_hxr.data();
+  std::size_t n = 0;
+  for (const Keyframe& host : s.kf) {
+    if (!host.used) continue;
+    const Se3 H = s.T_cw * host.T_cw.inverse();
+    for (std::uint32_t i = 0; i < host.count && n < s.ba_hxr.size(); ++i) {
+      const Point& p = host.points[i];
+      if (p.status != PointStatus::active) continue;
+      const Vec3 X = H * (Vec3((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0) / p.idepth);
+      if (X.z() <= 1e-6) continue;
+      const Vec3 Y = X + step.t;
+      if (Y.z() <= 1e-6) {
+        flows[n++] = 1e6f;
+        continue;
+      }
+      const double du = k.fx * (Y.x() / Y.z() - X.x() / X.z()), dv = k.fy * (Y.y() / Y.z() - X.y() / X.z());
+      flows[n++] = static_cast<float>(std::sqrt(du * du + dv * dv));
+    }
+  }
+  (void)M;
+  if (n == 0) return 0.0;
+  std::nth_element(flows, flows + n / 2, flows + n);
+  return flows[n / 2];
 }
 
 std::uint32_t active_in_window(const State& s) {
@@ -253,14 +283,13 @@ FrameResult Odometry::process(const FrameInput& in) {
         return out;
       }
       s.a = s.b = 0;
-      if (!s.T_cw.R.allFinite() || !s.T_cw.t.allFinite()) s.T_cw = s.last_good;
+      s.T_cw = s.kf_count > 0 ? s.kf[s.order[0]].T_cw : s.last_good;
+      // A map lost far out (scale drift) cannot anchor a new one with any precision: restart at the origin.
+      if (!s.T_cw.t.allFinite() || s.T_cw.t.norm() > 1e3) s.T_cw = Se3();
       start_initialisation(s);
       return out;
     }
-    if (!initialise_step(s)) {
-      if (!s.T_cw.t.allFinite() || !s.T_cw.R.allFinite()) s.init_frames = kMaxInitFrames;  // restart next frame
-      return out;
-    }
+    if (!initialise_step(s)) return out;
     out.state = TrackingState::tracking;
     out.has_pose = true;
     out.T_wc = s.T_cw.inverse();
@@ -278,6 +307,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   bool have = false;
   for (const Se3& g : guesses) {
     TrackResult r = track_frame(s, g, s.a, s.b, free_offset);
+    if (r.ok && step_translation_flow(s, r.T_cw * s.T_cw.inverse()) > kMaxStepFlow * (c.width + c.height)) r.ok = false;
     if (!have || (r.ok && !best.ok) || (r.ok == best.ok && r.rms < best.rms)) best = r, have = true;
     if (best.ok) break;
   }
@@ -293,6 +323,8 @@ FrameResult Odometry::process(const FrameInput& in) {
       s.lost_frames = 0;
       s.initialised = false;
       out.reinitialised = true;
+      s.T_cw = s.last_good;  // the coasted pose is a guess; anchor the new map at the last fix
+      if (!s.T_cw.t.allFinite() || s.T_cw.t.norm() > 1e3) s.T_cw = Se3();
       start_initialisation(s);
     }
     return out;
@@ -320,7 +352,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (s.frames_since_kf == 1) s.inliers_after_kf = best.inliers;
   ++s.frames_since_kf;
   const bool brightness = std::fabs(s.a - latest.a) > 0.5;
-  const bool thinning = best.inliers * 2 < s.inliers_after_kf;
+  const bool thinning = best.inliers * 4 < s.inliers_after_kf;
   const bool want = flow_t > 0.03 * size || flow_rt > 0.08 * size || thinning || brightness;
   const bool starving = best.inliers < 40;
   if ((want && s.frames_since_kf >= 3) || (starving && s.frames_since_kf >= 2)) {
@@ -335,16 +367,6 @@ FrameResult Odometry::process(const FrameInput& in) {
   out.T_wc = s.T_cw.inverse();
   out.tau = s.tau;
   s.last_rms = best.rms;
-#ifdef BOLO_VO_TRACE
-  {
-    double sum = 0; int n = 0, imm = 0;
-    for (const Keyframe& kf : s.kf) if (kf.used) for (std::uint32_t i = 0; i < kf.count; ++i) {
-      if (kf.points[i].status == PointStatus::active) sum += kf.points[i].idepth, ++n;
-      if (kf.points[i].status == PointStatus::immature) ++imm;
-    }
-    std::fprintf(stderr, "t=%.3f step=%.4f active=%d imm=%d meanrho=%.3f vis=%u inl=%u rms=%.1f kf=%d flow_t=%.1f\n", s.t_s, s.motion.t.norm(), n, imm, n ? sum / n : 0.0, best.visible, best.inliers, best.rms, out.keyframe, flow_t);
-  }
-#endif
   return out;
 }
 

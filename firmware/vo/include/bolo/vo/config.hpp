@@ -28,7 +28,7 @@ struct VoConfig {
   Photometric photometric = Photometric::none;
   float tau_init_s = 0.010f;   // starting tau for ir / ir-loop (both tau_h and tau_c)
   std::uint32_t levels = 0;    // pyramid levels; 0 = until the coarsest is ~20 px high
-  std::uint32_t max_keyframes = 6;
+  std::uint32_t max_keyframes = 8;
   std::uint32_t points_per_keyframe = 0;  // 0 = ~1 per 48 pixels, at most 1200
   float huber_counts = 16.0f;  // residual where the Huber weight starts to drop
   float gradient_c = 40.0f;    // gradient weight c^2 / (c^2 + |grad|^2)
