@@ -22,6 +22,7 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
     fail("--photometric: unknown model '", o.photometric, "' (none, affine, ir, ir-loop)");
   if (!(o.tau_init_s >= 0.001 && o.tau_init_s <= 0.05)) fail("--tau-init: must be within 0.001..0.05 s, got ", o.tau_init_s);
   options.tau_init_s = o.tau_init_s;
+  options.estimate_tau = !o.fixed_tau;
   options.window_ba = !o.no_ba;
   options.overwrite = o.overwrite;
   if (o.frames) options.max_frames = *o.frames;
@@ -66,6 +67,7 @@ Command add_odometry_command(CLI::App& parent) {
   app->add_option("--out", o->output, "Output folder (must not exist unless --overwrite)")->required();
   app->add_option("--photometric", o->photometric, "none, affine, ir or ir-loop (default none)");
   app->add_option("--tau-init", o->tau_init_s, "Starting tau for the ir modes, seconds (default 0.010)");
+  app->add_flag("--fixed-tau", o->fixed_tau, "ir modes: tau is known (--tau-init) and not estimated");
   app->add_option("--frames", o->frames, "Use only the first N frames")->check(not_negative());
   app->add_flag("--no-ba", o->no_ba, "Skip the sliding-window bundle adjustment (tracking and depth search only)");
   app->add_flag("--overwrite", o->overwrite, "Replace DIR if it exists");

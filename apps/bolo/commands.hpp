@@ -85,13 +85,14 @@ struct SimulateOptions {
 };
 int run_simulate(const SimulateOptions& options, std::ostream& out);
 
-// bolo odometry REC --out DIR [--photometric none|affine|ir|ir-loop] [--tau-init S] [--frames N]
+// bolo odometry REC --out DIR [--photometric none|affine|ir|ir-loop] [--tau-init S] [--fixed-tau] [--frames N]
 //               [--no-ba] [--overwrite]
 struct OdometryOptions {
   std::filesystem::path input;
   std::filesystem::path output;
   std::string photometric = "none";
   double tau_init_s = 0.010;
+  bool fixed_tau = false;
   std::optional<std::uint64_t> frames;
   bool no_ba = false;
   bool overwrite = false;

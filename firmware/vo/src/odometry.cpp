@@ -264,8 +264,12 @@ FrameResult Odometry::process(const FrameInput& in) {
   float* level0 = s.frame.level[0].value.data;
   if (c.photometric == Photometric::ir && s.chain_ok) {
     s.carry = carry_coefficients(s.tau, in.readout_prev_s, in.exposure_s);
+    // The scene estimate u = (raw_i - alpha raw_{i-1}) / beta (paper Eq. 6), in counts like the
+    // raw frames: a static pixel keeps its value whatever tau is, so a refined tau does not shift
+    // every pixel's level against the keyframes.
     const auto alpha = static_cast<float>(s.carry.alpha);
-    for (std::size_t i = 0; i < plane(c); ++i) level0[i] = s.raw[i] - alpha * s.raw_prev[i];
+    const auto gain = static_cast<float>(1.0 / s.carry.beta);
+    for (std::size_t i = 0; i < plane(c); ++i) level0[i] = (s.raw[i] - alpha * s.raw_prev[i]) * gain;
   } else if (c.photometric == Photometric::ir_loop && in.corrected.size() == plane(c)) {
     for (std::size_t i = 0; i < plane(c); ++i) level0[i] = static_cast<float>(in.corrected[i]);
   } else {
@@ -338,9 +342,8 @@ FrameResult Odometry::process(const FrameInput& in) {
   out.state = TrackingState::tracking;
   out.has_pose = true;
 
-  if (ir) refine_tau(s);
+  if (ir && c.estimate_tau) refine_tau(s);
   search_immature_points(s);
-  activate_mature_points(s);
 
   // Keyframe: enough parallax, a large rotation, or the tracked points thinning out; never two
   // in a row unless tracking is about to starve.
@@ -357,6 +360,9 @@ FrameResult Odometry::process(const FrameInput& in) {
   const bool starving = best.inliers < 40;
   if ((want && s.frames_since_kf >= 3) || (starving && s.frames_since_kf >= 2)) {
     if (!ir || s.chain_ok) {
+      // As in DSO, immature points join the map only with a new keyframe, right before the
+      // bundle adjustment refines them with everything else.
+      activate_mature_points(s);
       const std::uint32_t slot = new_keyframe_slot(s);
       make_keyframe(s, slot, true);
       if (c.window_ba && s.kf_count >= 2) window_bundle_adjustment(s);

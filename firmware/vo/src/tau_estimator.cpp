@@ -1,15 +1,15 @@
 // Online estimation of the bolometer time constants (ir, ir-loop). tau_h and tau_c are global
 // parameters: every tracked frame whose carry-over chain is intact adds the information of the
 // residual
-//   r = raw_i(p') - alpha_i raw_{i-1}(p') - (beta_i / beta_h) (raw_h(p) - alpha_h raw_{h-1}(p))
-// (Eq. 7 of Zhang et al. with the host keyframe's corrected intensity as the reference) over the
-// patterns of the inlier points, at the tracked pose; the estimate takes a Gauss-Newton step with
+//   r = u_i(p') - u_h(p),  u = (raw - alpha raw_prev) / beta
+// (Eq. 7 of Zhang et al., divided by beta_i, with the host keyframe's corrected intensity as the
+// reference) over the patterns of the inlier points, at the tracked pose; the estimate takes a
+// Gauss-Newton step with
 // the information accumulated so far (recursive least squares, slow forgetting). With constant
-// exposure tau_h only enters through beta_i / beta_h = 1, so a weak prior ties it to tau_c.
+// exposure tau_h only scales u, which cancels between frames: tau_h and tau_c cannot be told
+// apart, and one tau (tau_h = tau_c) is estimated.
 
 #include <cmath>
-
-#include <Eigen/Cholesky>
 
 #include "state.hpp"
 
@@ -39,8 +39,6 @@ void refine_tau(State& s) {
     const Keyframe& host = s.kf[slot];
     if (!host.used || !host.chain_ok) continue;
     const CarryCoefficients ch = carry_coefficients(s.tau, host.readout_prev_s, host.exposure_s);
-    const double ratio = ci.beta / ch.beta;
-    const double dratio_dh = (ci.dbeta_dtau_h * ch.beta - ci.beta * ch.dbeta_dtau_h) / (ch.beta * ch.beta);
     const Se3 M = s.T_cw * host.T_cw.inverse();
     const Eigen::Matrix3f R = M.R.cast<float>();
     const Eigen::Vector3f t = M.t.cast<float>();
@@ -55,10 +53,13 @@ void refine_tau(State& s) {
       for (std::uint32_t j = 0; j < kPattern; ++j) {
         const double yi = bilinear(raw, u + kPatternX[j], v + kPatternY[j]);
         const double yp = bilinear(prev, u + kPatternX[j], v + kPatternY[j]);
-        const double reference = p.raw[j] - ch.alpha * p.raw_prev[j];
-        const double r = yi - ci.alpha * yp - ratio * reference;
-        const double Jc = -ci.dalpha_dtau_c * yp + ratio * ch.dalpha_dtau_c * p.raw_prev[j];
-        const double Jh = -dratio_dh * reference;
+        // In scene units (u = (raw - alpha raw_prev) / beta): in raw units the residual shrinks
+        // with beta, and the fit would drift to large tau just to shrink it.
+        const double ui = (yi - ci.alpha * yp) / ci.beta;
+        const double uh = (p.raw[j] - ch.alpha * p.raw_prev[j]) / ch.beta;
+        const double r = ui - uh;
+        const double Jc = -ci.dalpha_dtau_c * yp / ci.beta + ch.dalpha_dtau_c * p.raw_prev[j] / ch.beta;
+        const double Jh = -ui * ci.dbeta_dtau_h / ci.beta + uh * ch.dbeta_dtau_h / ch.beta;
         const double w = huber_weight(static_cast<float>(r), hub);
         const Eigen::Vector2d J(Jh, Jc);
         H += w * J * J.transpose();
@@ -67,26 +68,16 @@ void refine_tau(State& s) {
     }
   }
   if (used < 20) return;
+  // One tau for both: with tau_h = tau_c the information is J = J_h + J_c (see above).
+  const double info = H(0, 0) + H(1, 1) + 2 * H(0, 1), grad = g(0) + g(1);
   // Slow forgetting: the estimate follows a drifting tau, older frames' linearisations fade.
-  s.tau_info = 0.98 * s.tau_info + H;
-  Eigen::Matrix2d A = s.tau_info;
-  // Weak tie tau_h = tau_c (the data rarely sees tau_h) and a weak anchor at the current value.
-  const double tie = 1e-3 * (A(1, 1) + 1.0);
-  A(0, 0) += tie, A(1, 1) += tie, A(0, 1) -= tie, A(1, 0) -= tie;
-  Eigen::Vector2d rhs = g;
-  rhs(0) += tie * (s.tau.h - s.tau.c);
-  rhs(1) -= tie * (s.tau.h - s.tau.c);
-  A(0, 0) += 1e-6 * (A(0, 0) + 1.0), A(1, 1) += 1e-6 * (A(1, 1) + 1.0);
-  const Eigen::Vector2d step = -A.ldlt().solve(rhs);
-  // Bounded steps (20 % a frame) and a physical range keep a bad frame from throwing tau away.
-  const auto bounded = [](double value, double delta) {
-    const double limit = 0.2 * value;
-    delta = std::max(-limit, std::min(limit, delta));
-    return std::max(0.001, std::min(0.1, value + delta));
-  };
-  if (!std::isfinite(step(0)) || !std::isfinite(step(1))) return;
-  s.tau.h = bounded(s.tau.h, step(0));
-  s.tau.c = bounded(s.tau.c, step(1));
+  s.tau_info(0, 0) = 0.98 * s.tau_info(0, 0) + info;
+  const double step = -grad / (s.tau_info(0, 0) + 1e-9);
+  if (!std::isfinite(step)) return;
+  // Bounded steps (10 % a frame) and a physical range keep a bad frame from throwing tau away.
+  const double limit = 0.1 * s.tau.c;
+  const double value = std::max(0.001, std::min(0.1, s.tau.c + std::max(-limit, std::min(limit, step))));
+  s.tau.c = s.tau.h = value;
 }
 
 }  // namespace bolo::vo

@@ -11,7 +11,7 @@
 namespace bolo::vo {
 namespace {
 
-constexpr double kMotionPrior = 0.02;  // share of the mean translational information
+constexpr double kMotionPrior = 0.02;  // share of each translation axis' own information
 
 using Mat8 = Eigen::Matrix<double, 8, 8>;
 using Vec8 = Eigen::Matrix<double, 8, 1>;
@@ -108,7 +108,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
   TrackResult out;
   Se3 T = guess;
   const bool affine = s.cfg.photometric == Photometric::affine;
-  const std::uint32_t iterations[kMaxLevels] = {20, 20, 20, 20, 20, 20};
+  const std::uint32_t iterations[kMaxLevels] = {8, 8, 10, 10, 10, 10};
   const float hub = s.cfg.huber_counts;
   for (int level = static_cast<int>(s.frame.levels) - 1; level >= 0; --level) {
     const auto l = static_cast<std::uint32_t>(level);
@@ -122,14 +122,17 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
     double lambda = 1e-3;
     // A weak prior towards the motion model's prediction: at video rates the camera cannot
     // jump, and it keeps directions the points do not constrain (far scenes) from wandering.
-    const double prior = kMotionPrior * (acc.H(0, 0) + acc.H(1, 1) + acc.H(2, 2)) / 3.0;
-    const auto prior_energy = [&](const Se3& T_try) { return prior * (T_try * guess.inverse()).t.squaredNorm(); };
+    const Vec3 prior = kMotionPrior * Vec3(acc.H(0, 0), acc.H(1, 1), acc.H(2, 2));
+    const auto prior_energy = [&](const Se3& T_try) {
+      const Vec3 off = (T_try * guess.inverse()).t;
+      return prior.dot(off.cwiseProduct(off));
+    };
     acc.energy += prior_energy(T);
     for (std::uint32_t it = 0; it < iterations[l] && acc.inliers >= 6; ++it) {
       Mat8 H = acc.H;
       Vec8 g = acc.g;
       const Vec3 off = (T * guess.inverse()).t;
-      for (int q = 0; q < 3; ++q) H(q, q) += prior, g[q] += prior * off[q];
+      for (int q = 0; q < 3; ++q) H(q, q) += prior[q], g[q] += prior[q] * off[q];
       for (int q = 0; q < 8; ++q) H(q, q) *= 1 + lambda;
       // Parameters the mode does not estimate are held by a stiff prior.
       if (!affine) H(6, 6) += 1e12;

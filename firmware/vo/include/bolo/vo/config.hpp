@@ -27,6 +27,7 @@ struct VoConfig {
   Camera camera;
   Photometric photometric = Photometric::none;
   float tau_init_s = 0.010f;   // starting tau for ir / ir-loop (both tau_h and tau_c)
+  bool estimate_tau = true;    // false: tau_init_s is known and kept
   std::uint32_t levels = 0;    // pyramid levels; 0 = until the coarsest is ~20 px high
   std::uint32_t max_keyframes = 8;
   std::uint32_t points_per_keyframe = 0;  // 0 = ~1 per 48 pixels, at most 1200

@@ -19,6 +19,7 @@ struct OdometryOptions {
   std::filesystem::path output;
   vo::Photometric photometric = vo::Photometric::none;
   double tau_init_s = 0.010;
+  bool estimate_tau = true;  // false: tau_init_s is the known tau
   bool window_ba = true;
   bool overwrite = false;
   std::optional<std::uint64_t> max_frames;
