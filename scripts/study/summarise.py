@@ -13,7 +13,13 @@ MODES = ["none", "affine", "ir", "ir-loop"]
 runs = defaultdict(list)  # (traj, fps, tau, mode) -> [evaluation]
 for line in index.read_text().splitlines():
     traj, fps, tau, seed, mode, path = line.split()
-    e = json.loads(Path(path).read_text())
+    if path == "FAILED":  # not even 3 poses: a failure with no metrics
+        e = {k: None for k in ["ate_rmse_m", "ate_relative", "rpe_trans_rmse_m", "rpe_rot_rmse_deg", "tracked_points_total",
+                               "keyframes", "road_points", "road_plane_rmse_m", "line_rmse_m", "tau_c_error_2s",
+                               "tau_c_error_final", "vo_ms_per_frame"]}
+        e.update({"coverage": 0.0, "reinitialisations": 1})
+    else:
+        e = json.loads(Path(path).read_text())
     e["seed"] = seed
     runs[(traj, int(fps), float(tau), mode)].append(e)
 
@@ -36,7 +42,7 @@ for (traj, fps, tau, mode), es in sorted(runs.items(), key=lambda kv: (kv[0][0],
     rows.append({
         "traj": traj, "fps": fps, "tau_ms": tau * 1e3, "mode": mode, "n": len(es),
         "ate": med([e["ate_rmse_m"] for e in es]),
-        "ate_rel": med([100 * e["ate_relative"] for e in es]),
+        "ate_rel": med([None if e["ate_relative"] is None else 100 * e["ate_relative"] for e in es]),
         "rpe": med([e["rpe_trans_rmse_m"] for e in es]),
         "rpe_rot": med([e["rpe_rot_rmse_deg"] for e in es]),
         "coverage": med([100 * e["coverage"] for e in es]),

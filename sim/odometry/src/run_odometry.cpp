@@ -168,7 +168,9 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     vo_seconds += ms / 1e3;
     for (const vo::WorldPoint& p : odometry.retired_points()) points.push_back(p);
-    if (r.has_pose) trajectory.push_back({*row.t_s, r.T_wc}), ++summary.posed;
+    // A pose the VO reports but that has run away (scale blow-up) is not written as one.
+    const bool sane = r.has_pose && r.T_wc.t.allFinite() && r.T_wc.R.allFinite() && r.T_wc.t.norm() < 1e6;
+    if (sane) trajectory.push_back({*row.t_s, r.T_wc}), ++summary.posed;
     summary.lost += r.state == vo::TrackingState::lost;
     summary.keyframes += r.keyframe;
     summary.reinitialisations += r.reinitialised;
