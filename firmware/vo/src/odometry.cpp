@@ -213,7 +213,7 @@ std::size_t Odometry::arena_bytes(const VoConfig& config) {
   bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
   bytes += ppk * sizeof(WorldPoint) + 16;
   bytes += std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8) * sizeof(float) + std::size_t{c.max_keyframes} * ppk * sizeof(std::uint32_t) + 32;
-  return bytes + 256;
+  return bytes + 256 + 64;  // + the buffer's own misalignment (Arena aligns addresses)
 }
 
 Odometry::Odometry(const VoConfig& config, std::span<std::byte> arena) {

@@ -135,7 +135,9 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
 
 void window_bundle_adjustment(State& s) {
   const Window win = window_of(s);
-  const std::uint32_t n = 8 * win.count;
+  // Eigen::Index is int on 32-bit boards: signed loop indices throughout.
+  const int n = static_cast<int>(8 * win.count);
+  const int total = static_cast<int>(kMaxBaParams);
   const bool affine = s.cfg.photometric == Photometric::affine;
   double lambda = 1e-3;
   Totals cur = accumulate(s, win, true, false);
@@ -152,18 +154,18 @@ void window_bundle_adjustment(State& s) {
       const float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
       const double hrr = row[0] * (1 + lambda) + 1e-6;
       if (row[0] <= 0) continue;
-      for (std::uint32_t q = 0; q < n; ++q) {
+      for (int q = 0; q < n; ++q) {
         const double cq = row[3 + q] / hrr;
         if (cq == 0) continue;
         b[q] -= cq * row[1];
-        for (std::uint32_t r = 0; r < n; ++r) Hs(q, r) -= cq * row[3 + r];
+        for (int r = 0; r < n; ++r) Hs(q, r) -= cq * row[3 + r];
       }
     }
-    for (std::uint32_t q = 0; q < n; ++q) Hs(q, q) += lambda * H(q, q) + 1e-6;
-    for (std::uint32_t q = 0; q < 8; ++q) Hs(q, q) += 1e12;  // gauge: the oldest keyframe
+    for (int q = 0; q < n; ++q) Hs(q, q) += lambda * H(q, q) + 1e-6;
+    for (int q = 0; q < 8; ++q) Hs(q, q) += 1e12;  // gauge: the oldest keyframe
     if (!affine)
-      for (std::uint32_t k = 0; k < win.count; ++k) Hs(8 * k + 6, 8 * k + 6) += 1e12, Hs(8 * k + 7, 8 * k + 7) += 1e12;
-    for (std::uint32_t q = n; q < kMaxBaParams; ++q) {
+      for (int k = 0; k < n / 8; ++k) Hs(8 * k + 6, 8 * k + 6) += 1e12, Hs(8 * k + 7, 8 * k + 7) += 1e12;
+    for (int q = n; q < total; ++q) {
       Hs.row(q).setZero(), Hs.col(q).setZero();
       Hs(q, q) = 1, b[q] = 0;
     }
@@ -186,7 +188,7 @@ void window_bundle_adjustment(State& s) {
       row[2] = p.idepth;
       if (row[0] <= 0) continue;
       double coupling = 0;
-      for (std::uint32_t q = 0; q < n; ++q) coupling += row[3 + q] * dx[q];
+      for (int q = 0; q < n; ++q) coupling += row[3 + q] * dx[q];
       const double d = -(row[1] + coupling) / (row[0] * (1 + lambda) + 1e-6);
       p.idepth = static_cast<float>(std::max(1e-3, std::min(100.0, p.idepth + d)));
     }

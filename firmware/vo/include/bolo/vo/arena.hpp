@@ -17,7 +17,10 @@ class Arena {
   template <typename T>
   std::span<T> take(std::size_t count) {
     const std::size_t align = alignof(T) < 16 ? 16 : alignof(T);
-    const std::size_t start = (used_ + align - 1) / align * align;
+    // Align the address, not the offset: the caller's buffer may only be 8-byte aligned (new[]
+    // on 32-bit ARM), and Eigen's NEON/SSE types fault or misbehave when misaligned.
+    const auto base = reinterpret_cast<std::uintptr_t>(memory_.data());
+    const std::size_t start = static_cast<std::size_t>((base + used_ + align - 1) / align * align - base);
     const std::size_t bytes = count * sizeof(T);
     if (start + bytes > memory_.size()) {
       failed_ = true;
