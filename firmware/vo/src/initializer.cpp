@@ -156,7 +156,11 @@ double translation_flow(State& s, const Se3& M) {
 }  // namespace
 
 void start_initialisation(State& s) {
-  for (auto& kf : s.kf) kf.used = false, kf.count = 0;
+  // A restart retires the whole map: its points are still output.
+  for (auto& kf : s.kf) {
+    if (kf.used) retire_points(s, kf);
+    kf.used = false, kf.count = 0;
+  }
   s.kf_count = 0;
   const std::uint32_t slot = new_keyframe_slot(s);
   make_keyframe(s, slot, true);

@@ -53,7 +53,7 @@ State* lay_out(const VoConfig& config, Arena& arena) {
     if (!storage.empty()) s.kf[k].pyramid = make_pyramid(storage, c.width, c.height, c.levels);
     s.kf[k].points = arena.take<Point>(ppk);
   }
-  s.retired = arena.take<WorldPoint>(ppk);
+  s.retired = arena.take<WorldPoint>(std::size_t{c.max_keyframes} * ppk);  // a restart retires all
   s.ba_hxr = arena.take<float>(std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8));
   s.ba_index = arena.take<std::uint32_t>(std::size_t{c.max_keyframes} * ppk);
   s.tau.h = s.tau.c = c.tau_init_s;
@@ -135,19 +135,21 @@ std::uint32_t active_in_window(const State& s) {
 
 }  // namespace
 
+void retire_points(State& s, const Keyframe& old) {
+  for (std::uint32_t i = 0; i < old.count && s.retired_count < s.retired.size(); ++i) {
+    const Point& p = old.points[i];
+    if (p.status != PointStatus::active || p.idepth <= 0) continue;
+    const Vec3 X = world_point(old, p, s.cfg.camera);
+    s.retired[s.retired_count++] = {static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()),
+                                    old.pyramid.level[0].value.at(static_cast<std::uint32_t>(p.u), static_cast<std::uint32_t>(p.v))};
+  }
+}
+
 std::uint32_t new_keyframe_slot(State& s) {
-  s.retired_count = 0;
   if (s.kf_count == s.cfg.max_keyframes) {
     // Retire the oldest keyframe; its active points leave the window as map output.
     Keyframe& old = s.kf[s.order[0]];
-    for (std::uint32_t i = 0; i < old.count && s.retired_count < s.retired.size(); ++i) {
-      const Point& p = old.points[i];
-      if (p.status != PointStatus::active || p.idepth <= 0) continue;
-      const Vec3 X = world_point(old, p, s.cfg.camera);
-      s.retired[s.retired_count++] = {static_cast<float>(X.x()), static_cast<float>(X.y()),
-                                      static_cast<float>(X.z()),
-                                      old.pyramid.level[0].value.at(static_cast<std::uint32_t>(p.u), static_cast<std::uint32_t>(p.v))};
-    }
+    retire_points(s, old);
     old.used = false;
     for (std::uint32_t k = 1; k < s.kf_count; ++k) s.order[k - 1] = s.order[k];
     --s.kf_count;
@@ -211,7 +213,7 @@ std::size_t Odometry::arena_bytes(const VoConfig& config) {
   bytes += 3 * (plane(c) * sizeof(float) + 16) + plane(c) + 16;
   bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + 64 * 2 + 16;
   bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
-  bytes += ppk * sizeof(WorldPoint) + 16;
+  bytes += std::size_t{c.max_keyframes} * ppk * sizeof(WorldPoint) + 16;
   bytes += std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8) * sizeof(float) + std::size_t{c.max_keyframes} * ppk * sizeof(std::uint32_t) + 32;
   return bytes + 256 + 64;  // + the buffer's own misalignment (Arena aligns addresses)
 }

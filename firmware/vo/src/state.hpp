@@ -125,6 +125,8 @@ void refine_tau(State& s);
 // Fills the pattern's raw values of a new point from the current frame.
 void store_raw_pattern(const State& s, Point& p);
 std::uint32_t new_keyframe_slot(State& s);
+// Appends a keyframe's active points (world coordinates) to the retired-points output.
+void retire_points(State& s, const Keyframe& kf);
 void make_keyframe(State& s, std::uint32_t slot, bool select_points_now);
 
 }  // namespace bolo::vo
