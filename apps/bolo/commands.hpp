@@ -96,6 +96,30 @@ struct DiagnoseOptions {
 };
 int run_diagnose(const DiagnoseOptions& options, std::ostream& out);
 
+// bolo odometry REC --out DIR [--photometric none|affine|ir|ir-loop] [--tau-init S] [--fixed-tau] [--frames N]
+//               [--no-ba] [--overwrite]
+struct OdometryOptions {
+  std::filesystem::path input;
+  std::filesystem::path output;
+  std::string photometric = "none";
+  double tau_init_s = 0.010;
+  bool fixed_tau = false;
+  std::optional<std::uint64_t> frames;
+  bool no_ba = false;
+  bool overwrite = false;
+  bool progress = true;
+};
+int run_odometry(const OdometryOptions& options, std::ostream& out);
+
+// bolo evaluate RUN [--truth FILE] [--json FILE] [--rpe-delta S]
+struct EvaluateOptions {
+  std::filesystem::path run;
+  std::optional<std::filesystem::path> truth;
+  std::optional<std::filesystem::path> json;
+  double rpe_delta_s = 1.0;
+};
+int run_evaluate(const EvaluateOptions& options, std::ostream& out);
+
 // The whole command line: parses argv (CLI11), runs the chosen command, and reports errors.
 // Help and --version go to `out`; errors go to `err` as one `bolo: error: ...` line. Returns the
 // process exit code: 0 on success, 2 on bad input or a usage error.

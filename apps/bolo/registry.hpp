@@ -45,5 +45,7 @@ Command add_simulate_command(CLI::App& parent);  // cmd_simulate.cpp
 Command add_capture_command(CLI::App& parent);   // cmd_capture.cpp
 Command add_devices_command(CLI::App& parent);   // cmd_devices.cpp
 Command add_diagnose_command(CLI::App& parent);  // cmd_diagnose.cpp
+Command add_odometry_command(CLI::App& parent);  // cmd_odometry.cpp
+Command add_evaluate_command(CLI::App& parent);  // cmd_evaluate.cpp
 
 }  // namespace bolo::cli

@@ -1,0 +1,124 @@
+// bolo-vo-bench: speed and memory of the VO core (firmware/vo) on rendered street/drive frames
+// at 160x120, 320x256 and 640x512, 60 Hz, tau 12 ms through the two-frame bolometer model.
+// Prints frames per second on one core, the real-time factor at 60 Hz, the arena size and the
+// process's peak resident memory before and after the frame loop (no growth: no heap use).
+//
+//   bolo-vo-bench [--frames N] [--mode none|affine|ir|ir-loop] [--sizes WxH,...]
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bolo/sim/scene/renderer.hpp"
+#include "bolo/sim/scene/trajectory.hpp"
+#include "bolo/vo/odometry.hpp"
+
+namespace {
+
+using namespace bolo;
+
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+long peak_rss_kib() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6));
+  return -1;
+}
+
+struct Frames {
+  std::vector<std::vector<std::uint16_t>> raw;
+  vo::Camera camera;
+};
+
+// Street/drive through y_i = a y_{i-1} + b u_i (tau 12 ms, t_e = t_r = half a period).
+Frames render(std::uint32_t w, std::uint32_t h, int count, double fps) {
+  sim::scene::Camera cam(w, h, 50.0);
+  sim::scene::Renderer renderer(sim::scene::make_scene("street", 1), cam);
+  const auto trajectory = sim::scene::make_trajectory("drive", 1);
+  const double te = 0.5 / fps, a = std::exp(-te / 0.012), b = 1 - a;
+  Frames f;
+  const auto j = cam.to_json();
+  f.camera = {j.at("fx").get<float>(), j.at("fy").get<float>(), j.at("cx").get<float>(), j.at("cy").get<float>()};
+  std::vector<double> y;
+  for (int i = 0; i < count; ++i) {
+    const double t = 2.0 + i / fps;
+    const auto k = renderer.render(trajectory.pose(t), t);
+    if (y.empty()) y.assign(k.size(), 0.0), std::transform(k.begin(), k.end(), y.begin(), [](float v) { return 8000.0 + 40.0 * (v - 300.0); });
+    std::vector<std::uint16_t> frame(k.size());
+    for (std::size_t p = 0; p < k.size(); ++p) {
+      y[p] = a * y[p] + b * (8000.0 + 40.0 * (k[p] - 300.0));
+      frame[p] = static_cast<std::uint16_t>(std::lround(y[p]));
+    }
+    f.raw.push_back(std::move(frame));
+  }
+  return f;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int frames = 120;
+  std::string mode_name = "ir", sizes = "160x120,320x256,640x512";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--frames")) frames = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--mode")) mode_name = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--sizes")) sizes = argv[i + 1];
+  }
+  vo::Photometric mode;
+  if (!vo::parse_photometric(mode_name.c_str(), mode) || mode == vo::Photometric::ir_loop || frames < 10) {
+    std::fprintf(stderr, "bolo-vo-bench: --mode none|affine|ir, --frames >= 10\n");
+    return 2;
+  }
+  const double fps = 60;
+  std::printf("bolo-vo-bench: VO (%s) on street/drive, %d frames at 60 Hz, tau 12 ms, one core (thread CPU time)\n", mode_name.c_str(), frames);
+  std::printf("%-9s %9s %9s %10s %12s %12s %14s\n", "size", "ms/frame", "fps", "x realtime", "arena KiB", "peak RSS KiB", "RSS growth KiB");
+  std::size_t start = 0;
+  while (start < sizes.size()) {
+    const std::size_t comma = sizes.find(',', start);
+    const std::string size = sizes.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    start = comma == std::string::npos ? sizes.size() : comma + 1;
+    const auto x = size.find('x');
+    const auto w = static_cast<std::uint32_t>(std::stoul(size.substr(0, x)));
+    const auto h = static_cast<std::uint32_t>(std::stoul(size.substr(x + 1)));
+    const Frames f = render(w, h, frames, fps);
+    vo::VoConfig cfg;
+    cfg.width = w, cfg.height = h, cfg.camera = f.camera, cfg.photometric = mode, cfg.tau_init_s = 0.012f;
+    std::vector<std::byte> arena(vo::Odometry::arena_bytes(cfg));
+    std::memset(arena.data(), 0, arena.size());  // touch it: the peak below includes the arena
+    vo::Odometry odometry(cfg, arena);
+    if (!odometry.ok()) return 2;
+    const long rss_before = peak_rss_kib();
+    const auto t0 = std::chrono::steady_clock::now();
+    const double cpu0 = thread_cpu_s();
+    int posed = 0;
+    for (int i = 0; i < frames; ++i) {
+      vo::FrameInput in;
+      in.raw = f.raw[static_cast<std::size_t>(i)];
+      in.t_s = i / fps, in.exposure_s = 0.5 / fps, in.readout_prev_s = 0.5 / fps, in.chain_broken = i == 0;
+      posed += odometry.process(in).has_pose;
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // Thread CPU time: the build machine is shared, wall time would count other processes' turns.
+    const double seconds = thread_cpu_s() - cpu0;
+    const long rss_after = peak_rss_kib();
+    std::printf("%-9s %9.2f %9.1f %10.2f %12zu %12ld %14ld   (%d of %d frames posed; wall %.1f ms/frame)\n", size.c_str(),
+                1e3 * seconds / frames, frames / seconds, frames / seconds / fps, arena.size() / 1024, rss_after,
+                rss_after - rss_before, posed, frames, 1e3 * wall / frames);
+  }
+  std::printf("goal: >= 5x real time at 320x256, 60 Hz; RSS growth 0 (all VO memory is the arena)\n");
+  return 0;
+}

@@ -1,0 +1,48 @@
+#pragma once
+// Configuration of the on-board visual odometry: camera, photometric model, capacities. Every
+// buffer the VO uses is sized from this at construction (Odometry::arena_bytes) and never grows.
+
+#include <cstddef>
+#include <cstdint>
+
+namespace bolo::vo {
+
+// How the VO explains brightness changes between a keyframe and a new frame.
+enum class Photometric : std::uint8_t {
+  none,     // brightness constancy on raw counts
+  affine,   // per-frame gain/offset (DSO's e^{-a}(I - b))
+  ir,       // microbolometer carry-over: raw_i - alpha*raw_{i-1} = beta*u, tau estimated online
+  ir_loop,  // the firmware corrector runs in front with the current tau; the VO refines tau
+};
+const char* to_string(Photometric mode);
+// Returns false for an unknown name.
+bool parse_photometric(const char* name, Photometric& mode);
+
+struct Camera {
+  float fx = 0, fy = 0, cx = 0, cy = 0;  // pixel units, centre of the top-left pixel at (0, 0)
+};
+
+struct VoConfig {
+  std::uint32_t width = 0, height = 0;
+  Camera camera;
+  Photometric photometric = Photometric::none;
+  float tau_init_s = 0.010f;   // starting tau for ir / ir-loop (both tau_h and tau_c)
+  bool estimate_tau = true;    // false: tau_init_s is known and kept
+  std::uint32_t levels = 0;    // pyramid levels; 0 = until the coarsest is ~20 px high
+  std::uint32_t max_keyframes = 8;
+  std::uint32_t points_per_keyframe = 0;  // 0 = ~1 per 48 pixels, at most 1200
+  float huber_counts = 16.0f;  // residual where the Huber weight starts to drop
+  float gradient_c = 40.0f;    // gradient weight c^2 / (c^2 + |grad|^2)
+  bool window_ba = true;       // sliding-window bundle adjustment at every keyframe
+};
+
+// The configuration with its 0 defaults resolved.
+VoConfig resolved(const VoConfig& config);
+// A configuration the VO cannot run with (sizes, camera, capacities); nullptr when fine.
+const char* invalid_reason(const VoConfig& config);
+
+inline constexpr std::uint32_t kMaxLevels = 6;
+inline constexpr std::uint32_t kMaxKeyframes = 8;
+inline constexpr std::uint32_t kPattern = 8;  // pixels in each point's residual pattern
+
+}  // namespace bolo::vo

@@ -1,0 +1,72 @@
+#pragma once
+// Direct sparse monocular visual odometry with a microbolometer photometric model.
+//
+// Per frame: pyramid -> (initialisation | coarse-to-fine direct alignment against the active
+// points of the keyframe window) -> tau refinement (ir modes) -> epipolar depth search for
+// immature points -> keyframe decision -> (new keyframe: point selection, retirement of the
+// oldest, sliding-window bundle adjustment). Single-threaded, deterministic, and all storage
+// comes from one caller-provided arena sized by arena_bytes().
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "bolo/vo/carry_model.hpp"
+#include "bolo/vo/config.hpp"
+#include "bolo/vo/se3.hpp"
+
+namespace bolo::vo {
+
+struct FrameInput {
+  std::span<const std::uint16_t> raw;        // width x height raw counts
+  std::span<const std::uint16_t> corrected;  // ir_loop: the corrector's output; else empty
+  double t_s = 0;
+  double exposure_s = 0;      // this frame's exposure
+  double readout_prev_s = 0;  // readout after the previous frame
+  // The previous raw frame is not this frame's predecessor on the sensor: first frame, shutter
+  // event, dropped frames. The carry-over term is then unknown for this frame.
+  bool chain_broken = false;
+};
+
+enum class TrackingState : std::uint8_t { initialising, tracking, lost };
+const char* to_string(TrackingState state);
+
+struct FrameResult {
+  TrackingState state = TrackingState::initialising;
+  bool has_pose = false;
+  Se3 T_wc;                       // camera-to-world
+  bool keyframe = false;
+  bool reinitialised = false;     // the map was restarted after losing track
+  std::uint32_t tracked_points = 0;
+  float residual_rms = 0;         // photometric, counts, over the inlier residuals
+  Tau tau;                        // current estimate (ir modes; the initial value otherwise)
+};
+
+struct WorldPoint {
+  float x = 0, y = 0, z = 0, intensity = 0;
+};
+
+struct State;
+
+class Odometry {
+ public:
+  static std::size_t arena_bytes(const VoConfig& config);
+  // `arena` must hold arena_bytes(config) bytes and outlive the object. ok() is false when the
+  // configuration is invalid (invalid_reason) or the arena too small.
+  Odometry(const VoConfig& config, std::span<std::byte> arena);
+  bool ok() const { return state_ != nullptr; }
+
+  FrameResult process(const FrameInput& frame);
+  Tau tau() const;
+
+  // Active points of the keyframes retired by the last process() call, in world coordinates.
+  std::span<const WorldPoint> retired_points() const;
+  // Active points of the keyframes still in the window; returns how many were written.
+  std::size_t window_points(std::span<WorldPoint> out) const;
+  std::uint32_t keyframes_created() const;
+
+ private:
+  State* state_ = nullptr;
+};
+
+}  // namespace bolo::vo

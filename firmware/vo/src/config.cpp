@@ -1,0 +1,54 @@
+#include <cmath>
+#include <cstring>
+
+#include "bolo/vo/config.hpp"
+
+namespace bolo::vo {
+
+const char* to_string(Photometric mode) {
+  switch (mode) {
+    case Photometric::none: return "none";
+    case Photometric::affine: return "affine";
+    case Photometric::ir: return "ir";
+    case Photometric::ir_loop: return "ir-loop";
+  }
+  return "?";
+}
+
+bool parse_photometric(const char* name, Photometric& mode) {
+  const Photometric all[] = {Photometric::none, Photometric::affine, Photometric::ir, Photometric::ir_loop};
+  for (Photometric m : all)
+    if (std::strcmp(name, to_string(m)) == 0) {
+      mode = m;
+      return true;
+    }
+  return false;
+}
+
+VoConfig resolved(const VoConfig& config) {
+  VoConfig c = config;
+  if (c.levels == 0) {
+    c.levels = 1;
+    while (c.levels < kMaxLevels && (c.height >> c.levels) >= 20 && (c.width >> c.levels) >= 20) ++c.levels;
+  }
+  if (c.points_per_keyframe == 0) {
+    const std::uint32_t n = c.width * c.height / 40;
+    c.points_per_keyframe = n < 100 ? 100 : (n > 800 ? 800 : n);
+  }
+  return c;
+}
+
+const char* invalid_reason(const VoConfig& config) {
+  const VoConfig c = resolved(config);
+  if (c.width < 32 || c.height < 32) return "image smaller than 32x32";
+  if (c.width > 4096 || c.height > 4096) return "image larger than 4096x4096";
+  if (!(c.camera.fx > 0) || !(c.camera.fy > 0) || !std::isfinite(c.camera.cx) || !std::isfinite(c.camera.cy))
+    return "camera intrinsics must be positive and finite";
+  if (c.levels > kMaxLevels) return "too many pyramid levels";
+  if (c.max_keyframes < 2 || c.max_keyframes > kMaxKeyframes) return "max_keyframes must be 2..8";
+  if (!(c.tau_init_s > 0.0005f && c.tau_init_s < 0.1f)) return "tau_init_s must be within 0.5..100 ms";
+  if (!(c.huber_counts > 0) || !(c.gradient_c > 0)) return "huber_counts and gradient_c must be positive";
+  return nullptr;
+}
+
+}  // namespace bolo::vo

@@ -1,0 +1,186 @@
+// Immature points: each new frame with a known pose narrows a point's inverse-depth interval by
+// searching its host pattern along the epipolar segment in the frame (discrete steps, then
+// Gauss-Newton along the line), keeping the match only when it is unambiguous. A point whose
+// interval is tight enough relative to its depth becomes active.
+
+#include <cmath>
+
+#include "state.hpp"
+
+namespace bolo::vo {
+namespace {
+
+constexpr float kMaxSearchPixels = 40.0f;
+
+struct Projection {
+  Eigen::Vector3f A, t;  // X(idepth) = A + t * idepth (homogeneous)
+};
+
+bool project(const Projection& pr, const Scaled& k, float idepth, float& u, float& v) {
+  const Eigen::Vector3f X = pr.A + pr.t * idepth;
+  if (X.z() <= 1e-4f) return false;
+  u = k.fx * X.x() / X.z() + k.cx, v = k.fy * X.y() / X.z() + k.cy;
+  return true;
+}
+
+// Inverse depth that projects to pixel (u, v) on the epipolar line, from the better-conditioned
+// image coordinate.
+float idepth_at(const Projection& pr, const Scaled& k, float u, float v, bool use_x) {
+  if (use_x) {
+    const float x = (u - k.cx) / k.fx;
+    const float den = x * pr.t.z() - pr.t.x();
+    return std::fabs(den) < 1e-9f ? -1.0f : (pr.A.x() - x * pr.A.z()) / den;
+  }
+  const float y = (v - k.cy) / k.fy;
+  const float den = y * pr.t.z() - pr.t.y();
+  return std::fabs(den) < 1e-9f ? -1.0f : (pr.A.y() - y * pr.A.z()) / den;
+}
+
+float pattern_energy(const Level& cur, const float* ref, float gain, float offset, float u, float v,
+                     float hub) {
+  float e = 0;
+  for (std::uint32_t j = 0; j < kPattern; ++j) {
+    const float r = bilinear(cur.value, u + kPatternX[j], v + kPatternY[j]) - (gain * ref[j] + offset);
+    const float hw = huber_weight(r, hub);
+    e += hw * r * r * (2.0f - hw);
+  }
+  return e;
+}
+
+}  // namespace
+
+void search_immature_points(State& s) {
+  const Level& cur = s.frame.level[0];
+  const Scaled k = camera_at(s.cfg.camera, 0);
+  const float hub = s.cfg.huber_counts;
+  const float good_energy = kPattern * hub * hub * 4.0f;
+  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
+    Keyframe& host = s.kf[slot];
+    if (!host.used) continue;
+    const Se3 M = s.T_cw * host.T_cw.inverse();
+    if (M.t.norm() < 1e-9) continue;
+    const Eigen::Matrix3f R = M.R.cast<float>();
+    const Eigen::Vector3f t = M.t.cast<float>();
+    const Level& ref = host.pyramid.level[0];
+    const float gain = static_cast<float>(std::exp(s.a - host.a));
+    const float offset = static_cast<float>(s.b - std::exp(s.a - host.a) * host.b);
+    for (std::uint32_t i = 0; i < host.count; ++i) {
+      Point& p = host.points[i];
+      if (p.status != PointStatus::immature) continue;
+      const Projection pr{R * Eigen::Vector3f((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0f), t};
+      float u0, v0, u1, v1;
+      if (!project(pr, k, p.idepth_min, u0, v0)) continue;
+      // The far end: the current bound, or as far as the search is allowed to reach.
+      float far_idepth = p.idepth_max;
+      if (far_idepth < 0) {
+        float ue, ve;
+        const float probe = p.idepth_min + 0.05f;
+        if (!project(pr, k, probe, ue, ve)) continue;
+        const float per_unit = std::hypot(ue - u0, ve - v0) / 0.05f;
+        far_idepth = p.idepth_min + (per_unit > 1e-6f ? kMaxSearchPixels / per_unit : 10.0f);
+      }
+      if (!project(pr, k, far_idepth, u1, v1)) {
+        u1 = u0, v1 = v0;
+      }
+      float du = u1 - u0, dv = v1 - v0;
+      float length = std::hypot(du, dv);
+      if (length < 1.5f) continue;  // no baseline yet: nothing to learn
+      if (length > kMaxSearchPixels) {
+        du *= kMaxSearchPixels / length, dv *= kMaxSearchPixels / length;
+        length = kMaxSearchPixels;
+      }
+      const float ex = du / length, ey = dv / length;
+      float refv[kPattern];
+      // How well the pattern's texture pins a position along the line: gradient energy along
+      // the line (a) against across it (b). An edge parallel to the line can slide along it.
+      float along = 0, across = 0;
+      for (std::uint32_t j = 0; j < kPattern; ++j) {
+        const Sample h = bilinear_with_gradient(ref.value, ref.gx, ref.gy, p.u + kPatternX[j], p.v + kPatternY[j]);
+        refv[j] = h.value;
+        const float ga = h.gx * ex + h.gy * ey, gc = -h.gx * ey + h.gy * ex;
+        along += ga * ga, across += gc * gc;
+      }
+      const float pixel_error = 0.2f + 0.2f * (along + across) / std::max(along, 1e-6f);
+      if (pixel_error > 4.0f) continue;  // this line says nothing about the point's depth
+      // Discrete search, one pixel per step.
+      float best = 1e30f, second = 1e30f, best_s = -1;
+      const auto steps = static_cast<std::uint32_t>(length) + 1;
+      for (std::uint32_t q = 0; q <= steps; ++q) {
+        const float sq = static_cast<float>(q);
+        const float uq = u0 + ex * sq, vq = v0 + ey * sq;
+        if (!inside(cur.value, uq, vq, 3.0f)) continue;
+        const float e = pattern_energy(cur, refv, gain, offset, uq, vq, hub);
+        if (e < best) {
+          if (best_s >= 0 && std::fabs(sq - best_s) > 2.0f) second = best;
+          best = e, best_s = sq;
+        } else if (e < second && std::fabs(sq - best_s) > 2.0f) {
+          second = e;
+        }
+      }
+      if (best_s < 0) continue;
+      // Gauss-Newton along the line.
+      float sb = best_s;
+      for (int it = 0; it < 3; ++it) {
+        float H = 0, g = 0;
+        for (std::uint32_t j = 0; j < kPattern; ++j) {
+          const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u0 + ex * sb + kPatternX[j], v0 + ey * sb + kPatternY[j]);
+          const float r = c.value - (gain * refv[j] + offset);
+          const float J = c.gx * ex + c.gy * ey;
+          const float w = huber_weight(r, hub);
+          H += w * J * J, g += w * J * r;
+        }
+        if (H < 1e-6f) break;
+        const float step = std::max(-0.5f, std::min(0.5f, -g / H));
+        const float sn = sb + step;
+        if (!inside(cur.value, u0 + ex * sn, v0 + ey * sn, 3.0f)) break;
+        sb = sn;
+      }
+      const float e_final = pattern_energy(cur, refv, gain, offset, u0 + ex * sb, v0 + ey * sb, hub);
+      if (e_final > good_energy) {
+        if (++p.bad > 4) p.status = PointStatus::empty;
+        continue;
+      }
+      p.quality = second / std::max(e_final, 1e-3f);
+      if (p.quality < 2.0f && length > 3.0f) continue;  // repetitive texture: ambiguous
+      // Interval: the match +- (half a pixel + a share of the search length when ambiguous).
+      const float margin = std::max(0.5f, pixel_error) + (p.quality < 2.0f ? 1.0f : 0.0f);
+      const bool use_x = std::fabs(ex) >= std::fabs(ey);
+      float ia = idepth_at(pr, k, u0 + ex * (sb - margin), v0 + ey * (sb - margin), use_x);
+      float ib = idepth_at(pr, k, u0 + ex * (sb + margin), v0 + ey * (sb + margin), use_x);
+      float im = idepth_at(pr, k, u0 + ex * sb, v0 + ey * sb, use_x);
+      if (ia > ib) std::swap(ia, ib);
+      if (!(im > 0) || !(ib > 0)) continue;
+      ia = std::max(ia, 0.0f);
+      // Intersect with what earlier frames allowed; a match outside it contradicts them.
+      if (p.idepth_max >= 0 && p.good > 0 && (ib < p.idepth_min || ia > p.idepth_max)) {
+        p.good = 0;
+        if (++p.bad > 4) p.status = PointStatus::empty;
+        p.idepth_min = ia, p.idepth_max = ib, p.idepth = im;
+        continue;
+      }
+      ++p.good;
+      p.idepth_min = p.idepth_max >= 0 ? std::max(ia, p.idepth_min) : ia;
+      p.idepth_max = p.idepth_max >= 0 ? std::min(ib, p.idepth_max) : ib;
+      if (p.idepth_min > p.idepth_max) std::swap(p.idepth_min, p.idepth_max);
+      p.idepth = im;
+    }
+  }
+}
+
+void activate_mature_points(State& s) {
+  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
+    Keyframe& host = s.kf[slot];
+    if (!host.used) continue;
+    for (std::uint32_t i = 0; i < host.count; ++i) {
+      Point& p = host.points[i];
+      if (p.status != PointStatus::immature || p.good < 2 || p.idepth_max < 0) continue;
+      const float width = p.idepth_max - p.idepth_min;
+      if (p.idepth > 1e-3f && width < 0.2f * p.idepth && p.quality >= 2.5f) {
+        p.status = PointStatus::active;
+        p.energy = 0;
+      }
+    }
+  }
+}
+
+}  // namespace bolo::vo

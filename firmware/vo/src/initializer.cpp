@@ -1,0 +1,260 @@
+// Monocular initialisation without outside help: the first frame becomes a keyframe whose
+// points all start at inverse depth 1; every following frame refines the relative pose and every
+// point's inverse depth jointly (Gauss-Newton, Schur complement over the points, coarse to fine),
+// with a weak prior pulling each inverse depth towards the mean while the baseline is too small
+// to tell. Once the points' translation-induced flow is large enough, the points become active
+// and tracking takes over. The mean inverse depth is kept at 1, which fixes the map's scale.
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+#include "state.hpp"
+
+namespace bolo::vo {
+namespace {
+
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+constexpr double kDepthPrior = 100;  // per point, pulls towards the mean inverse depth
+constexpr std::uint32_t kMinInitFrames = 10;
+constexpr std::uint32_t kGiveUp = 1000;  // >= the frame loop's restart limit
+constexpr double kInitFlow = 0.02;  // median translation flow, share of width + height
+
+struct InitSystem {
+  Mat6 H = Mat6::Zero();
+  Vec6 g = Vec6::Zero();
+  double energy = 0;
+  std::uint32_t inliers = 0;
+};
+
+Keyframe& init_host(State& s) { return s.kf[s.order[0]]; }
+
+constexpr std::uint32_t kCells = 8;  // prior target: the mean inverse depth of the point's cell
+
+// Mean inverse depth per cell of a kCells x kCells grid (falling back to the global mean), so
+// the prior keeps the depth map locally smooth instead of flat.
+void cell_means(const State& s, const Keyframe& host, double* means) {
+  double sum[kCells * kCells] = {}, count[kCells * kCells] = {};
+  double total = 0, n = 0;
+  for (std::uint32_t i = 0; i < host.count; ++i) {
+    const Point& p = host.points[i];
+    if (p.status != PointStatus::immature) continue;
+    const auto cx = static_cast<std::uint32_t>(p.u) * kCells / s.cfg.width;
+    const auto cy = static_cast<std::uint32_t>(p.v) * kCells / s.cfg.height;
+    sum[cy * kCells + cx] += p.idepth, count[cy * kCells + cx] += 1, total += p.idepth, n += 1;
+  }
+  for (std::uint32_t c = 0; c < kCells * kCells; ++c)
+    means[c] = count[c] >= 3 ? sum[c] / count[c] : (n > 0 ? total / n : 1.0);
+}
+
+double mean_idepth(const Keyframe& host) {
+  double sum = 0;
+  std::uint32_t n = 0;
+  for (std::uint32_t i = 0; i < host.count; ++i)
+    if (host.points[i].status == PointStatus::immature) sum += host.points[i].idepth, ++n;
+  return n ? sum / n : 1.0;
+}
+
+// Per point, in s.ba_hxr (stride 8): coupling to the pose (6), H_rr, g_r.
+InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, bool with_jacobians) {
+  InitSystem sys;
+  Keyframe& host = init_host(s);
+  const Level& cur = s.frame.level[level];
+  const Level& ref = host.pyramid.level[level];
+  const Scaled k = camera_at(s.cfg.camera, level), k0 = camera_at(s.cfg.camera, 0);
+  const float scale = 1.0f / static_cast<float>(1u << level);
+  const float hub = s.cfg.huber_counts, c2 = s.cfg.gradient_c * s.cfg.gradient_c;
+  const float cutoff = kPattern * hub * hub * (level > 0 ? 24.0f : 12.0f);
+  const Eigen::Matrix3f R = M.R.cast<float>();
+  const Eigen::Vector3f t = M.t.cast<float>();
+  double means[kCells * kCells];
+  cell_means(s, host, means);
+  for (std::uint32_t i = 0; i < host.count; ++i) {
+    Point& p = host.points[i];
+    const double mean = means[(static_cast<std::uint32_t>(p.v) * kCells / s.cfg.height) * kCells +
+                              static_cast<std::uint32_t>(p.u) * kCells / s.cfg.width];
+    float* row = s.ba_hxr.data() + std::size_t{i} * 8;
+    for (int q = 0; q < 8; ++q) row[q] = 0;
+    if (p.status != PointStatus::immature) continue;
+    const Eigen::Vector3f n((p.u - k0.cx) / k0.fx, (p.v - k0.cy) / k0.fy, 1.0f);
+    const Eigen::Vector3f X = R * n + t * p.idepth;
+    const double prior_r = p.idepth - mean;
+    row[6] = static_cast<float>(kDepthPrior);
+    row[7] = static_cast<float>(kDepthPrior * prior_r);
+    sys.energy += kDepthPrior * prior_r * prior_r;
+    // A point that leaves the view costs as much as an outlier, so no step gains by that.
+    if (X.z() <= 1e-4f) {
+      sys.energy += cutoff;
+      continue;
+    }
+    const float x = X.x() / X.z(), y = X.y() / X.z(), iz = p.idepth / X.z();
+    const float u = k.fx * x + k.cx, v = k.fy * y + k.cy;
+    const float hu = (p.u + 0.5f) * scale - 0.5f, hv = (p.v + 0.5f) * scale - 0.5f;
+    if (!inside(cur.value, u, v, 3.0f) || !inside(ref.value, hu, hv, 3.0f)) {
+      sys.energy += cutoff;
+      continue;
+    }
+    float energy = 0;
+    float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
+    for (std::uint32_t j = 0; j < kPattern; ++j) {
+      const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u + kPatternX[j], v + kPatternY[j]);
+      r[j] = c.value - bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
+      const float hw = huber_weight(r[j], hub);
+      w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
+      gx[j] = c.gx, gy[j] = c.gy;
+      energy += hw * r[j] * r[j] * (2.0f - hw);
+    }
+    p.energy = energy;
+    if (energy > cutoff) {
+      sys.energy += cutoff;
+      continue;
+    }
+    ++sys.inliers;
+    sys.energy += energy;
+    if (!with_jacobians) continue;
+    const float du[6] = {k.fx * iz, 0, -k.fx * x * iz, -k.fx * x * y, k.fx * (1 + x * x), -k.fx * y};
+    const float dv[6] = {0, k.fy * iz, -k.fy * y * iz, -k.fy * (1 + y * y), k.fy * x * y, k.fy * x};
+    const float dud = k.fx * (t.x() - x * t.z()) / X.z(), dvd = k.fy * (t.y() - y * t.z()) / X.z();
+    for (std::uint32_t j = 0; j < kPattern; ++j) {
+      Vec6 J;
+      for (int q = 0; q < 6; ++q) J[q] = gx[j] * du[q] + gy[j] * dv[q];
+      const double Jd = gx[j] * dud + gy[j] * dvd;
+      sys.H.selfadjointView<Eigen::Upper>().rankUpdate(J, w[j]);
+      sys.g += J * (w[j] * r[j]);
+      for (int q = 0; q < 6; ++q) row[q] += static_cast<float>(J[q] * w[j] * Jd);
+      row[6] += static_cast<float>(w[j] * Jd * Jd);
+      row[7] += static_cast<float>(w[j] * Jd * r[j]);
+    }
+  }
+  sys.H = sys.H.selfadjointView<Eigen::Upper>();
+  return sys;
+}
+
+// Median pixel flow the translation alone causes (robust to the few points whose inverse
+// depth is still wild). Uses the BA scratch after the optimisation is done with it.
+double translation_flow(State& s, const Se3& M) {
+  const Keyframe& host = s.kf[s.order[0]];
+  const Scaled k = camera_at(s.cfg.camera, 0);
+  float* flows = s.ba_hxr.data();
+  std::size_t n = 0;
+  for (std::uint32_t i = 0; i < host.count; ++i) {
+    const Point& p = host.points[i];
+    if (p.status != PointStatus::immature) continue;
+    const Vec3 nv((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0);
+    const Vec3 X = nv + M.t * p.idepth;
+    if (X.z() <= 1e-6) continue;
+    const double du = k.fx * (X.x() / X.z() - nv.x()), dv = k.fy * (X.y() / X.z() - nv.y());
+    flows[n++] = static_cast<float>(std::sqrt(du * du + dv * dv));
+  }
+  if (n == 0) return 0.0;
+  std::nth_element(flows, flows + n / 2, flows + n);
+  return flows[n / 2];
+}
+
+}  // namespace
+
+void start_initialisation(State& s) {
+  // A restart retires the whole map: its points are still output.
+  for (auto& kf : s.kf) {
+    if (kf.used) retire_points(s, kf);
+    kf.used = false, kf.count = 0;
+  }
+  s.kf_count = 0;
+  const std::uint32_t slot = new_keyframe_slot(s);
+  make_keyframe(s, slot, true);
+  Keyframe& host = s.kf[slot];
+  for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = 1.0f;
+  s.initialised = false;
+  s.init_frames = 0;
+  s.motion = Se3();
+}
+
+bool initialise_step(State& s) {
+  Keyframe& host = init_host(s);
+  Se3 M = s.motion * (s.T_cw * host.T_cw.inverse());  // constant-velocity guess
+  std::uint32_t finest_inliers = 0;
+  for (int level = static_cast<int>(s.frame.levels) - 1; level >= 0; --level) {
+    const auto l = static_cast<std::uint32_t>(level);
+    double lambda = 0.1;
+    InitSystem sys = accumulate(s, l, M, true);
+    for (int it = 0; it < 6; ++it) {
+      // Schur complement: eliminate every inverse depth (diagonal block) onto the pose.
+      Mat6 Hs = sys.H;
+      Vec6 gs = sys.g;
+      for (std::uint32_t i = 0; i < host.count; ++i) {
+        const float* row = s.ba_hxr.data() + std::size_t{i} * 8;
+        if (host.points[i].status != PointStatus::immature || row[6] <= 0) continue;
+        const double hrr = row[6] * (1 + lambda);
+        Vec6 hpr;
+        for (int q = 0; q < 6; ++q) hpr[q] = row[q];
+        Hs -= hpr * hpr.transpose() / hrr;
+        gs -= hpr * (row[7] / hrr);
+      }
+      for (int q = 0; q < 6; ++q) Hs(q, q) += lambda * sys.H(q, q) + 1e-6;
+      const Vec6 dx = -Hs.ldlt().solve(gs);
+      if (!dx.allFinite()) break;
+      // Back-substitute the inverse depths into a trial copy held in `energy`-free scratch:
+      // the point array itself, restored when the step is rejected.
+      Se3 M_new = Se3::exp(dx) * M;
+      for (std::uint32_t i = 0; i < host.count; ++i) {
+        Point& p = host.points[i];
+        const float* row = s.ba_hxr.data() + std::size_t{i} * 8;
+        if (p.status != PointStatus::immature || row[6] <= 0) continue;
+        double hpr_dx = 0;
+        for (int q = 0; q < 6; ++q) hpr_dx += row[q] * dx[q];
+        const double dr = -(row[7] + hpr_dx) / (row[6] * (1 + lambda));
+        p.idepth_min = p.idepth;  // backup
+        p.idepth = static_cast<float>(std::min(std::max(p.idepth + dr, 1e-3), 20.0));
+      }
+      InitSystem next = accumulate(s, l, M_new, true);
+      if (next.energy < sys.energy) {
+        M = M_new, sys = next;
+        lambda = std::max(lambda * 0.5, 1e-4);
+        if (dx.norm() < 1e-6) break;
+      } else {
+        for (std::uint32_t i = 0; i < host.count; ++i)
+          if (host.points[i].status == PointStatus::immature) host.points[i].idepth = host.points[i].idepth_min;
+        sys = accumulate(s, l, M, true);
+        lambda *= 4;
+        if (lambda > 1e3) break;
+      }
+    }
+    if (level == 0) finest_inliers = sys.inliers;
+  }
+  // Keep the mean inverse depth at 1: the scale of monocular odometry is free.
+  const double mean = mean_idepth(host);
+  if (mean > 1e-6) {
+    for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = static_cast<float>(host.points[i].idepth / mean);
+    M.t *= mean;
+  }
+  // Diverged, or the first keyframe no longer matches anything: restart from the next frame.
+  if (!M.t.allFinite() || !M.R.allFinite() || M.t.norm() > 10.0 || finest_inliers * 5 < host.count) {
+    s.init_frames = kGiveUp;
+    return false;
+  }
+  const Se3 previous = s.T_cw;
+  s.T_cw = M * host.T_cw;
+  s.motion = s.T_cw * previous.inverse();
+  ++s.init_frames;
+  const double flow = translation_flow(s, M);
+  const double needed = kInitFlow * (s.cfg.width + s.cfg.height);
+  if (s.init_frames < kMinInitFrames || flow < needed) return false;
+  // Done: the points that fit become the map.
+  const float hub = s.cfg.huber_counts;
+  for (std::uint32_t i = 0; i < host.count; ++i) {
+    Point& p = host.points[i];
+    if (p.status != PointStatus::immature) continue;
+    if (p.energy > kPattern * hub * hub * 6.0f) {
+      p.status = PointStatus::empty;
+      continue;
+    }
+    p.status = PointStatus::active;
+    p.idepth_min = p.idepth * 0.5f, p.idepth_max = p.idepth * 2.0f;
+  }
+  s.initialised = true;
+  return true;
+}
+
+}  // namespace bolo::vo

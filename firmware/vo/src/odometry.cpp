@@ -1,0 +1,381 @@
+// The frame loop of the VO and the keyframe bookkeeping; the numerical parts live in their own
+// files (tracker, initializer, depth_search, window_ba, tau_estimator).
+
+#include "bolo/vo/odometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <new>
+
+#include "bolo/vo/arena.hpp"
+#include "state.hpp"
+
+namespace bolo::vo {
+
+const char* to_string(TrackingState state) {
+  switch (state) {
+    case TrackingState::initialising: return "initialising";
+    case TrackingState::tracking: return "tracking";
+    case TrackingState::lost: return "lost";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr std::uint32_t kLostFramesBeforeRestart = 8;
+constexpr std::uint32_t kMaxInitFrames = 90;
+constexpr double kMaxStepFlow = 0.06;  // median translation flow per frame, share of width + height
+
+std::size_t plane(const VoConfig& c) { return std::size_t{c.width} * c.height; }
+
+}  // namespace
+
+State* lay_out(const VoConfig& config, Arena& arena) {
+  const VoConfig c = resolved(config);
+  auto state = arena.take<State>(1);
+  if (state.empty()) return nullptr;
+  State& s = state[0];
+  s.cfg = c;
+  const std::size_t pyr = pyramid_floats(c.width, c.height, c.levels);
+  const std::size_t ppk = c.points_per_keyframe;
+  auto frame = arena.take<float>(pyr);
+  if (!frame.empty()) s.frame = make_pyramid(frame, c.width, c.height, c.levels);
+  s.raw = arena.take<float>(plane(c));
+  s.raw_prev = arena.take<float>(plane(c));
+  s.occupied = arena.take<std::uint8_t>(plane(c));
+  s.candidates = arena.take<PixelPoint>(ppk);
+  s.selector.block_threshold = arena.take<float>(selector_block_count(c.width, c.height));
+  s.selector.histogram = arena.take<std::uint16_t>(64);
+  for (std::uint32_t k = 0; k < c.max_keyframes; ++k) {
+    auto storage = arena.take<float>(pyr);
+    if (!storage.empty()) s.kf[k].pyramid = make_pyramid(storage, c.width, c.height, c.levels);
+    s.kf[k].points = arena.take<Point>(ppk);
+  }
+  s.retired = arena.take<WorldPoint>(std::size_t{c.max_keyframes} * ppk);  // a restart retires all
+  s.ba_hxr = arena.take<float>(std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8));
+  s.ba_index = arena.take<std::uint32_t>(std::size_t{c.max_keyframes} * ppk);
+  s.tau.h = s.tau.c = c.tau_init_s;
+  return arena.failed() ? nullptr : &s;
+}
+
+namespace {
+
+void copy_pyramid(const Pyramid& from, Pyramid& to, const VoConfig& c) {
+  std::memcpy(to.level[0].value.data, from.level[0].value.data,
+              pyramid_floats(c.width, c.height, c.levels) * sizeof(float));
+}
+
+Vec3 world_point(const Keyframe& kf, const Point& p, const Camera& cam) {
+  const Vec3 n((p.u - cam.cx) / cam.fx, (p.v - cam.cy) / cam.fy, 1.0);
+  return kf.T_cw.inverse() * (n / p.idepth);
+}
+
+// Pixel flow of the latest keyframe's points to the current frame: translation only and full.
+void keyframe_flow(const State& s, double& flow_t, double& flow_rt, std::uint32_t& points) {
+  const Keyframe& kf = s.kf[s.order[s.kf_count - 1]];
+  const Se3 M = s.T_cw * kf.T_cw.inverse();
+  const Scaled k = camera_at(s.cfg.camera, 0);
+  double st = 0, srt = 0;
+  points = 0;
+  for (std::uint32_t i = 0; i < kf.count; ++i) {
+    const Point& p = kf.points[i];
+    if (p.status == PointStatus::empty || p.idepth <= 0) continue;
+    const Vec3 n((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0);
+    const Vec3 Xt = n + M.t * p.idepth, Xrt = M.R * n + M.t * p.idepth;
+    if (Xt.z() <= 1e-6 || Xrt.z() <= 1e-6) continue;
+    const double dut = k.fx * (Xt.x() / Xt.z() - n.x()), dvt = k.fy * (Xt.y() / Xt.z() - n.y());
+    const double dur = k.fx * (Xrt.x() / Xrt.z() - n.x()), dvr = k.fy * (Xrt.y() / Xrt.z() - n.y());
+    st += dut * dut + dvt * dvt, srt += dur * dur + dvr * dvr, ++points;
+  }
+  flow_t = points ? std::sqrt(st / points) : 0;
+  flow_rt = points ? std::sqrt(srt / points) : 0;
+}
+
+// Median pixel flow that the translation of `step` (between two frames) causes on the latest
+// keyframe's active points. A video-rate camera cannot make it large; a tracker that drifts
+// towards infinite translation (every point collapses onto one pixel) makes it huge.
+double step_translation_flow(State& s, const Se3& step) {
+  const Keyframe& kf = s.kf[s.order[s.kf_count - 1]];
+  const Scaled k = camera_at(s.cfg.camera, 0);
+  const Se3 M = s.T_cw * kf.T_cw.inverse();
+  float* flows = s.ba_hxr.data();
+  std::size_t n = 0;
+  for (const Keyframe& host : s.kf) {
+    if (!host.used) continue;
+    const Se3 H = s.T_cw * host.T_cw.inverse();
+    for (std::uint32_t i = 0; i < host.count && n < s.ba_hxr.size(); ++i) {
+      const Point& p = host.points[i];
+      if (p.status != PointStatus::active) continue;
+      const Vec3 X = H * (Vec3((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0) / p.idepth);
+      if (X.z() <= 1e-6) continue;
+      const Vec3 Y = X + step.t;
+      if (Y.z() <= 1e-6) {
+        flows[n++] = 1e6f;
+        continue;
+      }
+      const double du = k.fx * (Y.x() / Y.z() - X.x() / X.z()), dv = k.fy * (Y.y() / Y.z() - X.y() / X.z());
+      flows[n++] = static_cast<float>(std::sqrt(du * du + dv * dv));
+    }
+  }
+  (void)M;
+  if (n == 0) return 0.0;
+  std::nth_element(flows, flows + n / 2, flows + n);
+  return flows[n / 2];
+}
+
+std::uint32_t active_in_window(const State& s) {
+  std::uint32_t n = 0;
+  for (const Keyframe& kf : s.kf)
+    if (kf.used)
+      for (std::uint32_t i = 0; i < kf.count; ++i) n += kf.points[i].status == PointStatus::active;
+  return n;
+}
+
+}  // namespace
+
+void retire_points(State& s, const Keyframe& old) {
+  for (std::uint32_t i = 0; i < old.count && s.retired_count < s.retired.size(); ++i) {
+    const Point& p = old.points[i];
+    if (p.status != PointStatus::active || p.idepth <= 0) continue;
+    const Vec3 X = world_point(old, p, s.cfg.camera);
+    s.retired[s.retired_count++] = {static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()),
+                                    old.pyramid.level[0].value.at(static_cast<std::uint32_t>(p.u), static_cast<std::uint32_t>(p.v))};
+  }
+}
+
+std::uint32_t new_keyframe_slot(State& s) {
+  if (s.kf_count == s.cfg.max_keyframes) {
+    // Retire the oldest keyframe; its active points leave the window as map output.
+    Keyframe& old = s.kf[s.order[0]];
+    retire_points(s, old);
+    old.used = false;
+    for (std::uint32_t k = 1; k < s.kf_count; ++k) s.order[k - 1] = s.order[k];
+    --s.kf_count;
+  }
+  for (std::uint32_t k = 0; k < s.cfg.max_keyframes; ++k)
+    if (!s.kf[k].used) return k;
+  return 0;  // unreachable: kf_count < max_keyframes here
+}
+
+void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
+  Keyframe& kf = s.kf[slot];
+  kf.used = true;
+  kf.id = s.kf_created++;
+  kf.T_cw = s.T_cw;
+  kf.a = s.a, kf.b = s.b;
+  kf.t_s = s.t_s, kf.exposure_s = s.exposure_s, kf.readout_prev_s = s.readout_prev_s;
+  kf.chain_ok = s.chain_ok;
+  kf.count = 0;
+  copy_pyramid(s.frame, kf.pyramid, s.cfg);
+  s.order[s.kf_count++] = slot;
+  if (!select_points_now) return;
+  // Where the window's active points already land, no new point is needed.
+  std::memset(s.occupied.data(), 0, s.occupied.size());
+  const Scaled k = camera_at(s.cfg.camera, 0);
+  const auto radius = static_cast<int>(std::sqrt(static_cast<float>(plane(s.cfg)) / static_cast<float>(s.cfg.points_per_keyframe)) * 0.5f);
+  for (const Keyframe& other : s.kf) {
+    if (!other.used || &other == &kf) continue;
+    const Se3 M = s.T_cw * other.T_cw.inverse();
+    for (std::uint32_t i = 0; i < other.count; ++i) {
+      const Point& p = other.points[i];
+      if (p.status != PointStatus::active) continue;
+      const Vec3 X = M * (Vec3((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0) / p.idepth);
+      if (X.z() <= 1e-6) continue;
+      const int u = static_cast<int>(std::lround(k.fx * X.x() / X.z() + k.cx));
+      const int v = static_cast<int>(std::lround(k.fy * X.y() / X.z() + k.cy));
+      for (int y = v - radius; y <= v + radius; ++y)
+        for (int x = u - radius; x <= u + radius; ++x)
+          if (x >= 0 && y >= 0 && x < static_cast<int>(s.cfg.width) && y < static_cast<int>(s.cfg.height))
+            s.occupied[static_cast<std::size_t>(y) * s.cfg.width + static_cast<std::size_t>(x)] = 1;
+    }
+  }
+  const std::size_t n = select_points(s.frame.level[0], s.occupied, s.cfg.points_per_keyframe, 4,
+                                      s.selector, s.candidates);
+  for (std::size_t i = 0; i < n && kf.count < kf.points.size(); ++i) {
+    Point& p = kf.points[kf.count++];
+    p = Point();
+    p.u = s.candidates[i].x, p.v = s.candidates[i].y;
+    p.status = PointStatus::immature;
+    p.idepth = 1.0f, p.idepth_min = 0.0f, p.idepth_max = -1.0f;
+    store_raw_pattern(s, p);
+  }
+}
+
+std::size_t Odometry::arena_bytes(const VoConfig& config) {
+  // The sum of lay_out()'s pieces, each with its alignment slack.
+  const VoConfig c = resolved(config);
+  std::size_t bytes = sizeof(State) + 64;
+  const std::size_t pyr = pyramid_floats(c.width, c.height, c.levels) * sizeof(float) + 16;
+  const std::size_t ppk = c.points_per_keyframe;
+  bytes += pyr * (1 + c.max_keyframes);
+  bytes += 3 * (plane(c) * sizeof(float) + 16) + plane(c) + 16;
+  bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + 64 * 2 + 16;
+  bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
+  bytes += std::size_t{c.max_keyframes} * ppk * sizeof(WorldPoint) + 16;
+  bytes += std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8) * sizeof(float) + std::size_t{c.max_keyframes} * ppk * sizeof(std::uint32_t) + 32;
+  return bytes + 256 + 64;  // + the buffer's own misalignment (Arena aligns addresses)
+}
+
+Odometry::Odometry(const VoConfig& config, std::span<std::byte> arena) {
+  if (invalid_reason(config) != nullptr) return;
+  Arena a(arena);
+  state_ = lay_out(config, a);
+}
+
+Tau Odometry::tau() const { return state_ ? state_->tau : Tau{}; }
+std::uint32_t Odometry::keyframes_created() const { return state_ ? state_->kf_created : 0; }
+
+std::span<const WorldPoint> Odometry::retired_points() const {
+  if (!state_) return {};
+  return {state_->retired.data(), state_->retired_count};
+}
+
+std::size_t Odometry::window_points(std::span<WorldPoint> out) const {
+  std::size_t n = 0;
+  if (!state_) return 0;
+  for (const Keyframe& kf : state_->kf) {
+    if (!kf.used) continue;
+    for (std::uint32_t i = 0; i < kf.count && n < out.size(); ++i) {
+      const Point& p = kf.points[i];
+      if (p.status != PointStatus::active || p.idepth <= 0) continue;
+      const Vec3 X = world_point(kf, p, state_->cfg.camera);
+      out[n++] = {static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()),
+                  kf.pyramid.level[0].value.at(static_cast<std::uint32_t>(p.u), static_cast<std::uint32_t>(p.v))};
+    }
+  }
+  return n;
+}
+
+FrameResult Odometry::process(const FrameInput& in) {
+  FrameResult out;
+  if (!state_) return out;
+  State& s = *state_;
+  const VoConfig& c = s.cfg;
+  s.retired_count = 0;
+  std::swap(s.raw, s.raw_prev);
+  for (std::size_t i = 0; i < plane(c); ++i) s.raw[i] = static_cast<float>(in.raw[i]);
+  const bool had_prev = s.have_prev;
+  s.have_prev = true;
+  s.chain_ok = had_prev && !in.chain_broken;
+  s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
+  const bool ir = c.photometric == Photometric::ir || c.photometric == Photometric::ir_loop;
+
+  // The tracking image: what the photometric model says is comparable between frames.
+  float* level0 = s.frame.level[0].value.data;
+  if (c.photometric == Photometric::ir && s.chain_ok) {
+    s.carry = carry_coefficients(s.tau, in.readout_prev_s, in.exposure_s);
+    // The scene estimate u = (raw_i - alpha raw_{i-1}) / beta (paper Eq. 6), in counts like the
+    // raw frames: a static pixel keeps its value whatever tau is, so a refined tau does not shift
+    // every pixel's level against the keyframes.
+    const auto alpha = static_cast<float>(s.carry.alpha);
+    const auto gain = static_cast<float>(1.0 / s.carry.beta);
+    for (std::size_t i = 0; i < plane(c); ++i) level0[i] = (s.raw[i] - alpha * s.raw_prev[i]) * gain;
+  } else if (c.photometric == Photometric::ir_loop && in.corrected.size() == plane(c)) {
+    for (std::size_t i = 0; i < plane(c); ++i) level0[i] = static_cast<float>(in.corrected[i]);
+  } else {
+    std::memcpy(level0, s.raw.data(), plane(c) * sizeof(float));
+  }
+  build_pyramid(s.frame);
+  out.tau = s.tau;
+
+  if (!s.initialised) {
+    // A broken carry-over chain (ir modes) gives a frame that matches nothing: wait for the next.
+    if (s.kf_count == 0 || s.init_frames >= kMaxInitFrames || (ir && !s.chain_ok)) {
+      if (ir && !s.chain_ok) {
+        s.kf_count = 0;
+        for (auto& kf : s.kf) kf.used = false;
+        return out;
+      }
+      s.a = s.b = 0;
+      s.T_cw = s.kf_count > 0 ? s.kf[s.order[0]].T_cw : s.last_good;
+      // A map lost far out (scale drift) cannot anchor a new one with any precision: restart at the origin.
+      if (!s.T_cw.t.allFinite() || s.T_cw.t.norm() > 1e3) s.T_cw = Se3();
+      start_initialisation(s);
+      return out;
+    }
+    if (!initialise_step(s)) return out;
+    out.state = TrackingState::tracking;
+    out.has_pose = true;
+    out.T_wc = s.T_cw.inverse();
+    out.tracked_points = active_in_window(s);
+    s.frames_since_kf = 1;
+    s.inliers_after_kf = out.tracked_points;
+    return out;
+  }
+
+  // Tracking, with fall-back motion guesses when the constant-velocity one fails.
+  const bool free_offset = ir && !s.chain_ok;
+  const Se3 half = Se3::exp(0.5 * s.motion.log());
+  const Se3 guesses[] = {s.motion * s.T_cw, s.T_cw, half * s.T_cw, s.motion * s.motion * s.T_cw};
+  TrackResult best;
+  bool have = false;
+  for (const Se3& g : guesses) {
+    TrackResult r = track_frame(s, g, s.a, s.b, free_offset);
+    if (r.ok && step_translation_flow(s, r.T_cw * s.T_cw.inverse()) > kMaxStepFlow * (c.width + c.height)) r.ok = false;
+    if (!have || (r.ok && !best.ok) || (r.ok == best.ok && r.rms < best.rms)) best = r, have = true;
+    if (best.ok) break;
+  }
+  out.residual_rms = best.rms;
+  out.tracked_points = best.inliers;
+  if (!best.ok) {
+    ++s.lost_frames;
+    out.state = TrackingState::lost;
+    s.T_cw = s.motion * s.T_cw;  // coast on the motion model
+    if (!s.T_cw.R.allFinite() || !s.T_cw.t.allFinite()) s.T_cw = s.last_good, s.motion = Se3();
+    if (s.lost_frames >= kLostFramesBeforeRestart) {
+      // Restart the map here, anchored at the coasted pose.
+      s.lost_frames = 0;
+      s.initialised = false;
+      out.reinitialised = true;
+      s.T_cw = s.last_good;  // the coasted pose is a guess; anchor the new map at the last fix
+      if (!s.T_cw.t.allFinite() || s.T_cw.t.norm() > 1e3) s.T_cw = Se3();
+      start_initialisation(s);
+    }
+    return out;
+  }
+  s.lost_frames = 0;
+  s.last_good = best.T_cw;
+  s.motion = best.T_cw * s.T_cw.inverse();
+  s.T_cw = best.T_cw;
+  // A frame without its predecessor carries an unknown offset; keep the keyframes' brightness.
+  if (!free_offset) s.a = best.a, s.b = best.b;
+  out.state = TrackingState::tracking;
+  out.has_pose = true;
+
+  if (ir && c.estimate_tau) refine_tau(s);
+  search_immature_points(s);
+
+  // Keyframe: enough parallax, a large rotation, or the tracked points thinning out; never two
+  // in a row unless tracking is about to starve.
+  double flow_t = 0, flow_rt = 0;
+  std::uint32_t kf_points = 0;
+  keyframe_flow(s, flow_t, flow_rt, kf_points);
+  const double size = c.width + c.height;
+  const Keyframe& latest = s.kf[s.order[s.kf_count - 1]];
+  if (s.frames_since_kf == 1) s.inliers_after_kf = best.inliers;
+  ++s.frames_since_kf;
+  const bool brightness = std::fabs(s.a - latest.a) > 0.5;
+  const bool thinning = best.inliers * 4 < s.inliers_after_kf;
+  const bool want = flow_t > 0.03 * size || flow_rt > 0.08 * size || thinning || brightness;
+  const bool starving = best.inliers < 40;
+  if ((want && s.frames_since_kf >= 3) || (starving && s.frames_since_kf >= 2)) {
+    if (!ir || s.chain_ok) {
+      // As in DSO, immature points join the map only with a new keyframe, right before the
+      // bundle adjustment refines them with everything else.
+      activate_mature_points(s);
+      const std::uint32_t slot = new_keyframe_slot(s);
+      make_keyframe(s, slot, true);
+      if (c.window_ba && s.kf_count >= 2) window_bundle_adjustment(s);
+      out.keyframe = true;
+      s.frames_since_kf = 0;
+    }
+  }
+  out.T_wc = s.T_cw.inverse();
+  out.tau = s.tau;
+  s.last_rms = best.rms;
+  return out;
+}
+
+}  // namespace bolo::vo

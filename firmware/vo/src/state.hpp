@@ -1,0 +1,132 @@
+#pragma once
+// The VO's working state, shared by its parts (tracker, initialiser, depth search, window BA,
+// tau estimator). Everything here lives in the arena.
+
+#include <cstdint>
+#include <span>
+
+#include <Eigen/Core>
+
+#include "bolo/vo/carry_model.hpp"
+#include "bolo/vo/config.hpp"
+#include "bolo/vo/image.hpp"
+#include "bolo/vo/odometry.hpp"
+#include "bolo/vo/point_selector.hpp"
+#include "bolo/vo/se3.hpp"
+
+namespace bolo::vo {
+
+enum class PointStatus : std::uint8_t { empty, immature, active };
+
+struct Point {
+  float u = 0, v = 0;  // host pixel, level 0
+  float idepth = 1, idepth_min = 0, idepth_max = -1;  // max < 0: unbounded
+  float raw[kPattern] = {}, raw_prev[kPattern] = {};  // host raw counts, for tau
+  float energy = 0;      // last pattern energy when tracked
+  float quality = 0;     // immature: second-best / best energy of the last search
+  PointStatus status = PointStatus::empty;
+  std::uint8_t good = 0, bad = 0;
+  bool inlier = false;   // in the last tracking
+};
+
+struct Keyframe {
+  bool used = false;
+  std::uint32_t id = 0;
+  Se3 T_cw;
+  double a = 0, b = 0;  // affine brightness, absolute
+  double t_s = 0, exposure_s = 0, readout_prev_s = 0;
+  bool chain_ok = false;
+  Pyramid pyramid;
+  std::span<Point> points;
+  std::uint32_t count = 0;  // points used in `points`
+};
+
+// Pattern offsets in pixels (own choice: a spread diamond that samples both gradient directions).
+inline constexpr float kPatternX[kPattern] = {0, 2, -2, 0, 0, 1, -1, 1};
+inline constexpr float kPatternY[kPattern] = {0, 0, 0, 2, -2, 1, -1, -1};
+
+struct Scaled {
+  float fx, fy, cx, cy;
+};
+inline Scaled camera_at(const Camera& c, std::uint32_t level) {
+  const float s = 1.0f / static_cast<float>(1u << level);
+  return {c.fx * s, c.fy * s, (c.cx + 0.5f) * s - 0.5f, (c.cy + 0.5f) * s - 0.5f};
+}
+inline float huber_weight(float r, float k) {
+  const float a = r < 0 ? -r : r;
+  return a <= k ? 1.0f : k / a;
+}
+
+inline constexpr std::uint32_t kMaxBaParams = 8 * kMaxKeyframes;
+// Per window point in the BA scratch: H_rr, g_r, backup inverse depth, coupling to kf params.
+inline constexpr std::size_t kBaStride = 3 + kMaxBaParams;
+using BaMatrix = Eigen::Matrix<double, kMaxBaParams, kMaxBaParams>;
+using BaVector = Eigen::Matrix<double, kMaxBaParams, 1>;
+
+struct State {
+  VoConfig cfg;
+  Keyframe kf[kMaxKeyframes];
+  std::uint32_t order[kMaxKeyframes] = {};  // slots, oldest first
+  std::uint32_t kf_count = 0;
+  std::uint32_t kf_created = 0;
+
+  Pyramid frame;                    // tracking image of the current frame
+  std::span<float> raw, raw_prev;   // raw counts of this and the previous frame
+  bool have_prev = false;
+  std::span<std::uint8_t> occupied;
+  std::span<PixelPoint> candidates;
+  SelectorScratch selector;
+  std::span<WorldPoint> retired;
+  std::size_t retired_count = 0;
+  std::span<float> ba_hxr;  // per window point: coupling to the keyframe parameters (BA)
+  std::span<std::uint32_t> ba_index;
+  BaMatrix ba_H;
+  BaVector ba_b;
+
+  // Motion
+  Se3 T_cw;                    // current frame
+  Se3 motion;                  // last inter-frame motion T_cur_prev
+  Se3 last_good;               // last tracked pose (restarts anchor here)
+  double a = 0, b = 0;
+  std::uint32_t lost_frames = 0;
+  std::uint32_t frames_since_kf = 0, inliers_after_kf = 0;
+  bool initialised = false;
+  std::uint32_t init_frames = 0;
+  float last_rms = 0;
+
+  // Tau (ir modes): estimate and its accumulated information
+  Tau tau;
+  Eigen::Matrix2d tau_info = Eigen::Matrix2d::Zero();
+  CarryCoefficients carry;  // of the current frame
+  bool chain_ok = false;
+  double exposure_s = 0, readout_prev_s = 0, t_s = 0;
+};
+
+// Lays the whole state out over an arena (odometry.cpp); nullptr when it does not fit.
+class Arena;
+State* lay_out(const VoConfig& config, Arena& arena);
+
+// Parts (one file each).
+struct TrackResult {
+  Se3 T_cw;
+  double a = 0, b = 0;
+  float rms = 0;
+  std::uint32_t visible = 0, inliers = 0;
+  bool ok = false;
+};
+TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset);
+// Returns true once the map is initialised from the first keyframe and the current frame.
+bool initialise_step(State& s);
+void start_initialisation(State& s);
+void search_immature_points(State& s);
+void activate_mature_points(State& s);
+void window_bundle_adjustment(State& s);
+void refine_tau(State& s);
+// Fills the pattern's raw values of a new point from the current frame.
+void store_raw_pattern(const State& s, Point& p);
+std::uint32_t new_keyframe_slot(State& s);
+// Appends a keyframe's active points (world coordinates) to the retired-points output.
+void retire_points(State& s, const Keyframe& kf);
+void make_keyframe(State& s, std::uint32_t slot, bool select_points_now);
+
+}  // namespace bolo::vo

@@ -1,0 +1,168 @@
+// Frame-to-keyframe-window direct alignment: the pose (SE(3)) and brightness parameters of the
+// new frame minimise the Huber- and gradient-weighted photometric error of every active point's
+// pattern, coarse to fine over the pyramid, by Levenberg-Marquardt.
+
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+#include "state.hpp"
+
+namespace bolo::vo {
+namespace {
+
+constexpr double kMotionPrior = 0.02;  // share of each translation axis' own information
+
+using Mat8 = Eigen::Matrix<double, 8, 8>;
+using Vec8 = Eigen::Matrix<double, 8, 1>;
+
+struct Accumulated {
+  Mat8 H = Mat8::Zero();
+  Vec8 g = Vec8::Zero();
+  double energy = 0;       // robust, over inlier points
+  double squared = 0;      // plain squared residuals of inliers
+  std::uint32_t residuals = 0, visible = 0, inliers = 0;
+};
+
+// One pass over the active points at `level` for the pose T_cw; `cutoff` is the per-point
+// pattern energy above which a point counts as an outlier for this pass.
+Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a, double b,
+                       float cutoff, bool with_jacobians, bool mark_inliers) {
+  Accumulated acc;
+  const Level& cur = s.frame.level[level];
+  const Scaled k = camera_at(s.cfg.camera, level);
+  const Scaled k0 = camera_at(s.cfg.camera, 0);
+  const float scale = 1.0f / static_cast<float>(1u << level);
+  const float hub = s.cfg.huber_counts, c2 = s.cfg.gradient_c * s.cfg.gradient_c;
+  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
+    Keyframe& host = s.kf[slot];
+    if (!host.used) continue;
+    const Se3 M = T_cw * host.T_cw.inverse();
+    const Eigen::Matrix3f R = M.R.cast<float>();
+    const Eigen::Vector3f t = M.t.cast<float>();
+    const Level& ref = host.pyramid.level[level];
+    const float gain = static_cast<float>(std::exp(a - host.a));
+    const float hb = static_cast<float>(host.b), fb = static_cast<float>(b);
+    for (std::uint32_t i = 0; i < host.count; ++i) {
+      Point& p = host.points[i];
+      if (p.status != PointStatus::active) continue;
+      const Eigen::Vector3f n((p.u - k0.cx) / k0.fx, (p.v - k0.cy) / k0.fy, 1.0f);
+      const Eigen::Vector3f X = R * n + t * p.idepth;
+      // Leaving the view costs as much as an outlier, so no step gains by pushing points out.
+      if (X.z() <= 1e-4f) {
+        acc.energy += cutoff;
+        continue;
+      }
+      const float x = X.x() / X.z(), y = X.y() / X.z(), iz = p.idepth / X.z();
+      const float u = k.fx * x + k.cx, v = k.fy * y + k.cy;
+      const float hu = (p.u + 0.5f) * scale - 0.5f, hv = (p.v + 0.5f) * scale - 0.5f;
+      if (!inside(cur.value, u, v, 3.0f) || !inside(ref.value, hu, hv, 3.0f)) {
+        acc.energy += cutoff;
+        continue;
+      }
+      ++acc.visible;
+      float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], refv[kPattern];
+      float energy = 0;
+      for (std::uint32_t j = 0; j < kPattern; ++j) {
+        const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u + kPatternX[j], v + kPatternY[j]);
+        refv[j] = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
+        r[j] = c.value - (gain * (refv[j] - hb) + fb);
+        const float hw = huber_weight(r[j], hub);
+        w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
+        gx[j] = c.gx, gy[j] = c.gy;
+        energy += hw * r[j] * r[j] * (2.0f - hw);
+      }
+      if (mark_inliers) {
+        p.energy = energy;
+        p.inlier = energy <= cutoff;
+      }
+      if (energy > cutoff) {
+        acc.energy += cutoff;  // truncated cost: leaving the inlier set is not free
+        continue;
+      }
+      ++acc.inliers;
+      acc.energy += energy;
+      for (std::uint32_t j = 0; j < kPattern; ++j) acc.squared += r[j] * r[j];
+      acc.residuals += kPattern;
+      if (!with_jacobians) continue;
+      // Geometric Jacobian of the centre pixel, used for the whole pattern (as DSO does).
+      const float du[6] = {k.fx * iz, 0, -k.fx * x * iz, -k.fx * x * y, k.fx * (1 + x * x), -k.fx * y};
+      const float dv[6] = {0, k.fy * iz, -k.fy * y * iz, -k.fy * (1 + y * y), k.fy * x * y, k.fy * x};
+      for (std::uint32_t j = 0; j < kPattern; ++j) {
+        Vec8 J;
+        for (int q = 0; q < 6; ++q) J[q] = gx[j] * du[q] + gy[j] * dv[q];
+        J[6] = -gain * (refv[j] - hb);
+        J[7] = -1.0;
+        acc.H.selfadjointView<Eigen::Upper>().rankUpdate(J, w[j]);
+        acc.g += J * (w[j] * r[j]);
+      }
+    }
+  }
+  acc.H = acc.H.selfadjointView<Eigen::Upper>();
+  return acc;
+}
+
+}  // namespace
+
+TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset) {
+  TrackResult out;
+  Se3 T = guess;
+  const bool affine = s.cfg.photometric == Photometric::affine;
+  const std::uint32_t iterations[kMaxLevels] = {8, 8, 10, 10, 10, 10};
+  const float hub = s.cfg.huber_counts;
+  for (int level = static_cast<int>(s.frame.levels) - 1; level >= 0; --level) {
+    const auto l = static_cast<std::uint32_t>(level);
+    // Coarse levels start far from the optimum: a looser outlier cut.
+    float cutoff = kPattern * hub * hub * (level > 0 ? 12.0f : 6.0f);
+    Accumulated acc = accumulate(s, l, T, a, b, cutoff, true, false);
+    for (int grow = 0; grow < 3 && acc.visible > 0 && acc.inliers * 2 < acc.visible; ++grow) {
+      cutoff *= 2;
+      acc = accumulate(s, l, T, a, b, cutoff, true, false);
+    }
+    double lambda = 1e-3;
+    // A weak prior towards the motion model's prediction: at video rates the camera cannot
+    // jump, and it keeps directions the points do not constrain (far scenes) from wandering.
+    const Vec3 prior = kMotionPrior * Vec3(acc.H(0, 0), acc.H(1, 1), acc.H(2, 2));
+    const auto prior_energy = [&](const Se3& T_try) {
+      const Vec3 off = (T_try * guess.inverse()).t;
+      return prior.dot(off.cwiseProduct(off));
+    };
+    acc.energy += prior_energy(T);
+    for (std::uint32_t it = 0; it < iterations[l] && acc.inliers >= 6; ++it) {
+      Mat8 H = acc.H;
+      Vec8 g = acc.g;
+      const Vec3 off = (T * guess.inverse()).t;
+      for (int q = 0; q < 3; ++q) H(q, q) += prior[q], g[q] += prior[q] * off[q];
+      for (int q = 0; q < 8; ++q) H(q, q) *= 1 + lambda;
+      // Parameters the mode does not estimate are held by a stiff prior.
+      if (!affine) H(6, 6) += 1e12;
+      if (!affine && !free_offset) H(7, 7) += 1e12;
+      const Vec8 delta = -H.ldlt().solve(g);
+      if (!delta.allFinite()) break;
+      const Se3 T_new = Se3::exp(delta.head<6>()) * T;
+      const double a_new = a + delta[6], b_new = b + delta[7];
+      Accumulated next = accumulate(s, l, T_new, a_new, b_new, cutoff, true, false);
+      next.energy += prior_energy(T_new);
+      if (next.energy <= acc.energy) {
+        T = T_new, a = a_new, b = b_new, acc = next;
+        lambda = std::max(lambda * 0.5, 1e-6);
+        if (delta.head<6>().norm() < 1e-5) break;
+      } else {
+        lambda *= 4;
+        if (lambda > 1e4) break;
+      }
+    }
+    if (level == 0) {
+      const Accumulated final_pass = accumulate(s, 0, T, a, b, cutoff, false, true);
+      out.visible = final_pass.visible;
+      out.inliers = final_pass.inliers;
+      out.rms = final_pass.residuals ? static_cast<float>(std::sqrt(final_pass.squared / final_pass.residuals)) : 1e9f;
+    }
+  }
+  out.T_cw = T, out.a = a, out.b = b;
+  const bool finite = T.R.allFinite() && T.t.allFinite() && std::isfinite(a) && std::isfinite(b);
+  out.ok = finite && out.inliers >= 20 && out.inliers * 10 >= out.visible * 3 && out.rms < 5.0f * hub;
+  return out;
+}
+
+}  // namespace bolo::vo

@@ -1,0 +1,41 @@
+#pragma once
+// Runs the VO core over a recording (the host side of `bolo odometry`): feeds raw frames with
+// their timing and carry-over chain state, runs the firmware corrector in front for ir-loop with
+// the VO's current tau, and writes trajectory.tum, stats.csv, points.ply, trajectory.svg and
+// summary.json into the output folder (temporary folder + rename).
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "bolo/vo/config.hpp"
+
+namespace bolo::odo {
+
+struct OdometryOptions {
+  std::filesystem::path recording;
+  std::filesystem::path output;
+  vo::Photometric photometric = vo::Photometric::none;
+  double tau_init_s = 0.010;
+  bool estimate_tau = true;  // false: tau_init_s is the known tau
+  bool window_ba = true;
+  bool overwrite = false;
+  std::optional<std::uint64_t> max_frames;
+  std::function<void(std::uint64_t done, std::uint64_t total)> progress;
+};
+
+struct OdometrySummary {
+  std::uint64_t frames = 0, posed = 0, lost = 0, keyframes = 0, reinitialisations = 0;
+  std::uint64_t points = 0;  // in points.ply
+  double tau_h_s = 0, tau_c_s = 0;
+  double seconds = 0;        // VO time only (not I/O)
+  std::size_t arena_bytes = 0;
+};
+
+// Throws Error (or bolo::rec::Error) naming the file/frame/field for bad input; nothing is
+// left behind then.
+OdometrySummary run_odometry(const OdometryOptions& options);
+
+}  // namespace bolo::odo

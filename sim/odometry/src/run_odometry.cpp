@@ -1,0 +1,243 @@
+#include "bolo/odometry/run_odometry.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bolo/firmware/two_frame_corrector.hpp"
+#include "bolo/odometry/align.hpp"
+#include "bolo/odometry/plot.hpp"
+#include "bolo/odometry/ply.hpp"
+#include "bolo/recording/recording.hpp"
+#include "bolo/vo/odometry.hpp"
+
+namespace bolo::odo {
+namespace {
+
+namespace fs = std::filesystem;
+
+vo::Camera read_camera(const rec::Recording& recording) {
+  const fs::path file = recording.dir() / "camera.json";
+  if (!recording.camera()) throw Error(file.string() + ": missing (the VO needs the camera intrinsics)");
+  const nlohmann::json& j = *recording.camera();
+  const auto number = [&](const char* key, bool required) -> double {
+    if (!j.contains(key)) {
+      if (required) throw Error(file.string() + ": field " + key + " is missing");
+      return 0.0;
+    }
+    if (!j[key].is_number()) throw Error(file.string() + ": field " + key + " is not a number");
+    return j[key].get<double>();
+  };
+  vo::Camera c;
+  c.fx = static_cast<float>(number("fx", true));
+  c.fy = static_cast<float>(number("fy", true));
+  c.cx = static_cast<float>(number("cx", true));
+  c.cy = static_cast<float>(number("cy", true));
+  if (!(c.fx > 0) || !(c.fy > 0)) throw Error(file.string() + ": fields fx, fy must be positive");
+  for (const char* key : {"k1", "k2", "p1", "p2"})
+    if (number(key, false) != 0.0)
+      throw Error(file.string() + ": field " + key + " is not 0 (the VO takes undistorted pinhole images)");
+  return c;
+}
+
+// Copies a corrector's output lines into one frame.
+class FrameSink final : public fw::LineSink {
+ public:
+  FrameSink(std::uint32_t width, std::uint32_t height) : width_(width), frame_(std::size_t{width} * height) {}
+  void begin_frame(const fw::FrameHeader&) override {}
+  void push_line(std::uint32_t row, fw::LineView line) override {
+    std::copy(line.begin(), line.end(), frame_.begin() + static_cast<std::ptrdiff_t>(std::size_t{row} * width_));
+  }
+  void end_frame() override {}
+  const std::vector<std::uint16_t>& frame() const { return frame_; }
+
+ private:
+  std::uint32_t width_;
+  std::vector<std::uint16_t> frame_;
+};
+
+std::uint32_t to_ns(double seconds) { return static_cast<std::uint32_t>(std::llround(seconds * 1e9)); }
+
+// Removes the temporary output folder unless committed.
+struct TempDir {
+  fs::path path;
+  bool keep = false;
+  ~TempDir() {
+    std::error_code ec;
+    if (!keep) fs::remove_all(path, ec);
+  }
+};
+
+void write_text(const fs::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+  if (!out) throw Error(file.string() + ": cannot write");
+}
+
+}  // namespace
+
+OdometrySummary run_odometry(const OdometryOptions& options) {
+  const fs::path out_dir = options.output;
+  if (fs::exists(out_dir) && !options.overwrite)
+    throw Error(out_dir.string() + ": already exists (use --overwrite)");
+  rec::Recording recording(options.recording);
+  const std::uint32_t w = recording.width(), h = recording.height();
+  vo::VoConfig config;
+  config.width = w, config.height = h;
+  config.camera = read_camera(recording);
+  config.photometric = options.photometric;
+  config.tau_init_s = static_cast<float>(options.tau_init_s);
+  config.window_ba = options.window_ba;
+  config.estimate_tau = options.estimate_tau;
+  if (const char* why = vo::invalid_reason(config)) throw Error(options.recording.string() + ": " + why);
+
+  const auto& rows = recording.rows();
+  const std::uint64_t frames = std::min<std::uint64_t>(rows.size(), options.max_frames.value_or(rows.size()));
+  const bool ir = options.photometric == vo::Photometric::ir || options.photometric == vo::Photometric::ir_loop;
+  for (std::uint64_t i = 0; i < frames; ++i) {
+    const fs::path csv = recording.dir() / "frames.csv";
+    if (!rows[i].t_s) throw Error(csv.string() + ": frame " + std::to_string(i) + ": t_s is empty (the VO needs frame times)");
+    if (ir && (!rows[i].exposure_s || !rows[i].readout_s || *rows[i].exposure_s <= 0))
+      throw Error(csv.string() + ": frame " + std::to_string(i) +
+                  ": exposure_s/readout_s empty or zero (the ir modes need the frame timing)");
+  }
+  // Frame period for gap detection: the median interval.
+  std::vector<double> intervals;
+  for (std::uint64_t i = 1; i < frames; ++i) intervals.push_back(*rows[i].t_s - *rows[i - 1].t_s);
+  std::sort(intervals.begin(), intervals.end());
+  const double period = intervals.empty() ? 0.0 : intervals[intervals.size() / 2];
+
+  std::vector<std::byte> arena(vo::Odometry::arena_bytes(config));
+  vo::Odometry odometry(config, arena);
+  if (!odometry.ok()) throw Error(options.recording.string() + ": the VO could not be set up for this size");
+
+  // ir-loop: the firmware corrector in front, fed back with the VO's tau.
+  FrameSink corrected(w, h);
+  std::vector<fw::Pixel> corrector_storage(fw::TwoFrameCorrector::storage_pixels(w, h));
+  fw::CorrectorConfig cc;
+  cc.width = w, cc.height = h;
+  cc.tau = {to_ns(options.tau_init_s), to_ns(options.tau_init_s)};
+  fw::TwoFrameCorrector corrector(cc, corrector_storage, corrected);
+
+  TempDir tmp{out_dir.parent_path() / ("." + out_dir.filename().string() + ".partial")};
+  fs::remove_all(tmp.path);
+  fs::create_directories(tmp.path);
+
+  std::vector<std::uint16_t> raw(std::size_t{w} * h);
+  std::vector<StampedPose> trajectory;
+  std::vector<vo::WorldPoint> points;
+  std::ostringstream stats;
+  stats << "index,t_s,state,tracked_points,keyframe,residual_rms,tau_h_s,tau_c_s,time_ms\n";
+  OdometrySummary summary;
+  summary.arena_bytes = arena.size();
+  double vo_seconds = 0;
+  for (std::uint64_t i = 0; i < frames; ++i) {
+    recording.read_frame(i, raw);
+    const rec::FrameRow& row = rows[i];
+    vo::FrameInput in;
+    in.raw = raw;
+    in.t_s = *row.t_s;
+    in.exposure_s = row.exposure_s.value_or(0.0);
+    in.readout_prev_s = i > 0 ? rows[i - 1].readout_s.value_or(0.0) : 0.0;
+    in.chain_broken = i == 0 || row.ffc.value_or(false) ||
+                      (period > 0 && *row.t_s - *rows[i - 1].t_s > 1.5 * period);
+    const auto start = std::chrono::steady_clock::now();
+    if (options.photometric == vo::Photometric::ir_loop) {
+      const vo::Tau tau = odometry.tau();
+      corrector.set_time_constants({to_ns(tau.h), to_ns(tau.c)});
+      fw::FrameHeader header;
+      header.width = w, header.height = h;
+      header.sequence = i, header.sequence_valid = true;
+      header.timestamp_ns = static_cast<std::int64_t>(std::llround(*row.t_s * 1e9));
+      header.timestamp_valid = true;
+      header.exposure_ns = to_ns(in.exposure_s);
+      header.readout_ns = to_ns(row.readout_s.value_or(0.0));
+      header.ffc = row.ffc ? (*row.ffc ? fw::FfcState::completed : fw::FfcState::none) : fw::FfcState::unknown;
+      corrector.begin_frame(header);
+      for (std::uint32_t y = 0; y < h; ++y) corrector.push_line(y, fw::LineView(raw.data() + std::size_t{y} * w, w));
+      corrector.end_frame();
+      in.corrected = corrected.frame();
+    }
+    const vo::FrameResult r = odometry.process(in);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    vo_seconds += ms / 1e3;
+    for (const vo::WorldPoint& p : odometry.retired_points()) points.push_back(p);
+    // A pose the VO reports but that has run away (scale blow-up) is not written as one.
+    const bool sane = r.has_pose && r.T_wc.t.allFinite() && r.T_wc.R.allFinite() && r.T_wc.t.norm() < 1e6;
+    if (sane) trajectory.push_back({*row.t_s, r.T_wc}), ++summary.posed;
+    summary.lost += r.state == vo::TrackingState::lost;
+    summary.keyframes += r.keyframe;
+    summary.reinitialisations += r.reinitialised;
+    char line[256];
+    std::snprintf(line, sizeof line, "%llu,%.9f,%s,%u,%d,%.4f,%.6f,%.6f,%.3f\n",
+                  static_cast<unsigned long long>(i), *row.t_s, vo::to_string(r.state), r.tracked_points,
+                  r.keyframe ? 1 : 0, static_cast<double>(r.residual_rms), r.tau.h, r.tau.c, ms);
+    stats << line;
+    if (options.progress) options.progress(i + 1, frames);
+  }
+  std::vector<vo::WorldPoint> window(8 * 1200);
+  window.resize(odometry.window_points(window));
+  points.insert(points.end(), window.begin(), window.end());
+
+  summary.frames = frames;
+  summary.points = points.size();
+  summary.tau_h_s = odometry.tau().h, summary.tau_c_s = odometry.tau().c;
+  summary.seconds = vo_seconds;
+
+  std::string tum = "# bolo odometry: " + std::string(vo::to_string(options.photometric)) +
+                    " (t tx ty tz qx qy qz qw, camera-to-world)\n";
+  for (const StampedPose& p : trajectory) tum += tum_line(p);
+  write_text(tmp.path / "trajectory.tum", tum);
+  write_text(tmp.path / "stats.csv", stats.str());
+  write_text(tmp.path / "points.ply", ply_text(points));
+
+  // The plot: the estimate aligned (Sim(3)) onto the ground truth when there is one.
+  std::vector<PlotSeries> series;
+  PlotSeries estimate{"estimate (" + std::string(vo::to_string(options.photometric)) + ")", "#d62728", {}};
+  for (const StampedPose& p : trajectory) estimate.points.push_back(p.T_wc.t);
+  const fs::path truth_file = recording.dir() / "poses.tum";
+  if (fs::exists(truth_file)) {
+    const std::vector<StampedPose> truth = read_tum(truth_file);
+    const Association a = associate(trajectory, truth, 0.5 * (period > 0 ? period : 0.01));
+    std::vector<vo::Vec3> from, to;
+    for (std::size_t k = 0; k < a.estimate.size(); ++k)
+      from.push_back(trajectory[a.estimate[k]].T_wc.t), to.push_back(truth[a.truth[k]].T_wc.t);
+    const Similarity sim = umeyama(from, to, true);
+    for (vo::Vec3& p : estimate.points) p = sim.apply(p);
+    PlotSeries gt{"ground truth", "#1f77b4", {}};
+    const double t_end = trajectory.empty() ? 0 : trajectory.back().t;
+    for (const StampedPose& p : truth)
+      if (p.t <= t_end + 1e-9) gt.points.push_back(p.T_wc.t);
+    series.push_back(gt);
+  }
+  series.push_back(estimate);
+  write_text(tmp.path / "trajectory.svg", trajectory_svg("bolo odometry: " + recording.dir().filename().string() +
+                                                             ", top view (x, y)", series));
+  nlohmann::json j = {{"recording", fs::absolute(options.recording).lexically_normal().string()},
+                      {"photometric", vo::to_string(options.photometric)},
+                      {"frames", summary.frames},
+                      {"posed", summary.posed},
+                      {"lost", summary.lost},
+                      {"keyframes", summary.keyframes},
+                      {"reinitialisations", summary.reinitialisations},
+                      {"points", summary.points},
+                      {"tau_init_s", options.tau_init_s},
+                      {"tau_estimated", options.estimate_tau},
+                      {"tau_h_s", summary.tau_h_s},
+                      {"tau_c_s", summary.tau_c_s},
+                      {"vo_seconds", summary.seconds},
+                      {"arena_bytes", summary.arena_bytes}};
+  write_text(tmp.path / "summary.json", j.dump(2) + "\n");
+  if (fs::exists(out_dir)) fs::remove_all(out_dir);
+  fs::rename(tmp.path, out_dir);
+  tmp.keep = true;
+  return summary;
+}
+
+}  // namespace bolo::odo

@@ -1,0 +1,154 @@
+// bolo odometry and bolo evaluate end to end, in-process: a short simulated street/drive
+// sequence (160x120, 60 Hz, tau 12 ms, noise 3) through every photometric mode, the outputs'
+// formats, an ATE bound for the no-carry-over case, and the refusals of docs/errors.md section 12.
+
+#include <fstream>
+#include <sstream>
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "../cli/cli_test_support.hpp"
+#include "bolo/odometry/tum.hpp"
+
+using namespace bolo;
+using namespace bolo::test;
+
+namespace {
+
+// One simulated sequence per test binary (~1 s to render).
+const fs::path& sequence(const char* name, const char* tau) {
+  static TempDir tmp;
+  static std::map<std::string, fs::path> made;
+  const std::string key = std::string(name) + tau;
+  if (!made.count(key)) {
+    const fs::path dir = tmp / key;
+    const CliResult r = run_bolo({"simulate", dir.string(), "--scene", "street", "--trajectory", "drive", "--fps",
+                                  "60", "--frames", "36", "--size", "160x120", "--tau", tau, "--noise", "3",
+                                  "--seed", "1"});
+    REQUIRE(r.code == 0);
+    made[key] = dir;
+  }
+  return made[key];
+}
+
+nlohmann::json evaluate(const fs::path& run) {
+  const CliResult r = run_bolo({"evaluate", run.string(), "--json", (run / "eval.json").string()});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("ATE rmse") != std::string::npos);
+  std::ifstream in(run / "eval.json");
+  return nlohmann::json::parse(in);
+}
+
+std::string refusal(const std::vector<std::string>& args) {
+  const CliResult r = run_bolo(args);
+  INFO(r.out << r.err);
+  CHECK(r.code == 2);
+  CHECK(r.err.rfind("bolo: error: ", 0) == 0);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  return r.err;
+}
+
+}  // namespace
+
+TEST_CASE("odometry tracks a short drive and writes every output", "[vo][cli]") {
+  const fs::path& seq = sequence("drive", "0.0002");
+  TempDir out;
+  const fs::path run = out / "vo";
+  const CliResult r = run_bolo({"odometry", seq.string(), "--out", run.string(), "--photometric", "none"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* file : {"trajectory.tum", "stats.csv", "points.ply", "trajectory.svg", "summary.json"})
+    CHECK(fs::exists(run / file));
+  const auto poses = odo::read_tum(run / "trajectory.tum");
+  CHECK(poses.size() >= 20);  // initialisation takes ~12 frames of 36
+  const nlohmann::json e = evaluate(run);
+  INFO(e.dump(2));
+  // 36 frames, ~6 m of path: the aligned trajectory stays within 10 % of the path length.
+  CHECK(e["ate_relative"].get<double>() < 0.10);
+  CHECK(e["keyframes"].get<int>() >= 2);
+  CHECK(e["tracked_points_total"].get<int>() > 1000);
+}
+
+TEST_CASE("every photometric mode runs on a ghosting sequence", "[vo][cli]") {
+  const fs::path& seq = sequence("drive", "0.012");
+  TempDir out;
+  for (const char* mode : {"none", "affine", "ir", "ir-loop"}) {
+    const fs::path run = out / mode;
+    const CliResult r = run_bolo({"odometry", seq.string(), "--out", run.string(), "--photometric", mode});
+    INFO(mode << ": " << r.err);
+    REQUIRE(r.code == 0);
+    const nlohmann::json e = evaluate(run);
+    INFO(e.dump(2));
+    CHECK(e["posed"].get<int>() >= 10);
+    if (std::string(mode).rfind("ir", 0) == 0) {
+      CHECK(e["tau_true_c_s"].get<double>() == Approx(0.012));
+      CHECK(e["tau_c_s"].get<double>() > 0.001);  // estimated, within the physical bounds
+      CHECK(e["tau_c_s"].get<double>() < 0.1);
+    }
+  }
+}
+
+TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothing behind", "[vo][cli][refusal]") {
+  const fs::path& seq = sequence("drive", "0.0002");
+  TempDir tmp;
+  // 10.1 unknown model
+  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "a").string(), "--photometric", "dso"})
+            .find("--photometric: unknown model 'dso'") != std::string::npos);
+  // 10.2 no camera.json
+  const fs::path nocam = tmp / "nocam";
+  fs::create_directories(nocam);
+  for (const char* f : {"recording.json", "frames.npy", "frames.csv"}) fs::copy_file(seq / f, nocam / f);
+  CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "b").string()}).find("camera.json: missing") !=
+        std::string::npos);
+  // 10.3 distortion
+  fs::copy_file(seq / "camera.json", nocam / "camera.json");
+  {
+    std::ifstream in(nocam / "camera.json");
+    nlohmann::json cam = nlohmann::json::parse(in);
+    cam["k1"] = -0.1;
+    std::ofstream(nocam / "camera.json") << cam.dump();
+  }
+  CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "c").string()}).find("field k1 is not 0") !=
+        std::string::npos);
+  // 10.4 ir without timing
+  {
+    std::ifstream in(seq / "frames.csv");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string csv = text.str();
+    const auto line2 = csv.find('\n', csv.find('\n') + 1);  // end of frame 0's row
+    std::string row0 = csv.substr(csv.find('\n') + 1, line2 - csv.find('\n') - 1);
+    const auto c1 = row0.find(','), c2 = row0.find(',', c1 + 1), c3 = row0.find(',', c2 + 1);
+    row0 = row0.substr(0, c2 + 1) + row0.substr(c3);  // exposure_s of frame 0 emptied
+    csv.replace(csv.find('\n') + 1, line2 - csv.find('\n') - 1, row0);
+    fs::copy_file(seq / "camera.json", tmp / "cam.json");
+    std::ofstream(nocam / "frames.csv") << csv;
+    std::ifstream cin(tmp / "cam.json");
+    std::ofstream(nocam / "camera.json") << cin.rdbuf();
+  }
+  CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "d").string(), "--photometric", "ir"})
+            .find("frame 0: exposure_s/readout_s empty or zero") != std::string::npos);
+  // 10.5 existing output
+  fs::create_directories(tmp / "exists");
+  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "exists").string()}).find("already exists") !=
+        std::string::npos);
+  // 10.6 --tau-init out of range
+  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--tau-init", "0.5"})
+            .find("--tau-init: must be within") != std::string::npos);
+  // 10.7 evaluate: not an odometry output
+  CHECK(refusal({"evaluate", seq.string()}).find("summary.json: cannot open") != std::string::npos);
+  // 10.8 evaluate: a bad ground-truth file
+  {
+    const fs::path run = tmp / "run";
+    REQUIRE(run_bolo({"odometry", seq.string(), "--out", run.string()}).code == 0);
+    std::ofstream(tmp / "bad.tum") << "0.0 1 2 3\n";
+    CHECK(refusal({"evaluate", run.string(), "--truth", (tmp / "bad.tum").string()})
+              .find("bad.tum: line 1: expected 8 numbers") != std::string::npos);
+  }
+  // Nothing half-written: no output folders and no temporary leftovers besides what we made.
+  for (const char* name : {"a", "b", "c", "d", "e"}) CHECK_FALSE(fs::exists(tmp / name));
+  for (const auto& entry : fs::directory_iterator(tmp.path()))
+    CHECK(entry.path().filename().string().find(".partial") == std::string::npos);
+}

@@ -1,0 +1,110 @@
+// Proves the VO core allocates nothing after initialisation: malloc and operator new
+// are replaced in this binary by counting versions, and rendered street/drive frames (rendered
+// before counting starts) go through the VO in every mode: initialisation, tracking, depth
+// search, keyframes, window BA, tau refinement, a shutter event, a restart after losing track.
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <new>
+#include <vector>
+
+#include "bolo/vo/odometry.hpp"
+#include "rendered_pair.hpp"
+
+
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void __libc_free(void*);
+}
+
+namespace {
+std::atomic<long> g_allocations{0};
+std::atomic<bool> g_counting{false};
+void note() {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
+}
+}  // namespace
+
+extern "C" {
+void* malloc(std::size_t n) {
+  note();
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t n, std::size_t size) {
+  note();
+  return __libc_calloc(n, size);
+}
+void* realloc(void* p, std::size_t n) {
+  note();
+  return __libc_realloc(p, n);
+}
+void free(void* p) { __libc_free(p); }
+}
+
+void* operator new(std::size_t n) {
+  note();
+  if (void* p = __libc_malloc(n ? n : 1)) return p;
+  std::abort();
+}
+void* operator new[](std::size_t n) { return operator new(n); }
+void operator delete(void* p) noexcept { __libc_free(p); }
+void operator delete[](void* p) noexcept { __libc_free(p); }
+void operator delete(void* p, std::size_t) noexcept { __libc_free(p); }
+void operator delete[](void* p, std::size_t) noexcept { __libc_free(p); }
+
+namespace {
+int failures = 0;
+void check(bool ok, const char* what) {
+  std::printf("%s: %s\n", ok ? "ok" : "FAILED", what);
+  if (!ok) ++failures;
+}
+
+}  // namespace
+
+using namespace bolo;
+
+int main() {
+  g_counting = true;
+  {
+    auto* probe = new std::vector<int>(100);
+    delete probe;
+  }
+  g_counting = false;
+  check(g_allocations.load() > 0, "the counter sees allocations");
+
+  bolo::test::RenderedSequence seq{"street", "drive", 160, 120};
+  std::vector<std::vector<std::uint16_t>> frames;
+  for (int i = 0; i < 60; ++i) frames.push_back(seq.frame(2.0 + i / 60.0));
+  // Then the same frames backwards: a jump the tracker loses, and a restart.
+  for (int i = 59; i >= 0; i -= 6) frames.push_back(frames[static_cast<std::size_t>(i)]);
+  std::vector<std::uint16_t> corrected(frames[0].size());
+
+  for (vo::Photometric mode : {vo::Photometric::none, vo::Photometric::affine, vo::Photometric::ir, vo::Photometric::ir_loop}) {
+    vo::VoConfig cfg;
+    cfg.width = 160, cfg.height = 120, cfg.camera = seq.intrinsics(), cfg.photometric = mode;
+    std::vector<std::byte> arena(vo::Odometry::arena_bytes(cfg));
+    vo::Odometry odometry(cfg, arena);
+    check(odometry.ok(), "set up");
+    std::uint32_t posed = 0, keyframes = 0;
+    g_allocations = 0;
+    g_counting = true;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      vo::FrameInput in;
+      in.raw = frames[i];
+      if (mode == vo::Photometric::ir_loop) in.corrected = frames[i];
+      in.t_s = static_cast<double>(i) / 60.0, in.exposure_s = 1.0 / 120, in.readout_prev_s = 1.0 / 120;
+      in.chain_broken = i == 0 || i == 30;  // a shutter event mid-way
+      const vo::FrameResult r = odometry.process(in);
+      posed += r.has_pose, keyframes += r.keyframe;
+    }
+    g_counting = false;
+    std::printf("%s: %u of %zu frames posed, %u keyframes, %ld allocations\n", vo::to_string(mode), posed,
+                frames.size(), keyframes, g_allocations.load());
+    check(posed > 10 && keyframes > 1, "the VO tracked and made keyframes (the paths ran)");
+    check(g_allocations.load() == 0, "no heap allocation while processing frames");
+  }
+  return failures == 0 ? 0 : 1;
+}
