@@ -65,20 +65,8 @@ run_hal() {  # name, emulator arguments, host arguments: through the project's F
 if [ -x ./hil_flirone_hal ]; then
   run_hal hal_clean "--frames $frames --jpeg-bytes 0" "--min-frames $frames"
   run_hal hal_faults "--frames $((frames / 4)) --jpeg-bytes 0 --fault-rate 0.01 --seed 11 \
-    --faults short_transfer,corrupt,timeout,frame_id_jump,duplicate" "--min-frames $((frames / 5))"
-  # Known failures of the backend (2026-11-24): a stall is never cleared, and a replugged device
-  # is not found again without udevd. Expected to fail; when it passes, this step fails so that
-  # the stall/disconnect faults move into hal_faults above.
-  saved=$failed
-  failed=0
-  run_hal hal_stall_replug "--frames 300 --jpeg-bytes 0 --fault-rate 0.02 --seed 5 --faults stall,disconnect" ""
-  if [ $failed -eq 0 ]; then
-    echo "HIL-STEP hal_stall_replug: FAIL it passes now: move stall,disconnect into hal_faults"
-    failed=1
-  else
-    echo "HIL-STEP hal_stall_replug: known failure of the FLIR ONE backend (docs/hil.md)"
-    failed=$saved
-  fi
+    --faults short_transfer,corrupt,timeout,frame_id_jump,duplicate,stall,disconnect" \
+    "--min-frames $((frames / 5))"
 else
   echo "HIL-STEP hal: skipped, the HAL was built without libusb"
 fi
