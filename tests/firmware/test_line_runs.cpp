@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "bolo/firmware/bad_pixel_stage.hpp"
 #include "bolo/firmware/pipeline.hpp"
 #include "bolo/firmware/two_frame_corrector.hpp"
 #include "frame_collector.hpp"
@@ -99,9 +100,14 @@ void play(fw::LineSink& lines, fw::LineSink& runs, const fw::FrameHeader& hd,
   for (const Run& r : schedule) {
     const std::size_t need = r.count == 0 ? 0 : (r.count - 1) * r.stride + r.width;
     buffer.resize(need);
-    // Mostly mid-range values; some near the rails so saturation counts are exercised.
-    for (fw::Pixel& p : buffer)
-      p = static_cast<fw::Pixel>(rng.below(8) == 0 ? rng.below(65536) : 8000 + rng.below(2000));
+    // Mostly mid-range values; some anywhere (saturation counts), some on the stuck rails.
+    for (fw::Pixel& p : buffer) {
+      const std::uint32_t pick = rng.below(40);
+      p = static_cast<fw::Pixel>(pick == 0   ? 0x3FFF
+                                 : pick == 1 ? 0
+                                 : pick < 6  ? rng.below(65536)
+                                             : 8000 + rng.below(2000));
+    }
     for (std::uint32_t i = 0; i < r.count; ++i)
       lines.push_line(r.first + i, fw::LineView(buffer.data() + i * r.stride, r.width));
     runs.push_lines(r.first, r.count, buffer.data(), r.width, r.stride);
@@ -156,8 +162,9 @@ TEST_CASE("corrector: runs give what single lines give, broken frames included",
 
 TEST_CASE("pipeline: runs give what single lines give, broken frames included", "[pipeline][runs]") {
   SplitMix64 rng(7);
-  for (std::uint32_t w : {16u, 160u}) {
-    const std::uint32_t h = 30;
+  // Ring sizes (BadPixelStage::ring_rows) from 64 lines down to 4, frames higher and lower.
+  for (std::uint32_t w : {1u, 16u, 33u, 160u, 700u, 5000u}) {
+    const std::uint32_t h = w == 16 ? 70 : 30;
     const std::size_t n = std::size_t{w} * h;
     std::vector<std::uint16_t> gain(n);
     std::vector<std::int16_t> offset(n);
@@ -191,5 +198,16 @@ TEST_CASE("pipeline: runs give what single lines give, broken frames included", 
       REQUIRE(a.bad_pixels()->last_frame().unrepairable ==
               b.bad_pixels()->last_frame().unrepairable);
     }
+  }
+}
+
+TEST_CASE("bad-pixel ring: a power of two, room for a row and both its neighbours", "[bad_pixel][runs]") {
+  for (std::uint32_t w : {0u, 1u, 2u, 100u, 160u, 640u, 1024u, 2047u, 2048u, 2049u, 5000u,
+                          1u << 20, 0xFFFFFFFFu}) {
+    const std::uint32_t rows = fw::BadPixelStage::ring_rows(w);
+    INFO("width " << w);
+    REQUIRE(rows >= 4);
+    REQUIRE(rows <= 64);
+    REQUIRE((rows & (rows - 1)) == 0);
   }
 }
