@@ -21,9 +21,8 @@ void FrameFeeder::push_frame(fw::LineSink& sink) {
   ++sequence_;
 
   sink.begin_frame(h);
-  const fw::Pixel* p = frame.data();
-  for (std::uint32_t row = 0; row < d.height; ++row, p += d.width)
-    sink.push_line(row, fw::LineView(p, d.width));
+  // The whole frame is in memory: one run, as any source holding a frame should push it.
+  sink.push_lines(0, d.height, frame.data(), d.width, d.width);
   sink.end_frame();
 }
 

@@ -17,12 +17,14 @@ BadPixelStage::BadPixelStage(const BadPixelConfig& config, std::span<Pixel> stor
     height_ = 0;
     return;
   }
-  ring_ = storage.subspan(0, std::size_t{width_} * 3);
-  out_line_ = storage.subspan(std::size_t{width_} * 3, width_);
+  ring_rows_ = ring_rows(width_);
+  const std::size_t ring = std::size_t{width_} * ring_rows_;
+  ring_ = storage.subspan(0, ring);
+  out_line_ = storage.subspan(ring, width_);
   // Flag bits in the room storage_pixels() sets aside after the lines, accessed as bytes.
   flags_ = std::span<std::uint8_t>(
-      reinterpret_cast<std::uint8_t*>(storage.data() + std::size_t{width_} * 4),
-      3 * flag_words(width_) * 4);
+      reinterpret_cast<std::uint8_t*>(storage.data() + ring + width_),
+      ring_rows_ * flag_words(width_) * 4);
 }
 
 BadPixelStage::BadPixelStage(const BadPixelConfig& config, const NucTables& input_nuc,
@@ -80,25 +82,59 @@ void BadPixelStage::push_line(std::uint32_t row, LineView line) {
     pass_through(row, line);
     return;
   }
+  ingest(row, line.data());
+  if (row >= kRadius) emit(row - kRadius);
+}
+
+void BadPixelStage::push_lines(std::uint32_t first_row, std::uint32_t count, const Pixel* pixels,
+                               std::size_t width, std::size_t stride) {
+  if (!active_ || first_row != rows_in_ || width != width_ || count > height_ - first_row) {
+    LineSink::push_lines(first_row, count, pixels, width, stride);  // push_line decides
+    return;
+  }
+  // Rows ready = ingested with their successor; they leave in the order and state push_line
+  // would give them (each repaired after the row below it arrived), only several per call.
+  // A run of ready rows goes before the next ingest would overwrite the line above its first
+  // row (a neighbour), and before it would wrap around the ring's end (runs are contiguous).
+  std::uint32_t ready = first_row == 0 ? 0 : first_row - 1;  // first row not yet handed on
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const std::uint32_t row = first_row + i;
+    ingest(row, pixels + std::size_t{i} * stride);
+    if (row == ready) continue;  // row 0: nothing is ready before row 1
+    if (row - ready >= ring_rows_ - 2 || ((row - 1) & (ring_rows_ - 1)) == ring_rows_ - 1 ||
+        i + 1 == count) {
+      for (std::uint32_t r = ready; r < row; ++r) repair_row(r);
+      next().push_lines(ready, row - ready, ring_line(ready), width_, width_);
+      ready = row;
+    }
+  }
+}
+
+void BadPixelStage::ingest(std::uint32_t row, const Pixel* line) {
   const std::size_t at = std::size_t{row} * width_;
   const std::uint8_t* mask = config_.mask.empty() ? nullptr : config_.mask.data() + at;
-  detail::IngestLine job{line.data(), nullptr, nullptr, mask, config_.detect_stuck,
+  detail::IngestLine job{line, nullptr, nullptr, mask, config_.detect_stuck,
                          config_.stuck_low, config_.stuck_high, ring_line(row), ring_flags(row),
                          width_};
   if (nuc_ != nullptr) {
     job.gain_q14 = nuc_->gain_q14.data() + at;
     job.offset = nuc_->offset.data() + at;
   }
-  row_flagged_[row % 3] = detail::ingest_line(job);
+  const std::uint64_t bit = std::uint64_t{1} << (row & (ring_rows_ - 1));
+  row_flagged_ = detail::ingest_line(job) ? row_flagged_ | bit : row_flagged_ & ~bit;
   rows_in_ = row + 1;
-  if (row >= kRadius) emit(row - kRadius);
+}
+
+void BadPixelStage::emit(std::uint32_t row) {
+  repair_row(row);
+  // The ring line itself goes on: it is not touched before the next push.
+  next().push_line(row, LineView(ring_line(row), width_));
 }
 
 // Repairs in place in the ring: a repaired pixel is flagged, and flagged pixels are never read as
 // neighbours, so the rows still to come see the same neighbourhoods as with a copy.
-void BadPixelStage::emit(std::uint32_t row) {
-  Pixel* centre = ring_line(row);
-  if (row_flagged_[row % 3]) {
+void BadPixelStage::repair_row(std::uint32_t row) {
+  if ((row_flagged_ >> (row & (ring_rows_ - 1))) & 1u) {
     const std::uint8_t* centre_flags = ring_flags(row);
     // Only flagged pixels change: the set bits of each flag word, lowest first. The scan stays
     // a tight loop; the (rare) repair is a call.
@@ -107,8 +143,6 @@ void BadPixelStage::emit(std::uint32_t row) {
         repair(row, base + static_cast<std::uint32_t>(std::countr_zero(bits)));
     }
   }
-  // The ring line itself goes on: it is not touched before the next push.
-  next().push_line(row, LineView(centre, width_));
 }
 
 void BadPixelStage::repair(std::uint32_t row, std::uint32_t x) {

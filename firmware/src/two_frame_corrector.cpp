@@ -36,7 +36,7 @@ TwoFrameCorrector::TwoFrameCorrector(const CorrectorConfig& config, std::span<Pi
     return;
   }
   store_ = storage.subspan(0, frame);
-  out_line_ = storage.subspan(frame, config.width);
+  out_line_ = storage.subspan(frame, run_rows(config.width, config.height) * config.width);
 }
 
 namespace {
@@ -167,6 +167,37 @@ void TwoFrameCorrector::push_line(std::uint32_t row, LineView line) {
   }
   ++lines_seen_;
   next().push_line(row, LineView(out_line_.data(), line.size()));
+}
+
+void TwoFrameCorrector::push_lines(std::uint32_t first_row, std::uint32_t count,
+                                   const Pixel* pixels, std::size_t width, std::size_t stride) {
+  // Only the steady state takes the run path: in-order rows of a good frame, all within the
+  // height, at the configured width, with carry-over. Every other case (broken frames, the first
+  // frame, rows past the end) is the line path, so its outcome is push_line's by construction.
+  if (mode_ != Mode::full || !frame_ok_ || frame_broken_ || first_row != lines_seen_ ||
+      width != config_.width || count > config_.height - first_row) {
+    LineSink::push_lines(first_row, count, pixels, width, stride);
+    return;
+  }
+  const std::uint32_t chunk = static_cast<std::uint32_t>(out_line_.size() / width);
+  for (std::uint32_t done = 0; done < count;) {
+    const std::uint32_t rows = std::min(chunk, count - done);
+    const std::uint32_t row = first_row + done;
+    const Pixel* in = pixels + std::size_t{done} * stride;
+    Pixel* stored = store_.data() + std::size_t{row} * width;
+    if (stride == width) {  // the run, the store rows and the output rows are all contiguous
+      update_(in, stored, frame_stats_.coefficients, out_line_.data(), std::size_t{rows} * width,
+              frame_stats_.saturated_low, frame_stats_.saturated_high);
+    } else {
+      for (std::uint32_t i = 0; i < rows; ++i)
+        update_(in + std::size_t{i} * stride, stored + std::size_t{i} * width,
+                frame_stats_.coefficients, out_line_.data() + std::size_t{i} * width, width,
+                frame_stats_.saturated_low, frame_stats_.saturated_high);
+    }
+    lines_seen_ += rows;
+    next().push_lines(row, rows, out_line_.data(), width, width);
+    done += rows;
+  }
 }
 
 void TwoFrameCorrector::end_frame() {

@@ -5,7 +5,8 @@
 //   state and temperatures (or the "next" of each, so the corrector gets to apply carry-over),
 //   push_line with an arbitrary row and length (or the next row at the frame's width), pixels
 //   from the input or generated with rail values,
-//   end_frame, a whole well-formed frame, or new time constants.
+//   end_frame, a whole well-formed frame (line by line or as one push_lines run), or new time
+//   constants.
 // Properties: no access outside any buffer (every line and table is an exactly sized heap
 // block), no undefined behaviour, as many lines out as in per frame, no line wider than the
 // widest pushed.
@@ -78,6 +79,21 @@ struct Driver {
     pipe.input().push_line(row, fw::LineView(line.get(), length));
   }
 
+  // Rows 0..count-1 as one run, in one exactly sized block (no padding between rows).
+  void push_run(std::uint32_t length, std::uint32_t count, std::uint8_t rails) {
+    const std::size_t n = std::size_t{length} * count;
+    std::unique_ptr<fw::Pixel[]> block(new fw::Pixel[n == 0 ? 1 : n]);
+    for (std::size_t i = 0; i < n; ++i) {
+      block[i] = static_cast<fw::Pixel>(prng.next());
+      if ((prng.next() & 7) == 0) {
+        constexpr fw::Pixel kRails[] = {0, 0x3FFF, 0xFFFF, 1};
+        block[i] = kRails[rails & 3];
+      }
+    }
+    sink.lines_in += count;
+    pipe.input().push_lines(0, count, block.get(), length, length);
+  }
+
   void step() {
     const std::uint8_t op = in.u8();
     switch (op % 8) {
@@ -103,7 +119,11 @@ struct Driver {
         fw::FrameHeader h = header(0x3F);
         begin(h);
         const std::uint8_t rails = in.u8();
-        for (std::uint32_t row = 0; row < height; ++row) push(row, width, false, rails);
+        if ((rails & 0x80) != 0) {
+          push_run(width, height, rails);  // the same rows as one push_lines
+        } else {
+          for (std::uint32_t row = 0; row < height; ++row) push(row, width, false, rails);
+        }
         end();
         break;
       }

@@ -221,8 +221,9 @@ std::vector<fw::Pixel> bad_pixel_reference(const std::vector<fw::Pixel>& frame, 
 
 TEST_CASE("the bad-pixel stage equals the plain rule on random frames", "[bad_pixel]") {
   SplitMix64 rng(23);
-  for (std::uint32_t w : {1u, 2u, 3u, 31u, 32u, 33u, 64u, 65u, 100u, 160u}) {
-    for (std::uint32_t h : {1u, 2u, 3u, 4u, 7u}) {
+  // Widths past BadPixelStage::kRunPixels (smallest ring) and heights past the largest ring.
+  for (std::uint32_t w : {1u, 2u, 3u, 31u, 32u, 33u, 64u, 65u, 100u, 160u, 2100u}) {
+    for (std::uint32_t h : {1u, 2u, 3u, 4u, 7u, 70u}) {
       for (int variant = 0; variant < 12; ++variant) {
         // Densities from none to most pixels bad, with and without mask and stuck detection.
         const std::uint32_t per_mille = std::array<std::uint32_t, 6>{0, 1, 10, 100, 500, 950}[variant % 6];
@@ -249,11 +250,18 @@ TEST_CASE("the bad-pixel stage equals the plain rule on random frames", "[bad_pi
         FrameCollector sink(w, h);
         fw::BadPixelStage stage(cfg, storage, sink);
         INFO("w " << w << " h " << h << " variant " << variant);
-        for (std::uint32_t rows : {h, (h + 1) / 2}) {  // whole frame, and one cut short
+        int pass = 0;
+        for (std::uint32_t rows : {h, (h + 1) / 2, h, (h + 1) / 2}) {  // whole, cut short
+          // Line by line, then as one run (push_lines' ring path).
+          const bool as_run = ++pass > 2;
           sink.begin_frame(header(w, h, 0));
           stage.begin_frame(header(w, h, 0));
-          for (std::uint32_t r = 0; r < rows; ++r)
-            stage.push_line(r, fw::LineView(frame.data() + std::size_t{r} * w, w));
+          if (as_run) {
+            stage.push_lines(0, rows, frame.data(), w, w);
+          } else {
+            for (std::uint32_t r = 0; r < rows; ++r)
+              stage.push_line(r, fw::LineView(frame.data() + std::size_t{r} * w, w));
+          }
           stage.end_frame();
           fw::BadPixelFrameStats want_stats;
           const auto want = bad_pixel_reference(frame, w, rows, cfg, want_stats);

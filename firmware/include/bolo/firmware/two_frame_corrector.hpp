@@ -73,9 +73,17 @@ void scale_line(const Pixel* current, std::uint32_t gain_q24, Pixel* out, std::s
 
 class TwoFrameCorrector final : public Stage {
  public:
-  // Pixels of storage the stage needs: the frame store plus one output line.
+  // Output rows per push_lines chunk: about kRunPixels pixels, at least one row, at most the
+  // frame. Enough for one kernel call to cover many short lines; small enough to stay in L1.
+  static constexpr std::size_t kRunPixels = 4096;
+  static constexpr std::size_t run_rows(std::uint32_t width, std::uint32_t height) {
+    const std::size_t by_size = width == 0 ? 1 : kRunPixels / width;
+    const std::size_t rows = by_size < height ? by_size : height;
+    return rows == 0 ? 1 : rows;
+  }
+  // Pixels of storage the stage needs: the frame store plus run_rows() output lines.
   static constexpr std::size_t storage_pixels(std::uint32_t width, std::uint32_t height) {
-    return std::size_t{width} * height + width;
+    return std::size_t{width} * height + run_rows(width, height) * width;
   }
   // `storage` must hold storage_pixels(config.width, config.height) pixels and outlive the stage.
   TwoFrameCorrector(const CorrectorConfig& config, std::span<Pixel> storage, LineSink& next);
@@ -86,6 +94,10 @@ class TwoFrameCorrector final : public Stage {
 
   void begin_frame(const FrameHeader& header) override;
   void push_line(std::uint32_t row, LineView line) override;
+  // Consecutive rows of a carry-over frame go through the kernel in chunks of run_rows() (one
+  // call per chunk when the rows are contiguous) and on as runs; anything else line by line.
+  void push_lines(std::uint32_t first_row, std::uint32_t count, const Pixel* pixels,
+                  std::size_t width, std::size_t stride) override;
   void end_frame() override;
 
   const CorrectorFrameStats& last_frame() const { return frame_stats_; }
@@ -105,7 +117,7 @@ class TwoFrameCorrector final : public Stage {
   // enough for the per-call dispatch to show.
   UpdateKernel update_;
   std::span<Pixel> store_;     // previous raw frame, row-major
-  std::span<Pixel> out_line_;  // one corrected line
+  std::span<Pixel> out_line_;  // run_rows() corrected lines
   FrameHeader header_{};
   FrameHeader previous_{};
   bool have_previous_ = false;
