@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/LU>  // determinant()
+
 #include "bolo/odometry/tum.hpp"
 #include "fuzz_support.hpp"
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <string>
 
 namespace bolo::odo {
 
@@ -38,10 +39,16 @@ std::vector<StampedPose> read_tum(const std::filesystem::path& file) {
 
 std::string tum_line(const StampedPose& pose) {
   const Eigen::Vector4d q = vo::to_quaternion(pose.T_wc.R);
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", pose.t,
-                pose.T_wc.t.x(), pose.T_wc.t.y(), pose.T_wc.t.z(), q.x(), q.y(), q.z(), q.w());
-  return buffer;
+  // Fixed nine decimals (the TUM tools' convention) can take over 300 characters for a large
+  // coordinate: ask snprintf for the length instead of cutting the line short.
+  const auto print = [&](char* out, std::size_t size) {
+    return std::snprintf(out, size, "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", pose.t,
+                         pose.T_wc.t.x(), pose.T_wc.t.y(), pose.T_wc.t.z(), q.x(), q.y(), q.z(),
+                         q.w());
+  };
+  std::string line(static_cast<std::size_t>(print(nullptr, 0)), '\0');
+  print(line.data(), line.size() + 1);
+  return line;
 }
 
 }  // namespace bolo::odo
