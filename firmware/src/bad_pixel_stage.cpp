@@ -62,8 +62,8 @@ inline std::uint32_t divide_small(std::uint32_t n, std::uint32_t d) {
 
 // The 32 flag bits of pixels x & ~31 ... (x & ~31) + 31 of a row.
 inline std::uint32_t flag_word(const std::uint8_t* row_flags, std::uint32_t x) {
-  std::uint32_t word;
-  std::memcpy(&word, row_flags + (x / 32) * 4, sizeof word);
+  std::uint32_t word = 0;
+  std::memcpy(&word, row_flags + std::size_t{x / 32} * 4, sizeof word);
   return word;
 }
 

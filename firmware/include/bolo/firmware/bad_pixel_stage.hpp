@@ -48,7 +48,8 @@ class BadPixelStage final : public Stage {
   // flags as bits (32-bit words, two pixels of room each).
   static constexpr std::size_t flag_words(std::uint32_t width) { return (std::size_t{width} + 31) / 32; }
   static constexpr std::size_t storage_pixels(std::uint32_t width) {
-    return std::size_t{width} * (ring_rows(width) + 1) + ring_rows(width) * 2 * flag_words(width);
+    return std::size_t{width} * (ring_rows(width) + 1) +
+           std::size_t{ring_rows(width)} * 2 * flag_words(width);
   }
   BadPixelStage(const BadPixelConfig& config, std::span<Pixel> storage, LineSink& next);
   // With NUC on input. Tables shorter than a frame are a configuration bug: the stage then
