@@ -227,7 +227,9 @@ BaselineFit fit_static_background(DiagnoseData& d) {
 double mask_scene_motion(DiagnoseData& d, const BaselineFit& fit, double sigma) {
   const int N = d.shape.n;
   const std::size_t P = d.shape.pixels();
-  const double per_count = 5.0 * std::fabs(fit.timing_frames * fit.gain);
+  // Only a late reading (positive shift) is motion within the exposure: the late part weighs more.
+  // A negative shift comes from something else (a tau changing with temperature) and masks nothing.
+  const double per_count = 5.0 * std::max(0.0, fit.timing_frames) * std::fabs(fit.gain);
   const double carry = std::exp(-median_of(d.readout_s) / fit.tau_c_s);
   auto step = [&](int n, std::size_t p) {  // |scene step from n-1 to n|, 0 outside or at a shutter event
     if (n < 1 || n >= N || d.flagged_event[n]) return 0.0;
@@ -257,11 +259,16 @@ BaselineFit fit_baseline(DiagnoseData& d) {
     const double sigma = noise_floor(d);
     mask_scene_motion(d, fit, sigma);
     const std::vector<std::uint8_t> motion = d.valid;
-    fit = fit_two_frame(d, &motion);
-    d.valid.assign(d.shape.size(), 1);
-    fit.moving_fraction = mask_scene_motion(d, fit, sigma);
+    if (std::find(motion.begin(), motion.end(), 0) != motion.end()) {
+      fit = fit_two_frame(d, &motion);
+      d.valid.assign(d.shape.size(), 1);
+      fit.moving_fraction = mask_scene_motion(d, fit, sigma);
+      // The refit says there is no motion within the exposure after all (its timing shift, free
+      // of the edges, is <= 0): the unmasked fit is the consistent one.
+      if (fit.moving_fraction == 0) fit = fit_two_frame(d);
+    }
     fit.assumption += "; motion within the exposure is modelled to first order (timing shift); pixel-frames "
-                      "where the rest (estimated as 5 x |timing shift| x |scene step to or from the frame|, "
+                      "where the rest (estimated as 5 x max(0, timing shift) x |scene step to or from the frame|, "
                       "carried on by the cooling carry) exceeds half a noise sigma are masked out of every fit "
                       "(moving_fraction)";
   }
