@@ -114,6 +114,9 @@ TEST_CASE("diagnose: more refusals of docs/errors.md section 11", "[diagnose][cl
   refused({"simulate", (tmp / "s").string(), "--config", not_number}, "line 1: fps: not a number: 'fast'");
   refused({"simulate", (tmp / "s").string(), "--config", no_equals}, "line 1: expected `option = value`");
   refused({"simulate", (tmp / "s").string(), "--config", two}, "line 1: fps: expected one value, got 2");
+  const std::string empty_list = write("empty.cfg", "fps = 30\neffect = [ ]\n");  // found by fuzzing
+  refused({"simulate", (tmp / "s").string(), "--config", empty_list},
+          "line 2: empty list: effect needs at least one value");
 }
 
 TEST_CASE("simulate --config: the command line wins over the file", "[diagnose][cli]") {

@@ -76,6 +76,8 @@ std::vector<ConfigEntry> parse_simulator_config(const std::string& text, const s
         if (i < rest.size() && rest[i] == ']') { ++i; break; }
         bad(source, line, "expected ',' or ']' in the list of " + e.option);
       }
+      // `effect = []` would pass an option to bolo simulate with nothing after it.
+      if (e.values.empty()) bad(source, line, "empty list: " + e.option + " needs at least one value");
     } else {
       e.values.push_back(value_at(rest, i, source, line));
     }
