@@ -9,8 +9,11 @@ dir=build-hil-arm64
 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_TOOLCHAIN_FILE=toolchain/vm/aarch64-hil.cmake \
   -DBOLO_HIL_SYSROOT="$sysroot" -DBOLO_BUILD_HOST_TOOLS=OFF >/dev/null
 targets=(flirone_emulator hil_flirone seek_emulator)
+# Listed once: `ninja ... | grep -q` under pipefail fails at random (grep's early exit kills
+# ninja with SIGPIPE), which once dropped hil_flirone_hal from a CI build.
+available=$(ninja -C "$dir" -t targets all)
 for optional in hil_flirone_hal hil_seek_hal; do  # the HAL's USB sources, where libusb was found
-  ninja -C "$dir" -t targets all | grep -q "^$optional:" && targets+=("$optional")
+  grep -q "^$optional:" <<<"$available" && targets+=("$optional")
 done
 cmake --build "$dir" -j "$(nproc)" --target "${targets[@]}"
 ctest --test-dir "$dir" -L hil-arm64 --output-on-failure "$@"
