@@ -63,9 +63,15 @@ struct LibusbTransport::Impl {
   std::vector<Slot> slots;
   std::deque<Done> done;
   bool gone = false;
+  // Set when transfers were still in flight at close: libusb keeps pointers to them, to their
+  // buffers, the device handle and the context, so none of those may be freed (a bounded leak
+  // per unplug in that rare case, instead of a use-after-free).
+  bool context_pinned = false;
+  std::vector<std::vector<std::uint8_t>> retired_buffers;
 
   static void LIBUSB_CALL on_complete(libusb_transfer* t) {
     Slot* slot = static_cast<Slot*>(t->user_data);
+    if (!slot) return;  // retired (see retire_in_flight): nobody owns it any more
     slot->busy = false;
     TransferStatus s = TransferStatus::error;
     switch (t->status) {
@@ -172,17 +178,38 @@ struct LibusbTransport::Impl {
     return opened.endpoint != 0;
   }
 
-  void cancel_all() {
+  bool any_busy() const {
+    for (const Slot& s : slots)
+      if (s.busy) return true;
+    return false;
+  }
+
+  // Cancels every transfer and waits, by time not by event count (each call returns at the first
+  // event, and an unplug brings many), until libusb has given them all back. False when some are
+  // still in flight after that.
+  bool cancel_all() {
     for (Slot& s : slots)
       if (s.busy) libusb_cancel_transfer(s.transfer);
-    for (int spins = 0; spins < 100; ++spins) {
-      bool any = false;
-      for (Slot& s : slots) any = any || s.busy;
-      if (!any) break;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    while (any_busy() && std::chrono::steady_clock::now() < deadline) {
       timeval tv{0, 10000};
       libusb_handle_events_timeout_completed(ctx, &tv, nullptr);
     }
     done.clear();
+    return !any_busy();
+  }
+
+  // Transfers libusb still holds keep their memory; the slots get fresh ones.
+  void retire_in_flight() {
+    for (Slot& s : slots) {
+      if (!s.busy) continue;
+      s.transfer->user_data = nullptr;
+      retired_buffers.push_back(std::move(s.buffer));
+      s.buffer.assign(config.transfer_bytes, 0);
+      s.transfer = libusb_alloc_transfer(0);
+      s.busy = false;
+    }
+    context_pinned = true;
   }
 
   int stream_interface = -1;
@@ -207,12 +234,22 @@ struct LibusbTransport::Impl {
 
   void close() {
     if (!handle) return;
-    cancel_all();
+    const bool idle = cancel_all();
     if (!gone) send(config.stop);
     for (int iface : claimed) libusb_release_interface(handle, iface);
     claimed.clear();
-    libusb_close(handle);
+    if (idle)
+      libusb_close(handle);
+    else
+      retire_in_flight();  // the handle stays open: in-flight transfers point at it
     handle = nullptr;
+  }
+
+  // The context is exited only when nothing of ours can still be inside it.
+  void drop_context() {
+    if (ctx && !context_pinned) libusb_exit(ctx);
+    ctx = nullptr;
+    context_pinned = false;
   }
 
   bool submit(Slot& s, std::uint32_t timeout_ms) {
@@ -254,7 +291,7 @@ LibusbTransport::LibusbTransport(const LibusbConfig& config) : impl_(std::make_u
 LibusbTransport::~LibusbTransport() {
   impl_->close();
   for (auto& s : impl_->slots) libusb_free_transfer(s.transfer);
-  if (impl_->ctx) libusb_exit(impl_->ctx);
+  impl_->drop_context();
 }
 
 Transfer LibusbTransport::next(std::span<std::uint8_t> buffer, std::uint32_t timeout_ms) {
@@ -311,8 +348,7 @@ bool LibusbTransport::reconnect(std::uint32_t timeout_ms) {
   for (;;) {
     // A fresh context each attempt: without udev (minimal boards, the HIL VM) a context gets no
     // hot-plug events and never lists the replugged device.
-    if (m.ctx) libusb_exit(m.ctx);
-    m.ctx = nullptr;
+    m.drop_context();
     if (libusb_init(&m.ctx) != 0) {
       m.ctx = nullptr;
       return false;
