@@ -26,12 +26,17 @@ class TouchSink final : public fw::LineSink {
     checksum_ += line[row % line.size()];
     ++lines_;
   }
-  // The same per line, without a call per line: what a sink that takes runs looks like.
+  // The same pixels, without a call per line: what a sink that takes runs looks like. The
+  // column row % width is stepped along the run (one division per call, not one per line: a
+  // 64-bit division per 160-pixel line was ~13 % of the corrector's time at 160x120).
   void push_lines(std::uint32_t first_row, std::uint32_t count, const fw::Pixel* pixels,
                   std::size_t width, std::size_t stride) override {
-    for (std::uint32_t i = 0; i < count; ++i) {
-      const std::uint32_t row = first_row + i;
-      checksum_ += pixels[i * stride + row % width];
+    if (count == 0) return;
+    std::size_t column = first_row % width;
+    const fw::Pixel* line = pixels;
+    for (std::uint32_t i = 0; i < count; ++i, line += stride) {
+      checksum_ += line[column];
+      column = column + 1 == width ? 0 : column + 1;
     }
     lines_ += count;
   }
