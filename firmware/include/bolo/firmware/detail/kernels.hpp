@@ -14,9 +14,10 @@ enum class KernelPath : std::uint8_t {
   portable,  // the C++ loop: the definition, and what ARM builds run
   avx2,      // x86-64 intrinsics, 16 pixels per step
   avx512,    // x86-64-v4 intrinsics (AVX-512 F/BW/VL/DQ), 32 pixels per step, masked tail
+  avx512_vnni,  // the avx512 kernel with AVX512-VNNI multiply-accumulates (corrector only)
 };
 inline constexpr KernelPath kKernelPaths[] = {KernelPath::portable, KernelPath::avx2,
-                                              KernelPath::avx512};
+                                              KernelPath::avx512, KernelPath::avx512_vnni};
 const char* to_string(KernelPath path);
 
 // Compiled into this build and supported by the CPU it runs on.
