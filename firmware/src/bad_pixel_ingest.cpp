@@ -101,15 +101,33 @@ bool ingest_portable(const IngestLine& job) {
 #if BOLO_X86_KERNELS
 #define BOLO_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq,avx2")))
 
-// NUC in 16-bit lanes: mulhi/mullo give the u32 product in*gain as two halves; unpacklo/hi_epi16
+// NUC, general case: mulhi/mullo give the u32 product in*gain as two halves; unpacklo/hi_epi16
 // assemble it in 32-bit lanes (pixels 8j+0..3 and 8j+4..7 of each 128-bit lane), the offset is
 // sign-extended the same way, and packus_epi32 (within 128-bit lanes again) restores pixel
 // order while saturating the int32 sum to [0, 65535]: exactly nuc_pixel's clamp. in*gain + 2^13
-// < 2^32, so the logical shift is exact.
+// < 2^32, so the logical shift is exact. The usual case (pixels below 2^14, gains below 2.0) stays
+// in 16-bit lanes: see ingest_avx512_step.
 struct Avx512IngestConstants {
-  __m512i half, low, high;
+  __m512i half, low, high, flip;
   __mmask32 stuck_on;
 };
+
+// The general case: the u32 product and the offset in 32-bit lanes (see above).
+BOLO_AVX512 inline __attribute__((always_inline)) __m512i nuc_avx512_wide(
+    __m512i v, __m512i g, __m512i o, const Avx512IngestConstants& k) {
+  const __m512i hi = _mm512_mulhi_epu16(v, g);
+  const __m512i lo = _mm512_mullo_epi16(v, g);
+  const __m512i sign = _mm512_srai_epi16(o, 15);
+  const __m512i v0 = _mm512_add_epi32(
+      _mm512_srli_epi32(_mm512_add_epi32(_mm512_unpacklo_epi16(lo, hi), k.half),
+                        kNucGainFractionBits),
+      _mm512_unpacklo_epi16(o, sign));
+  const __m512i v1 = _mm512_add_epi32(
+      _mm512_srli_epi32(_mm512_add_epi32(_mm512_unpackhi_epi16(lo, hi), k.half),
+                        kNucGainFractionBits),
+      _mm512_unpackhi_epi16(o, sign));
+  return _mm512_packus_epi32(v0, v1);
+}
 
 // 32 pixels from x; `kTail`: only those selected by `m` exist (masked loads and stores).
 template <bool kNuc, bool kMask, bool kTail>
@@ -121,18 +139,20 @@ BOLO_AVX512 inline __attribute__((always_inline)) __mmask32 ingest_avx512_step(
         kTail ? _mm512_maskz_loadu_epi16(m, j.gain_q14 + x) : _mm512_loadu_si512(j.gain_q14 + x);
     const __m512i o =
         kTail ? _mm512_maskz_loadu_epi16(m, j.offset + x) : _mm512_loadu_si512(j.offset + x);
-    const __m512i hi = _mm512_mulhi_epu16(v, g);
-    const __m512i lo = _mm512_mullo_epi16(v, g);
-    const __m512i sign = _mm512_srai_epi16(o, 15);
-    const __m512i v0 = _mm512_add_epi32(
-        _mm512_srli_epi32(_mm512_add_epi32(_mm512_unpacklo_epi16(lo, hi), k.half),
-                          kNucGainFractionBits),
-        _mm512_unpacklo_epi16(o, sign));
-    const __m512i v1 = _mm512_add_epi32(
-        _mm512_srli_epi32(_mm512_add_epi32(_mm512_unpackhi_epi16(lo, hi), k.half),
-                          kNucGainFractionBits),
-        _mm512_unpackhi_epi16(o, sign));
-    v = _mm512_packus_epi32(v0, v1);
+    // Usual case, in 16-bit lanes: every pixel below 2^14 and every gain below 2^15 (Q2.14
+    // gains under 2.0), which bit 15 of in | 2 in | gain tells (2 in wraps for in >= 2^15, but
+    // then in's own bit 15 is set). Then 2 in and gain are non-negative int16 and mulhrs gives
+    // (2 in * gain + 2^14) >> 15 = (in * gain + 2^13) >> 14, exactly nuc_pixel's `scaled`, at most
+    // 32767. Biased by -32768 (bit 15 flipped) it is in [-32768, -1]; a signed saturating add
+    // of the offset is then exactly the clamp to [0, 65535] once the bias is flipped back (the
+    // sum cannot exceed 32766, and everything at or below -32768 is 0).
+    const __m512i in2 = _mm512_add_epi16(v, v);
+    if (_mm512_movepi16_mask(_mm512_ternarylogic_epi32(v, in2, g, 0xFE)) == 0) [[likely]] {
+      const __m512i scaled = _mm512_mulhrs_epi16(in2, g);
+      v = _mm512_xor_si512(_mm512_adds_epi16(_mm512_xor_si512(scaled, k.flip), o), k.flip);
+    } else {
+      v = nuc_avx512_wide(v, g, o, k);
+    }
   }
   if constexpr (kTail) {
     _mm512_mask_storeu_epi16(j.ring + x, m, v);
@@ -157,6 +177,7 @@ BOLO_AVX512 bool ingest_avx512_loop(const IngestLine& job) {
   const Avx512IngestConstants k{_mm512_set1_epi32(1 << (kNucGainFractionBits - 1)),
                                 _mm512_set1_epi16(static_cast<short>(j.stuck_low)),
                                 _mm512_set1_epi16(static_cast<short>(j.stuck_high)),
+                                _mm512_set1_epi16(static_cast<short>(0x8000)),
                                 j.detect_stuck ? ~__mmask32{0} : __mmask32{0}};
   __mmask32 any = 0;
   std::size_t x = 0;

@@ -108,3 +108,66 @@ TEST_CASE("the portable ingest loops follow their definition", "[kernels][bad_pi
   CHECK_FALSE(fw::detail::ingest_kernel(KernelPath::portable)(job));
   CHECK(flags == 0u);
 }
+
+// The AVX-512 intake computes the NUC in 16-bit lanes when every pixel of a 32-pixel step is
+// below 2^14 and every gain below 2^15 (the usual case), and in 32-bit lanes otherwise. The test
+// above mostly draws steps of the general case; this one keeps to the 16-bit range (every pixel
+// value there against edge gains and offsets, then random lines) and puts single pixels or
+// gains just outside it into some steps.
+TEST_CASE("every ingest path equals the portable loops in and around the 16-bit NUC range",
+          "[kernels][bad_pixel]") {
+  std::vector<KernelPath> paths;
+  for (KernelPath p : fw::detail::kKernelPaths) {
+    if (p != KernelPath::portable && fw::detail::ingest_kernel(p) != nullptr) paths.push_back(p);
+  }
+  const auto compare = [&](const fw::detail::IngestLine& job) {
+    const Outcome want = run(KernelPath::portable, job);
+    for (KernelPath path : paths) {
+      INFO("path " << fw::detail::to_string(path) << " width " << job.width);
+      const Outcome got = run(path, job);
+      CHECK(got.ring == want.ring);
+      CHECK(got.flags == want.flags);
+      CHECK(got.any == want.any);
+    }
+  };
+  {  // every pixel value below 2^14, each edge gain with each edge offset
+    constexpr std::size_t kWidth = 16384;
+    std::vector<fw::Pixel> in(kWidth);
+    for (std::size_t i = 0; i < kWidth; ++i) in[i] = static_cast<fw::Pixel>(i);
+    for (std::uint16_t g : {0, 1, 8191, 16383, 16384, 16385, 24576, 32766, 32767}) {
+      for (std::int16_t o : {-32768, -32767, -16384, -1, 0, 1, 16383, 32767}) {
+        const std::vector<std::uint16_t> gain(kWidth, g);
+        const std::vector<std::int16_t> off(kWidth, o);
+        INFO("gain " << g << " offset " << o);
+        compare({in.data(), gain.data(), off.data(), nullptr, true, 0, 0x3FFF, nullptr, nullptr,
+                 kWidth});
+      }
+    }
+  }
+  SplitMix64 rng(43);
+  const std::vector<fw::Pixel> outside_in = {0x4000, 0x7FFF, 0x8000, 0xC000, 0xFFFF};
+  const std::vector<std::uint16_t> outside_gain = {0x8000, 0x8001, 0xFFFF};
+  for (std::size_t width : {1, 31, 32, 33, 64, 97, 160, 640}) {
+    std::vector<fw::Pixel> in(width);
+    std::vector<std::uint16_t> gain(width);
+    std::vector<std::int16_t> off(width);
+    std::vector<std::uint8_t> mask(width);
+    for (int round = 0; round < 64; ++round) {
+      for (std::size_t i = 0; i < width; ++i) {
+        in[i] = static_cast<fw::Pixel>(rng.below(8) == 0 ? (rng.below(2) ? 0 : 0x3FFF)
+                                                         : rng.below(0x4000));
+        gain[i] = static_cast<std::uint16_t>(rng.below(4) == 0 ? rng.below(0x8000)
+                                                               : 16384 - 512 + rng.below(1024));
+        off[i] = static_cast<std::int16_t>(rng.below(4) == 0 ? static_cast<int>(rng.next() & 0xFFFF) - 32768
+                                                             : static_cast<int>(rng.below(201)) - 100);
+        mask[i] = rng.below(50) == 0 ? 1 : 0;
+      }
+      if (round % 4 == 1) in[rng.below(static_cast<std::uint32_t>(width))] =
+          outside_in[rng.below(static_cast<std::uint32_t>(outside_in.size()))];
+      if (round % 4 == 3) gain[rng.below(static_cast<std::uint32_t>(width))] =
+          outside_gain[rng.below(static_cast<std::uint32_t>(outside_gain.size()))];
+      compare({in.data(), gain.data(), off.data(), round % 2 ? mask.data() : nullptr, true, 0,
+               0x3FFF, nullptr, nullptr, width});
+    }
+  }
+}
