@@ -98,6 +98,33 @@ bool ingest_portable(const IngestLine& job) {
   return job.gain_q14 != nullptr ? ingest_any<true>(job) : ingest_any<false>(job);
 }
 
+// Line i of a run: its input, table, ring and flag pointers (see detail::IngestRowsFn).
+inline IngestLine run_line(const IngestLine& first, std::size_t i, std::size_t in_stride) {
+  IngestLine j = first;
+  const std::size_t at = i * first.width;
+  j.in += i * in_stride;
+  if (j.gain_q14 != nullptr) {
+    j.gain_q14 += at;
+    j.offset += at;
+  }
+  if (j.mask != nullptr) j.mask += at;
+  j.ring += at;
+  j.flag_bits += i * ((first.width + 31) / 32 * 4);
+  return j;
+}
+
+BOLO_KERNEL_CLONES
+std::uint64_t ingest_rows_portable(const IngestLine& first, std::size_t rows,
+                                   std::size_t in_stride) {
+  std::uint64_t any = 0;
+  for (std::size_t i = 0; i < rows; ++i) {
+    const IngestLine j = run_line(first, i, in_stride);
+    const bool flagged = j.gain_q14 != nullptr ? ingest_any<true>(j) : ingest_any<false>(j);
+    any |= std::uint64_t{flagged} << i;
+  }
+  return any;
+}
+
 #if BOLO_X86_KERNELS
 #define BOLO_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq,avx2")))
 
@@ -171,30 +198,43 @@ BOLO_AVX512 inline __attribute__((always_inline)) __mmask32 ingest_avx512_step(
   return f;
 }
 
+// `rows` lines from `first` (one for ingest_avx512); bit i of the result: line i has a flag.
+// The constants are set up once per call, not once per line.
 template <bool kNuc, bool kMask>
-BOLO_AVX512 bool ingest_avx512_loop(const IngestLine& job) {
-  const IngestLine j = job;  // a local copy: the stores below cannot alias it, so no reloads
+BOLO_AVX512 std::uint64_t ingest_avx512_loop(const IngestLine& first, std::size_t rows,
+                                             std::size_t in_stride) {
   const Avx512IngestConstants k{_mm512_set1_epi32(1 << (kNucGainFractionBits - 1)),
-                                _mm512_set1_epi16(static_cast<short>(j.stuck_low)),
-                                _mm512_set1_epi16(static_cast<short>(j.stuck_high)),
+                                _mm512_set1_epi16(static_cast<short>(first.stuck_low)),
+                                _mm512_set1_epi16(static_cast<short>(first.stuck_high)),
                                 _mm512_set1_epi16(static_cast<short>(0x8000)),
-                                j.detect_stuck ? ~__mmask32{0} : __mmask32{0}};
-  __mmask32 any = 0;
-  std::size_t x = 0;
-  for (; x + 32 <= j.width; x += 32)
-    any |= ingest_avx512_step<kNuc, kMask, false>(j, x, ~__mmask32{0}, k);
-  if (x < j.width)
-    any |= ingest_avx512_step<kNuc, kMask, true>(
-        j, x, static_cast<__mmask32>((std::uint32_t{1} << (j.width - x)) - 1u), k);
-  return any != 0;
+                                first.detect_stuck ? ~__mmask32{0} : __mmask32{0}};
+  const std::size_t width = first.width;
+  const __mmask32 tail = static_cast<__mmask32>((std::uint32_t{1} << (width % 32)) - 1u);
+  std::uint64_t flagged_rows = 0;
+  for (std::size_t i = 0; i < rows; ++i) {
+    // A local copy: the stores below cannot alias it, so no reloads.
+    const IngestLine j = run_line(first, i, in_stride);
+    __mmask32 any = 0;
+    std::size_t x = 0;
+    for (; x + 32 <= width; x += 32)
+      any |= ingest_avx512_step<kNuc, kMask, false>(j, x, ~__mmask32{0}, k);
+    if (x < width) any |= ingest_avx512_step<kNuc, kMask, true>(j, x, tail, k);
+    flagged_rows |= std::uint64_t{any != 0} << i;
+  }
+  return flagged_rows;
+}
+
+BOLO_AVX512 std::uint64_t ingest_rows_avx512(const IngestLine& first, std::size_t rows,
+                                             std::size_t in_stride) {
+  if (first.gain_q14 != nullptr)
+    return first.mask != nullptr ? ingest_avx512_loop<true, true>(first, rows, in_stride)
+                                 : ingest_avx512_loop<true, false>(first, rows, in_stride);
+  return first.mask != nullptr ? ingest_avx512_loop<false, true>(first, rows, in_stride)
+                               : ingest_avx512_loop<false, false>(first, rows, in_stride);
 }
 
 BOLO_AVX512 bool ingest_avx512(const IngestLine& job) {
-  if (job.gain_q14 != nullptr)
-    return job.mask != nullptr ? ingest_avx512_loop<true, true>(job)
-                               : ingest_avx512_loop<true, false>(job);
-  return job.mask != nullptr ? ingest_avx512_loop<false, true>(job)
-                             : ingest_avx512_loop<false, false>(job);
+  return ingest_rows_avx512(job, 1, 0) != 0;
 }
 #endif  // BOLO_X86_KERNELS
 
@@ -203,6 +243,13 @@ IngestFn select_ingest() {
   if (kernel_path_available(KernelPath::avx512)) return ingest_avx512;
 #endif
   return ingest_portable;
+}
+
+IngestRowsFn select_ingest_rows() {
+#if BOLO_X86_KERNELS
+  if (kernel_path_available(KernelPath::avx512)) return ingest_rows_avx512;
+#endif
+  return ingest_rows_portable;
 }
 
 }  // namespace
@@ -222,6 +269,27 @@ IngestFn ingest_kernel(KernelPath path) {
 bool ingest_line(const IngestLine& job) {
   static const IngestFn chosen = select_ingest();  // once; no allocation
   return chosen(job);
+}
+
+}  // namespace bolo::fw::detail
+
+namespace bolo::fw::detail {
+
+IngestRowsFn ingest_rows_kernel(KernelPath path) {
+  if (!kernel_path_available(path)) return nullptr;
+  switch (path) {
+    case KernelPath::portable: return ingest_rows_portable;
+#if BOLO_X86_KERNELS
+    case KernelPath::avx512: return ingest_rows_avx512;
+#endif
+    default: break;
+  }
+  return nullptr;
+}
+
+std::uint64_t ingest_rows(const IngestLine& first, std::size_t rows, std::size_t in_stride) {
+  static const IngestRowsFn chosen = select_ingest_rows();  // once; no allocation
+  return chosen(first, rows, in_stride);
 }
 
 }  // namespace bolo::fw::detail

@@ -96,17 +96,25 @@ void BadPixelStage::push_lines(std::uint32_t first_row, std::uint32_t count, con
   // would give them (each repaired after the row below it arrived), only several per call.
   // A run of ready rows goes before the next ingest would overwrite the line above its first
   // row (a neighbour), and before it would wrap around the ring's end (runs are contiguous).
+  // The rows between two such flushes are ingested in one call (they go to consecutive ring
+  // lines: a batch ends at the ring's last line at the latest, and a row in line 0 flushes).
+  const std::uint32_t last = first_row + count - 1;
   std::uint32_t ready = first_row == 0 ? 0 : first_row - 1;  // first row not yet handed on
-  for (std::uint32_t i = 0; i < count; ++i) {
-    const std::uint32_t row = first_row + i;
-    ingest(row, pixels + std::size_t{i} * stride);
-    if (row == ready) continue;  // row 0: nothing is ready before row 1
-    if (row - ready >= ring_rows_ - 2 || ((row - 1) & (ring_rows_ - 1)) == ring_rows_ - 1 ||
-        i + 1 == count) {
-      for (std::uint32_t r = ready; r < row; ++r) repair_row(r);
-      next().push_lines(ready, row - ready, ring_line(ready), width_, width_);
-      ready = row;
+  const auto flushes_after = [&](std::uint32_t row) {
+    return row != ready && (row - ready >= ring_rows_ - 2 || (row & (ring_rows_ - 1)) == 0 ||
+                            row == last);
+  };
+  for (std::uint32_t row = first_row; row <= last;) {
+    const std::uint32_t room = ring_rows_ - (row & (ring_rows_ - 1));  // lines to the ring's end
+    std::uint32_t end = row;  // the batch: row ... end
+    while (end < last && end - row + 1 < room && !flushes_after(end)) ++end;
+    ingest_run(row, end - row + 1, pixels + std::size_t{row - first_row} * stride, stride);
+    if (flushes_after(end)) {
+      for (std::uint32_t r = ready; r < end; ++r) repair_row(r);
+      next().push_lines(ready, end - ready, ring_line(ready), width_, width_);
+      ready = end;
     }
+    row = end + 1;
   }
 }
 
@@ -123,6 +131,26 @@ void BadPixelStage::ingest(std::uint32_t row, const Pixel* line) {
   const std::uint64_t bit = std::uint64_t{1} << (row & (ring_rows_ - 1));
   row_flagged_ = detail::ingest_line(job) ? row_flagged_ | bit : row_flagged_ & ~bit;
   rows_in_ = row + 1;
+}
+
+// Rows row ... row + count - 1 into consecutive ring lines (the caller keeps them from wrapping).
+void BadPixelStage::ingest_run(std::uint32_t row, std::uint32_t count, const Pixel* lines,
+                               std::size_t stride) {
+  const std::size_t at = std::size_t{row} * width_;
+  const std::uint8_t* mask = config_.mask.empty() ? nullptr : config_.mask.data() + at;
+  detail::IngestLine job{lines, nullptr, nullptr, mask, config_.detect_stuck,
+                         config_.stuck_low, config_.stuck_high, ring_line(row), ring_flags(row),
+                         width_};
+  if (nuc_ != nullptr) {
+    job.gain_q14 = nuc_->gain_q14.data() + at;
+    job.offset = nuc_->offset.data() + at;
+  }
+  const std::uint32_t slot = row & (ring_rows_ - 1);
+  const std::uint64_t lines_mask = (count == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << count) - 1)
+                                   << slot;
+  const std::uint64_t flagged = detail::ingest_rows(job, count, stride) << slot;
+  row_flagged_ = (row_flagged_ & ~lines_mask) | flagged;
+  rows_in_ = row + count;
 }
 
 void BadPixelStage::emit(std::uint32_t row) {

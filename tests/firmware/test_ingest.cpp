@@ -171,3 +171,59 @@ TEST_CASE("every ingest path equals the portable loops in and around the 16-bit 
     }
   }
 }
+
+// ingest_rows: `rows` lines in one call, each exactly as ingest_line would take it, with the ring
+// lines and flag words back to back and bit i of the answer for line i.
+TEST_CASE("every ingest_rows path equals line-by-line ingest", "[kernels][bad_pixel]") {
+  SplitMix64 rng(47);
+  for (KernelPath path : fw::detail::kKernelPaths) {
+    const auto rows_kernel = fw::detail::ingest_rows_kernel(path);
+    if (rows_kernel == nullptr) continue;
+    for (std::size_t width : {1, 31, 32, 33, 160, 161}) {
+      for (std::size_t rows : {1, 2, 5, 64}) {
+        const std::size_t stride = width + rng.below(3);
+        const std::size_t n = rows * width;
+        std::vector<fw::Pixel> in(rows * stride);
+        std::vector<std::uint16_t> gain(n);
+        std::vector<std::int16_t> off(n);
+        std::vector<std::uint8_t> mask(n);
+        for (auto& v : in) v = static_cast<fw::Pixel>(rng.below(8) == 0 ? rng.next() : rng.below(0x4000));
+        for (auto& g : gain) g = static_cast<std::uint16_t>(16384 - 256 + rng.below(512));
+        for (auto& o : off) o = static_cast<std::int16_t>(static_cast<int>(rng.below(41)) - 20);
+        // about one flagged line in three
+        for (auto& m : mask) m = rng.below(static_cast<std::uint32_t>(3 * width)) == 0 ? 1 : 0;
+        for (int variant = 0; variant < 4; ++variant) {
+          const bool nuc = variant % 2 == 0;
+          const std::size_t flag_bytes = (width + 31) / 32 * 4;
+          std::vector<fw::Pixel> ring(n + 2 * kGuard, kSentinel);
+          std::vector<std::uint8_t> flags(rows * flag_bytes + 2 * kGuard, kFlagSentinel);
+          const fw::detail::IngestLine first{in.data(), nuc ? gain.data() : nullptr,
+                                             nuc ? off.data() : nullptr,
+                                             variant < 2 ? mask.data() : nullptr, true, 0, 0x3FFF,
+                                             ring.data() + kGuard, flags.data() + kGuard, width};
+          INFO("path " << fw::detail::to_string(path) << " width " << width << " rows " << rows
+                       << " variant " << variant);
+          const std::uint64_t got = rows_kernel(first, rows, stride);
+          std::vector<fw::Pixel> want_ring(n + 2 * kGuard, kSentinel);
+          std::vector<std::uint8_t> want_flags(rows * flag_bytes + 2 * kGuard, kFlagSentinel);
+          std::uint64_t want = 0;
+          for (std::size_t i = 0; i < rows; ++i) {
+            fw::detail::IngestLine line = first;
+            line.in = in.data() + i * stride;
+            if (nuc) {
+              line.gain_q14 = gain.data() + i * width;
+              line.offset = off.data() + i * width;
+            }
+            if (variant < 2) line.mask = mask.data() + i * width;
+            line.ring = want_ring.data() + kGuard + i * width;
+            line.flag_bits = want_flags.data() + kGuard + i * flag_bytes;
+            if (fw::detail::ingest_kernel(KernelPath::portable)(line)) want |= std::uint64_t{1} << i;
+          }
+          CHECK(got == want);
+          CHECK(ring == want_ring);
+          CHECK(flags == want_flags);
+        }
+      }
+    }
+  }
+}

@@ -76,6 +76,7 @@ class BadPixelStage final : public Stage {
     return flags_.data() + std::size_t{row & (ring_rows_ - 1)} * flag_words(width_) * 4;
   }
   void ingest(std::uint32_t row, const Pixel* line);
+  void ingest_run(std::uint32_t row, std::uint32_t count, const Pixel* lines, std::size_t stride);
   void repair_row(std::uint32_t row);
   void emit(std::uint32_t row);
   // Replaces flagged pixel x of `row` by the rounded mean of its good 3x3 neighbours.

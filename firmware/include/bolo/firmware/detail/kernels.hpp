@@ -59,4 +59,13 @@ IngestFn ingest_kernel(KernelPath path);
 // The best available one.
 bool ingest_line(const IngestLine& job);
 
+// `rows` (at most 64) consecutive lines of a frame in one call: line i is ingest_line of `first`
+// with `in` advanced by i * in_stride, the tables, the mask and `ring` by i * width, and
+// `flag_bits` by i * ceil(width / 32) * 4 bytes (ring lines and their flags back to back).
+// Bit i of the result: line i has a flagged pixel.
+using IngestRowsFn = std::uint64_t (*)(const IngestLine& first, std::size_t rows,
+                                       std::size_t in_stride);
+IngestRowsFn ingest_rows_kernel(KernelPath path);
+std::uint64_t ingest_rows(const IngestLine& first, std::size_t rows, std::size_t in_stride);
+
 }  // namespace bolo::fw::detail
