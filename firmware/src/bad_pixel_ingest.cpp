@@ -186,13 +186,15 @@ BOLO_AVX512 inline __attribute__((always_inline)) __mmask32 ingest_avx512_step(
   } else {
     _mm512_storeu_si512(j.ring + x, v);
   }
-  __mmask32 f = (_mm512_cmpeq_epi16_mask(v, k.low) | _mm512_cmpeq_epi16_mask(v, k.high)) & k.stuck_on;
+  // Write-masked compares: only existing pixels, and none when stuck detection is off.
+  const __mmask32 stuck_m = k.stuck_on & m;
+  __mmask32 f = _mm512_mask_cmpeq_epi16_mask(stuck_m, v, k.low) |
+                _mm512_mask_cmpeq_epi16_mask(stuck_m, v, k.high);
   if constexpr (kMask) {
     const __m256i bad = kTail ? _mm256_maskz_loadu_epi8(m, j.mask + x)
                               : _mm256_loadu_si256(reinterpret_cast<const __m256i*>(j.mask + x));
-    f |= _mm256_test_epi8_mask(bad, bad);
+    f |= _mm256_mask_test_epi8_mask(m, bad, bad);
   }
-  f &= m;
   const std::uint32_t bits = f;
   std::memcpy(j.flag_bits + x / 8, &bits, sizeof bits);
   return f;
