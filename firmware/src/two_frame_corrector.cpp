@@ -85,6 +85,27 @@ CarryOver TwoFrameCorrector::judge_predecessor(const FrameHeader& header) const 
   return CarryOver::applied;
 }
 
+// compute_coefficients (full) or compute_gain_only, or their last answer for the same inputs.
+// Like them, `out` is written only when the status is ok.
+CoefficientStatus TwoFrameCorrector::coefficients_for(bool full, std::uint32_t exposure_ns,
+                                                      std::uint32_t readout_ns,
+                                                      CorrectorCoefficients& out) {
+  const TimeConstants tau = config_.tau;
+  if (!(memo_.valid && memo_.full == full && memo_.tau.heating_ns == tau.heating_ns &&
+        memo_.tau.cooling_ns == tau.cooling_ns && memo_.exposure_ns == exposure_ns &&
+        (!full || memo_.readout_ns == readout_ns))) {
+    memo_.valid = true;
+    memo_.full = full;
+    memo_.tau = tau;
+    memo_.exposure_ns = exposure_ns;
+    memo_.readout_ns = readout_ns;
+    memo_.status = full ? compute_coefficients(tau, exposure_ns, readout_ns, memo_.coefficients)
+                        : compute_gain_only(tau, exposure_ns, memo_.coefficients);
+  }
+  if (memo_.status == CoefficientStatus::ok) out = memo_.coefficients;
+  return memo_.status;
+}
+
 void TwoFrameCorrector::begin_frame(const FrameHeader& header) {
   header_ = header;
   in_frame_ = true;
@@ -110,11 +131,8 @@ void TwoFrameCorrector::begin_frame(const FrameHeader& header) {
       mode_ = reason == CarryOver::applied ? Mode::full : Mode::gain_only;
     }
     if (mode_ != Mode::pass_through) {
-      const CoefficientStatus status =
-          mode_ == Mode::full
-              ? compute_coefficients(config_.tau, exposure, previous_readout_ns_,
-                                     frame_stats_.coefficients)
-              : compute_gain_only(config_.tau, exposure, frame_stats_.coefficients);
+      const CoefficientStatus status = coefficients_for(
+          mode_ == Mode::full, exposure, previous_readout_ns_, frame_stats_.coefficients);
       frame_stats_.coefficient_status = status;
       if (status != CoefficientStatus::ok) {
         reason = CarryOver::coefficient_error;

@@ -313,3 +313,33 @@ TEST_CASE("saturation is counted and clamped at both rails", "[corrector][stage]
   CHECK(rig.corrector.last_frame().saturated_low == 32);
   CHECK(rig.sink.frame()[7] == 0);
 }
+
+// The stage computes coefficients once per distinct (mode, exposure, readout) and reuses them
+// while those stay: every frame's coefficients must still be those of its own header chain.
+TEST_CASE("each frame's coefficients follow its exposure and its predecessor's readout",
+          "[corrector][coefficients]") {
+  Rig rig;
+  const fw::TimeConstants tau = Rig::config().tau;
+  const std::uint32_t exposures[] = {10'000'000, 10'000'000, 8'000'000, 10'000'000, 10'000'000,
+                                     10'000'000, 10'000'000, 12'000'000, 12'000'000, 10'000'000};
+  const std::uint32_t readouts[] = {6'000'000, 6'000'000, 6'000'000, 5'000'000, 5'000'000,
+                                    6'000'000, 6'000'000, 6'000'000, 7'000'000, 7'000'000};
+  std::uint32_t previous_readout = 0;
+  for (std::size_t i = 0; i < std::size(exposures); ++i) {
+    INFO("frame " << i);
+    // Frame 6 breaks the chain (a sequence gap): gain only, then carry-over again.
+    const std::uint64_t seq = i < 6 ? i : i + 1;
+    rig.run(header(8, 4, seq, 0.1 * static_cast<double>(i), exposures[i], readouts[i]), 1000);
+    fw::CorrectorCoefficients want;
+    if (i == 0 || i == 6) {
+      REQUIRE(fw::compute_gain_only(tau, exposures[i], want) == fw::CoefficientStatus::ok);
+    } else {
+      REQUIRE(fw::compute_coefficients(tau, exposures[i], previous_readout, want) ==
+              fw::CoefficientStatus::ok);
+    }
+    const fw::CorrectorCoefficients got = rig.corrector.last_frame().coefficients;
+    CHECK(got.gain_q24 == want.gain_q24);
+    CHECK(got.carry_q24 == want.carry_q24);
+    previous_readout = readouts[i];
+  }
+}

@@ -133,6 +133,19 @@ class TwoFrameCorrector final : public Stage {
   int interval_count_ = 0;
   CorrectorFrameStats frame_stats_{};
   CorrectorTotals totals_{};
+  // The last coefficient computation and its inputs: a steady exposure and readout (the usual
+  // case) asks for the same coefficients every frame, and they are a pure function of these.
+  struct CoefficientMemo {
+    bool valid = false;
+    bool full = false;
+    TimeConstants tau{};
+    std::uint32_t exposure_ns = 0, readout_ns = 0;
+    CoefficientStatus status = CoefficientStatus::ok;
+    CorrectorCoefficients coefficients{};
+  };
+  CoefficientMemo memo_{};
+  CoefficientStatus coefficients_for(bool full, std::uint32_t exposure_ns,
+                                     std::uint32_t readout_ns, CorrectorCoefficients& out);
 };
 
 }  // namespace bolo::fw
