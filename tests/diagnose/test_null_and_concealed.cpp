@@ -96,3 +96,31 @@ TEST_CASE("slow drift below the noise tracks the FPA temperature", "[diagnose][c
   REQUIRE(f);
   CHECK((*f)["params"]["k"].get<double>() == Approx(50).epsilon(0.3));
 }
+
+// A slow AGC: the core re-stretches each frame's 1-99 % range onto its output with a damping of
+// 7e-5 per frame, so the gain drifts 0.007 % between frames (far below the noise in any frame
+// pair) and about one noise sigma over the recording. It reads like a global drift unless the
+// model asks whether the drift scales with each pixel's level the way the frame's range predicts.
+TEST_CASE("slow AGC (one sigma over the recording) is found with its damping and percentiles", "[diagnose][concealed]") {
+  TempDir tmp;
+  const nlohmann::json d = diagnose(simulate(tmp, "agc", {"agc:damping=7e-5"}, 1), tmp / "agc.d");
+  INFO(d["findings"].dump());
+  const nlohmann::json* f = finding(d, "agc");
+  REQUIRE(f);
+  CHECK(found(d).front() == "agc");
+  CHECK((*f)["params"]["damping"].get<double>() == Approx(7e-5).epsilon(0.5));
+  CHECK((*f)["params"]["p_lo"].get<double>() == Approx(1.0).margin(1.5));
+  CHECK((*f)["params"]["p_hi"].get<double>() == Approx(99.0).margin(1.5));
+  CHECK((*f)["heldout_rms_after"].get<double>() < 1.05 * d["noise_floor_rms"].get<double>());
+}
+
+// Its gain is set by the first frame's range, so hotter later frames clip at the 14-bit ceiling
+// (3.6 % of pixel-frames here). Clipped readings must stay out of every fit: before they did, the
+// baseline's bad-pixel screen dropped every pixel the hot disc crossed and tau ran to 1 ms.
+TEST_CASE("clipped readings stay out of the fits: the baseline's tau survives an AGC that clips", "[diagnose][concealed]") {
+  TempDir tmp;
+  const nlohmann::json d = diagnose(simulate(tmp, "clip", {"agc:damping=7e-6"}, 2), tmp / "clip.d");
+  CHECK(d["baseline"]["params"]["tau_c_s"].get<double>() == Approx(0.012).epsilon(0.05));
+  CHECK(d["baseline"]["heldout_rms"].get<double>() < 1.2 * d["noise_floor_rms"].get<double>());
+  for (const auto& f : d["findings"]) CHECK(f["effect"] == "agc");
+}

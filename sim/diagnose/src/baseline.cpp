@@ -59,7 +59,7 @@ LinearFit fit_gain_offset(const DiagnoseData& d, const std::vector<float>& sim, 
 
 // `motion`: pixel-frames to leave out of the fit (mask_scene_motion), or null for none.
 BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* motion = nullptr) {
-  if (motion) d.valid = *motion; else d.valid.assign(d.shape.size(), 1);
+  if (motion) d.valid = *motion; else d.reset_valid();
   const std::size_t P = d.shape.pixels();
   std::vector<float> sim;
   std::vector<std::uint8_t> use(P, 1);
@@ -72,12 +72,17 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   {
     cost(std::log(0.012));
     const LinearFit first = fit_gain_offset(d, sim, use);
-    std::vector<double> ms(P, 0.0);
+    // Over the pixel's valid readings only: a clipped reading is off the model by design.
+    std::vector<double> ms(P, 0.0), count(P, 0.0);
     for (int n = 0; n < d.shape.n; ++n)
       for (std::size_t p = 0; p < P; ++p) {
-        const double e = d.recorded[std::size_t(n) * P + p] - first.gain * sim[std::size_t(n) * P + p] - first.offset;
-        ms[p] += e * e / d.shape.n;
+        const std::size_t i = std::size_t(n) * P + p;
+        if (!d.valid[i]) continue;
+        const double e = d.recorded[i] - first.gain * sim[i] - first.offset;
+        ms[p] += e * e;
+        count[p] += 1;
       }
+    for (std::size_t p = 0; p < P; ++p) ms[p] = count[p] > 0 ? ms[p] / count[p] : 0.0;
     std::vector<double> tmp = ms;
     const double typical = median_in_place(tmp);
     for (std::size_t p = 0; p < P; ++p) use[p] = ms[p] <= 100 * typical + 1e-12;
@@ -92,7 +97,7 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   }
   if (int(repeats.size()) * 2 < d.shape.n)
     for (int n : repeats) std::fill_n(d.valid.begin() + std::size_t(n) * P, P, 0);
-  auto restore_valid = [&] { if (motion) d.valid = *motion; else d.valid.assign(d.shape.size(), 1); };
+  auto restore_valid = [&] { if (motion) d.valid = *motion; else d.reset_valid(); };
   // Coarse log grid, then golden section inside the best bracket.
   const double lo = std::log(2e-4), hi = std::log(0.3);
   const int grid = 16;
@@ -132,7 +137,13 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
       xty += x * double(d.recorded[i]);
     }
     const Eigen::Vector3d beta = xtx.ldlt().solve(xty);
-    if (beta.allFinite()) { fit.gain = beta[0]; fit.offset = beta[1]; fit.timing_frames = beta[2] / beta[0]; }
+    // A pixel reads within its own exposure: a shift beyond half a frame is no timing but the
+    // regressor standing in for something else (or a gain near zero); the plain fit then stands.
+    if (beta.allFinite() && beta[0] != 0 && std::fabs(beta[2] / beta[0]) <= 0.5) {
+      fit.gain = beta[0];
+      fit.offset = beta[1];
+      fit.timing_frames = beta[2] / beta[0];
+    }
   }
   const double period = 1.0 / d.fps;
   const double carry = std::exp(-median_of(d.readout_s) / fit.tau_c_s);
@@ -174,7 +185,7 @@ BaselineFit fit_static_background(DiagnoseData& d) {
   for (std::size_t i = 0; i < d.shape.size(); i += stride)
     sample.push_back(std::fabs(d.recorded[i] - background[i % P] - shift[i / P]));
   const double spread = std::max(1e-6, 1.4826 * median_in_place(sample));
-  d.valid.assign(d.shape.size(), 1);
+  d.reset_valid();
   std::size_t masked = 0;
   const int H = d.shape.height, W = d.shape.width;
   for (int n = 0; n < N; ++n) {
@@ -261,7 +272,7 @@ BaselineFit fit_baseline(DiagnoseData& d) {
     const std::vector<std::uint8_t> motion = d.valid;
     if (std::find(motion.begin(), motion.end(), 0) != motion.end()) {
       fit = fit_two_frame(d, &motion);
-      d.valid.assign(d.shape.size(), 1);
+      d.reset_valid();
       fit.moving_fraction = mask_scene_motion(d, fit, sigma);
       // The refit says there is no motion within the exposure after all (its timing shift, free
       // of the edges, is <= 0): the unmasked fit is the consistent one.
