@@ -9,6 +9,7 @@
 // degenerate with the damping (both only scale a slowly accumulating gain change).
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -92,13 +93,25 @@ class Agc final : public Candidate {
         f.rs += double(res[p]) * s[p];
         f.rr += double(res[p]) * res[p];
       }
-      // The core sees the whole frame, moving objects included.
+      // The core sees the whole frame, moving objects included. Only the ten ranks are needed:
+      // selection in ascending rank order, each on what lies above the previous rank.
       sorted.assign(s, s + P);
-      std::sort(sorted.begin(), sorted.end());
+      std::array<std::size_t, 2 * kStretchCount> ranks{};
       for (int k = 0; k < kStretchCount; ++k) {
-        auto at = [&](double pct) { return double(sorted[std::size_t(pct / 100.0 * double(P - 1) + 0.5)]); };
-        lo_[std::size_t(n) * kStretchCount + k] = at(kStretches[k].p_lo);
-        hi_[std::size_t(n) * kStretchCount + k] = at(kStretches[k].p_hi);
+        ranks[2 * k] = rank_of(kStretches[k].p_lo, P);
+        ranks[2 * k + 1] = rank_of(kStretches[k].p_hi, P);
+      }
+      std::array<std::size_t, 2 * kStretchCount> order = ranks;
+      std::sort(order.begin(), order.end());
+      std::size_t from = 0;  // everything below `from` is in place
+      for (std::size_t rank : order) {
+        if (rank < from) continue;  // a repeated rank
+        std::nth_element(sorted.begin() + std::ptrdiff_t(from), sorted.begin() + std::ptrdiff_t(rank), sorted.end());
+        from = rank + 1;
+      }
+      for (int k = 0; k < kStretchCount; ++k) {
+        lo_[std::size_t(n) * kStretchCount + k] = sorted[ranks[2 * k]];
+        hi_[std::size_t(n) * kStretchCount + k] = sorted[ranks[2 * k + 1]];
       }
     }
   }
@@ -169,6 +182,10 @@ class Agc final : public Candidate {
                              {"gain_range", hi - lo}};
     const std::string sim = "agc:damping=" + number(damping) + ",p_lo=" + number(st.p_lo) + ",p_hi=" + number(st.p_hi);
     return std::make_unique<AgcFit>(*data_, std::move(best_u), std::move(best_v), best_beta, params, sim, where);
+  }
+
+  static std::size_t rank_of(double pct, std::size_t pixels) {
+    return std::size_t(pct / 100.0 * double(pixels - 1) + 0.5);
   }
 
   void release() override {
