@@ -31,9 +31,12 @@ struct Stretch {
   double p_lo, p_hi;
 };
 constexpr Stretch kStretches[] = {{0, 100}, {0.5, 99.5}, {1, 99}, {2, 98}, {5, 95}};
-constexpr double kDampings[] = {1.0, 0.7, 0.5, 0.3, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5, 5e-6};
+// Dampings from 1 (the target at once) down to 3e-6 per frame, eight per decade: the fit is O(frames)
+// per alternative, and a slow AGC's damping is only as good as this grid.
+constexpr int kDampingCount = 45;
+double damping_of(int i) { return std::pow(10.0, -i / 8.0); }
 constexpr int kStretchCount = int(std::size(kStretches));
-constexpr int kAlternatives = kStretchCount * int(std::size(kDampings));
+constexpr int kAlternatives = kStretchCount * kDampingCount;
 
 // Per frame, over the valid pixels: what the 3x3 normal equations of [u s + v, s, 1] need.
 struct FrameSums {
@@ -160,7 +163,7 @@ class Agc final : public Candidate {
     }
     if (best < 0) return nullptr;
     const Stretch st = kStretches[best % kStretchCount];
-    const double damping = kDampings[best / kStretchCount];
+    const double damping = damping_of(best / kStretchCount);
     // Where: the frames whose gain moves most from its typical value.
     double lo = 1e300, hi = -1e300;
     int from = 0, to = 0;
@@ -200,7 +203,7 @@ class Agc final : public Candidate {
   // global gain and offset. False when the frames' range never changes.
   bool stretch_of(int alt, std::vector<double>& u, std::vector<double>& v) const {
     const int N = data_->shape.n, k = alt % kStretchCount;
-    const double damping = kDampings[alt / kStretchCount];
+    const double damping = damping_of(alt / kStretchCount);
     u.assign(N, 0.0);
     v.assign(N, 0.0);
     double a = 0, b = 0, mean_a = 0;
