@@ -58,6 +58,7 @@ def concealed_cases():
         ("fpa_drift", "masked by shutter steps", ["fpa_drift:rate=0.004,k=50", "ffc_step:every=80,step=10"]),
         ("temporal_filter", "alpha 0.05: 0.07 sigma per frame in static regions", ["temporal_filter:alpha=0.05"]),
         ("frame_duplication", "every 20th frame (10 repeats)", ["frame_duplication:every=20"]),
+        ("gain_fpn", "sigma 3e-4 (0.6 sigma at the disc's edge) beside offset FPN", ["gain_fpn:sigma=0.0003", "offset_fpn:sigma=2"]),
         ("gain_fpn", "sigma 1e-3 beside offset FPN", ["gain_fpn:sigma=0.001", "offset_fpn:sigma=2"]),
         ("dead_pixels", "3 stuck pixels under offset FPN", ["dead_pixels:count=3", "offset_fpn:sigma=3"]),
         ("agc", "0.3 sigma over the recording, under an FPA drift", [amp_effect("agc", 0.3), "fpa_drift:rate=0.02,k=50"]),
