@@ -18,8 +18,13 @@ namespace bolo::test {
 inline fs::path simulate(const TempDir& tmp, const std::string& name, const std::vector<std::string>& effects,
                          int seed, const std::vector<std::string>& extra = {}) {
   const fs::path rec = tmp / name;
-  std::vector<std::string> args = {"simulate", rec.string(), "--size", "80x60", "--noise", "2",
-                                   "--substeps", "1", "--seed", std::to_string(seed)};
+  std::vector<std::string> args = {"simulate", rec.string(), "--noise", "2", "--seed", std::to_string(seed)};
+  // Defaults the case may override (an option given twice is refused).
+  for (const auto& [option, value] : {std::pair<std::string, std::string>{"--size", "80x60"}, {"--substeps", "1"}})
+    if (std::find(extra.begin(), extra.end(), option) == extra.end()) {
+      args.push_back(option);
+      args.push_back(value);
+    }
   if (std::find(extra.begin(), extra.end(), "--frames") == extra.end()) {
     args.push_back("--frames");
     args.push_back("120");

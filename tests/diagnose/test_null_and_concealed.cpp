@@ -48,6 +48,19 @@ TEST_CASE("null with sub-frame motion (street drive, 4 sub-steps): no findings",
   CHECK(d["baseline"]["heldout_rms"].get<double>() < 1.2 * d["noise_floor_rms"].get<double>());
 }
 
+// The demo disc at 160x128 moves several pixels per frame: its misses at the edges (motion within
+// the exposure, 4 sub-steps) do not read as a timing shift, so only the direct large-miss mask
+// keeps them out (at 320x256 they gave eight false findings, agc and rolling_readout first).
+TEST_CASE("null with fast sub-frame motion (demo 160x128, 4 sub-steps): no findings", "[diagnose][null]") {
+  TempDir tmp;
+  const nlohmann::json d =
+      diagnose(simulate(tmp, "fast", {}, 4, {"--size", "160x128", "--substeps", "4"}), tmp / "fast.d");
+  INFO(d["findings"].dump());
+  CHECK(d["findings"].empty());
+  CHECK(d["baseline"]["params"]["large_miss_mask"].get<bool>());
+  CHECK(d["baseline"]["heldout_rms"].get<double>() < 1.05 * d["noise_floor_rms"].get<double>());
+}
+
 TEST_CASE("concealed offset FPN (sigma 0.5 x noise) is found with its sigma", "[diagnose][concealed]") {
   TempDir tmp;
   const nlohmann::json d = diagnose(simulate(tmp, "fpn", {"offset_fpn:sigma=1"}, 3), tmp / "fpn.d");
@@ -95,4 +108,32 @@ TEST_CASE("slow drift below the noise tracks the FPA temperature", "[diagnose][c
   const nlohmann::json* f = finding(d, "fpa_drift");
   REQUIRE(f);
   CHECK((*f)["params"]["k"].get<double>() == Approx(50).epsilon(0.3));
+}
+
+// A slow AGC: the core re-stretches each frame's 1-99 % range onto its output with a damping of
+// 7e-5 per frame, so the gain drifts 0.007 % between frames (far below the noise in any frame
+// pair) and about one noise sigma over the recording. It reads like a global drift unless the
+// model asks whether the drift scales with each pixel's level the way the frame's range predicts.
+TEST_CASE("slow AGC (one sigma over the recording) is found with its damping and percentiles", "[diagnose][concealed]") {
+  TempDir tmp;
+  const nlohmann::json d = diagnose(simulate(tmp, "agc", {"agc:damping=7e-5"}, 1), tmp / "agc.d");
+  INFO(d["findings"].dump());
+  const nlohmann::json* f = finding(d, "agc");
+  REQUIRE(f);
+  CHECK(found(d).front() == "agc");
+  CHECK((*f)["params"]["damping"].get<double>() == Approx(7e-5).epsilon(0.5));
+  CHECK((*f)["params"]["p_lo"].get<double>() == Approx(1.0).margin(1.5));
+  CHECK((*f)["params"]["p_hi"].get<double>() == Approx(99.0).margin(1.5));
+  CHECK((*f)["heldout_rms_after"].get<double>() < 1.05 * d["noise_floor_rms"].get<double>());
+}
+
+// Its gain is set by the first frame's range, so hotter later frames clip at the 14-bit ceiling
+// (3.6 % of pixel-frames here). Clipped readings must stay out of every fit: before they did, the
+// baseline's bad-pixel screen dropped every pixel the hot disc crossed and tau ran to 1 ms.
+TEST_CASE("clipped readings stay out of the fits: the baseline's tau survives an AGC that clips", "[diagnose][concealed]") {
+  TempDir tmp;
+  const nlohmann::json d = diagnose(simulate(tmp, "clip", {"agc:damping=7e-6"}, 2), tmp / "clip.d");
+  CHECK(d["baseline"]["params"]["tau_c_s"].get<double>() == Approx(0.012).epsilon(0.05));
+  CHECK(d["baseline"]["heldout_rms"].get<double>() < 1.2 * d["noise_floor_rms"].get<double>());
+  for (const auto& f : d["findings"]) CHECK(f["effect"] == "agc");
 }

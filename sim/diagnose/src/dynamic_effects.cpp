@@ -143,7 +143,9 @@ class RollingReadout final : public PooledLinear {
       const double dt = d.t_s[b] - d.t_s[a];
       const float *fa = d.frame(d.baseline, a), *fb = d.frame(d.baseline, b);
       float* x = X[0].data() + std::size_t(n) * P;
-      for (std::size_t p = 0; p < P; ++p) x[p] = static_cast<float>(double(p / W) * (fb[p] - fa[p]) / dt);
+      // About the middle row: the rows' common delay is the baseline's timing shift already.
+      const double middle = 0.5 * (d.shape.height - 1);
+      for (std::size_t p = 0; p < P; ++p) x[p] = static_cast<float>((double(p / W) - middle) * (fb[p] - fa[p]) / dt);
     }
     return true;
   }

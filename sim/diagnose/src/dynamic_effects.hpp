@@ -18,6 +18,7 @@ std::unique_ptr<Candidate> make_temporal_filter();
 std::unique_ptr<Candidate> make_ffc_step();
 std::unique_ptr<Candidate> make_fpa_drift();
 std::unique_ptr<Candidate> make_frame_duplication();
+std::unique_ptr<Candidate> make_agc();
 
 std::unique_ptr<Candidate> make_offset_fpn();
 std::unique_ptr<Candidate> make_column_fpn();

@@ -25,6 +25,21 @@ DiagnoseData load_for_diagnosis(const std::filesystem::path& path) {
     float* f = d.frame(d.recorded, n);
     for (std::size_t p = 0; p < P; ++p) f[p] = raw[p];
   }
+  // Readings at the format's floor or ceiling (recording.json `bits`) are clipped, not measured.
+  const float ceiling = static_cast<float>(std::ldexp(1.0, static_cast<int>(rec.info().bits)) - 1.0);
+  d.unclipped.assign(d.shape.size(), 1);
+  for (std::size_t i = 0; i < d.shape.size(); ++i)
+    if (d.recorded[i] <= 0.0f || d.recorded[i] >= ceiling) d.unclipped[i] = 0;
+  // A pixel at the floor or ceiling in every frame is stuck (dead_pixels' evidence), not clipped.
+  for (std::size_t p = 0; p < P; ++p) {
+    int clipped = 0;
+    for (int n = 0; n < d.shape.n; ++n) clipped += !d.unclipped[std::size_t(n) * P + p];
+    if (clipped == d.shape.n)
+      for (int n = 0; n < d.shape.n; ++n) d.unclipped[std::size_t(n) * P + p] = 1;
+    else
+      d.clipped_count += std::size_t(clipped);
+  }
+  d.reset_valid();
   d.has_scene = rec.has_scene();
   if (d.has_scene) {
     d.input.resize(d.shape.size());

@@ -440,6 +440,7 @@ std::vector<std::unique_ptr<Candidate>> make_catalogue() {
   c.push_back(make_crosstalk());
   c.push_back(make_nonlinearity());
   c.push_back(make_temporal_filter());
+  c.push_back(make_agc());
   return c;
 }
 

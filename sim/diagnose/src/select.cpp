@@ -260,13 +260,29 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       std::vector<float> original = std::move(data.recorded);
       data.recorded.resize(r.size());
       for (std::size_t i = 0; i < r.size(); ++i) data.recorded[i] = r[i] + data.baseline[i];
+      const std::vector<float> kept_baseline = data.baseline;
+      const double kept_tau = data.tau_c_s;
       const BaselineFit refit = fit_baseline(data);
       data.tau_c_s = refit.tau_c_s;
-      for (std::size_t i = 0; i < r.size(); ++i) r[i] = data.recorded[i] - data.baseline[i];
+      std::vector<float> refit_r(r.size());
+      for (std::size_t i = 0; i < r.size(); ++i) refit_r[i] = data.recorded[i] - data.baseline[i];
       data.recorded = std::move(original);
       data.valid = moving_mask;
       invalidate_events();
-      f.baseline_refit = refit.to_json()["params"];
+      // The refit is a least-squares fit of the same model with one more effect taken out: it
+      // can only lower the residual. If it did not (a fit that ran off to a bound), keep the
+      // baseline the effect was scored against.
+      const FrameSse refit_sse = frame_sse(data, refit_r), kept_sse = frame_sse(data, r);
+      double refit_total = 0, kept_total = 0;
+      for (int n = 0; n < N; ++n) { refit_total += refit_sse.sse[n]; kept_total += kept_sse.sse[n]; }
+      if (std::isfinite(refit_total) && refit_total <= kept_total) {
+        r = std::move(refit_r);
+        f.baseline_refit = refit.to_json()["params"];
+      } else {
+        data.baseline = kept_baseline;
+        data.tau_c_s = kept_tau;
+        f.baseline_refit = nullptr;
+      }
     }
     result.findings.push_back(std::move(f));
     before = frame_sse(data, r);

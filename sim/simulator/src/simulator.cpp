@@ -49,11 +49,12 @@ Simulator::Simulator(SimulatorConfig config, InputSampler input)
 
   const std::size_t n = std::size_t{i.width} * i.height;
   const double d = i.exposure_s / config_.substeps;
-  row_shift_.assign(i.height, 0);
+  row_shift_.assign(i.height, 0.0);
   for (const auto& e : effects_)
-    for (std::uint32_t r = 0; r < i.height; ++r)
-      row_shift_[r] += static_cast<std::uint32_t>(std::lround(e->row_delay_s(r) / d));
-  const std::uint32_t grid = config_.substeps + *std::max_element(row_shift_.begin(), row_shift_.end());
+    for (std::uint32_t r = 0; r < i.height; ++r) row_shift_[r] += e->row_delay_s(r) / d;
+  // A late row reads between two grid samples: one more sample for the interpolation.
+  const double latest = *std::max_element(row_shift_.begin(), row_shift_.end());
+  const auto grid = config_.substeps + static_cast<std::uint32_t>(std::ceil(latest)) + (latest > 0 ? 1u : 0u);
   grid_.assign(grid, std::vector<float>(n));
   substeps_.assign(config_.substeps, std::vector<float>(n));
   reading_.assign(n, 0.0);
@@ -66,12 +67,22 @@ void Simulator::sample_input(double t0) {
   const SimulationInfo& i = config_.info;
   const double d = i.exposure_s / config_.substeps;
   for (std::size_t j = 0; j < grid_.size(); ++j) input_(t0 + (static_cast<double>(j) + 0.5) * d, grid_[j]);
-  // Row r's k-th sub-step is the grid sample k + shift(r): rows exposed later see later scenes.
+  // Row r's k-th sub-step is the scene at grid position k + shift(r), linear between samples:
+  // rows exposed later see later scenes, by any fraction of a sub-step.
   for (std::uint32_t k = 0; k < config_.substeps; ++k)
     for (std::uint32_t r = 0; r < i.height; ++r) {
-      const auto& src = grid_[k + row_shift_[r]];
-      std::copy_n(src.begin() + std::ptrdiff_t{r} * i.width, i.width,
-                  substeps_[k].begin() + std::ptrdiff_t{r} * i.width);
+      const double at = k + row_shift_[r];
+      const auto j = static_cast<std::size_t>(at);
+      const auto w = static_cast<float>(at - static_cast<double>(j));
+      const auto row = std::ptrdiff_t{r} * i.width;
+      const float* a = grid_[j].data() + row;
+      float* dst = substeps_[k].data() + row;
+      if (w == 0.0f) {
+        std::copy_n(a, i.width, dst);
+      } else {
+        const float* b = grid_[j + 1].data() + row;
+        for (std::uint32_t c = 0; c < i.width; ++c) dst[c] = (1 - w) * a[c] + w * b[c];
+      }
     }
 }
 
@@ -85,11 +96,18 @@ void Simulator::next(SimulatedFrame& out) {
   for (const auto& e : effects_) e->begin_frame(f);
 
   sample_input(f.t_s);
+  // scene.npy is the scene over the nominal exposure, every row at the same time: what a model
+  // without a rolling readout assumes. The pixels' own input (mean_input) has each row's delay.
   out.scene.assign(n, 0.0f);
-  for (const auto& s : substeps_)
-    for (std::size_t p = 0; p < n; ++p) out.scene[p] += s[p];
-  for (float& v : out.scene) v /= static_cast<float>(substeps_.size());
-  f.mean_input = out.scene;
+  pixel_input_.assign(n, 0.0f);
+  for (std::uint32_t k = 0; k < config_.substeps; ++k)
+    for (std::size_t p = 0; p < n; ++p) {
+      out.scene[p] += grid_[k][p];
+      pixel_input_[p] += substeps_[k][p];
+    }
+  for (float& v : out.scene) v /= static_cast<float>(config_.substeps);
+  for (float& v : pixel_input_) v /= static_cast<float>(config_.substeps);
+  f.mean_input = pixel_input_;
 
   // Time constants: per pixel only when an effect asks for it.
   std::fill(tau_h_.begin(), tau_h_.end(), i.tau_h_s);
@@ -105,7 +123,7 @@ void Simulator::next(SimulatedFrame& out) {
   // The camera has been running before the first frame; a shutter event leaves the pixels
   // settled on the shutter, which sits at about the scene's mean level.
   if (index_ == 0) {
-    array_.settle(out.scene, i.exposure_s, i.readout_s);
+    array_.settle(pixel_input_, i.exposure_s, i.readout_s);
   } else if (f.shutter_event) {
     const double level = std::accumulate(out.scene.begin(), out.scene.end(), 0.0) / static_cast<double>(n);
     array_.settle(std::vector<float>(n, static_cast<float>(level)), i.exposure_s, i.readout_s);

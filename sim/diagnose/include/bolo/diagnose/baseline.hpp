@@ -22,6 +22,7 @@ struct BaselineFit {
   double timing_frames = 0;       // scene read this many frames late (motion within an exposure)
   bool tau_identifiable = false;  // false when a frame keeps < 1e-3 of the previous one
   double moving_fraction = 0;     // share of pixel-frames masked as moving objects
+  bool large_miss_mask = false;   // steps where the baseline misses by > 3 sigma were masked too
   nlohmann::json to_json() const;
 };
 

@@ -23,6 +23,10 @@ struct DiagnoseData {
   std::vector<float> input;     // scene.npy, or the static background estimate for every frame
   std::vector<float> baseline;  // the fitted baseline model's prediction, N*P
   std::vector<std::uint8_t> valid;  // 1 where a pixel-frame may enter fits (not a moving object)
+  // 1 where the reading is not clipped at the recording's extreme code: a clipped pixel-frame
+  // says only "at least this much", so no fit may use it. valid never holds more than this.
+  std::vector<std::uint8_t> unclipped;
+  std::size_t clipped_count = 0;
   std::vector<double> t_s, exposure_s, readout_s;
   std::vector<std::uint8_t> flagged_event;  // frames.csv ffc == 1
   std::vector<std::optional<double>> fpa_temp_c;
@@ -38,6 +42,7 @@ struct DiagnoseData {
     return v.data() + std::size_t(n) * shape.pixels();
   }
   const std::uint8_t* valid_frame(int n) const { return valid.data() + std::size_t(n) * shape.pixels(); }
+  void reset_valid() { valid = unclipped.size() == shape.size() ? unclipped : std::vector<std::uint8_t>(shape.size(), 1); }
 };
 
 // Contiguous blocks of frames dealt to folds in turn, so every fold's held-out frames are spread

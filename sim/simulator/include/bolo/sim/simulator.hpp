@@ -53,7 +53,8 @@ class Simulator {
   InputSampler input_;
   std::vector<std::unique_ptr<Effect>> effects_;
   BolometerArray array_;
-  std::vector<std::uint32_t> row_shift_;     // sub-steps each row's exposure starts late
+  std::vector<float> pixel_input_;           // this frame's input per pixel, each row at its own time
+  std::vector<double> row_shift_;            // sub-steps (fractional) each row's exposure starts late
   std::vector<std::vector<float>> grid_;     // scene samples on the sub-step time grid
   std::vector<std::vector<float>> substeps_; // the per-row assembled input of each sub-step
   std::vector<double> reading_, previous_, tau_h_, tau_c_;
