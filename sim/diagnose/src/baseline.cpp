@@ -265,8 +265,9 @@ double mask_scene_motion(DiagnoseData& d, const BaselineFit& fit, double sigma) 
 // the demo scene at 320x256, with misses of hundreds of counts at its edges and eight false
 // findings). So the misses are also measured directly: pixel-frames are binned by the scene step
 // to or from the frame (carried on by the cooling carry), and from the largest steps down, every
-// bin whose residual RMS is above 3 noise sigma is masked. A concealed effect (below the noise)
-// never lifts a bin that high; the baseline's own misses at fast edges do.
+// bin whose residual RMS is above 3 noise sigma (and 3 times what the static pixels leave) is masked.
+// A concealed effect (below the noise) never lifts a bin that high; the baseline's own misses at
+// fast edges do.
 double mask_large_misses(DiagnoseData& d, const BaselineFit& fit, double sigma) {
   const int N = d.shape.n;
   const std::size_t P = d.shape.pixels();
@@ -296,10 +297,14 @@ double mask_large_misses(DiagnoseData& d, const BaselineFit& fit, double sigma) 
       count[bin[i]] += 1;
     }
   }
+  // A miss is relative to what the static pixels (bin 0) leave: a global effect the baseline lacks
+  // (an AGC, a drift) raises every bin alike and must stay in the data for its candidate.
+  const double still = count[0] > 0 ? std::sqrt(sse[0] / count[0]) : sigma;
+  const double limit = std::max(3 * sigma, 3 * still);
   int lowest = kBins;  // bins from `lowest` up are masked
   for (int b = kBins - 1; b >= 1; --b) {
     if (count[b] < 50) { if (lowest == b + 1) lowest = b; continue; }  // too few to judge: with the bin above
-    if (std::sqrt(sse[b] / count[b]) > 3 * sigma) lowest = b;
+    if (std::sqrt(sse[b] / count[b]) > limit) lowest = b;
     else break;
   }
   if (lowest >= kBins) return 0.0;

@@ -123,8 +123,15 @@ std::string simulator_config(const Diagnosis& d, const DiagnoseData& data) {
   s << "fps = " << data.fps << "\n";
   s << "frames = " << data.shape.n << "\n";
   if (d.baseline.model == "two-frame") {
-    s << "tau-h = " << d.baseline.tau_h_s << "\n";
-    s << "tau-c = " << d.baseline.tau_c_s << "\n";
+    // The time constants of the last refit: the model with every finding in it.
+    double tau_h = d.baseline.tau_h_s, tau_c = d.baseline.tau_c_s;
+    for (const Finding& f : d.findings)
+      if (f.baseline_refit.is_object() && f.baseline_refit.contains("tau_c_s")) {
+        tau_h = f.baseline_refit.value("tau_h_s", tau_h);
+        tau_c = f.baseline_refit.value("tau_c_s", tau_c);
+      }
+    s << "tau-h = " << tau_h << "\n";
+    s << "tau-c = " << tau_c << "\n";
   }
   s << "noise = " << d.noise_floor_rms << "\n";
   std::vector<std::string> effects;
