@@ -333,7 +333,9 @@ BaselineFit fit_baseline(DiagnoseData& d) {
       // of the edges, is <= 0): the unmasked fit is the consistent one.
       if (fit.moving_fraction == 0) fit = fit_two_frame(d);
     }
-    if (mask_large_misses(d, fit, sigma) > 0) {
+    // Again after each refit: the first fit, pulled by the misses, also leaves the static pixels
+    // a residual that hides the smaller misses.
+    for (int pass = 0; pass < 3 && mask_large_misses(d, fit, sigma) > 0; ++pass) {
       const std::vector<std::uint8_t> mask = d.valid;
       fit = fit_two_frame(d, &mask);
       std::size_t masked = 0;
