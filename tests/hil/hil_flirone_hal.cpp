@@ -96,12 +96,24 @@ int main(int argc, char** argv) {
     std::optional<Clock::time_point> done_seen;
     auto last_progress = Clock::now();
     std::size_t delivered_before = 0;
+    // Replug recovery: from the unplug the source reports to the next frame it delivers.
+    std::uint64_t disconnects_before = 0;
+    std::optional<Clock::time_point> unplugged;
+    double max_recovery_s = 0;
     for (;;) {
       const hal::StreamStatus status = source.stream_frame(sink);
       if (status == hal::StreamStatus::fault) ++faults;
+      if (source.stats().disconnects != disconnects_before) {
+        disconnects_before = source.stats().disconnects;
+        if (!unplugged) unplugged = Clock::now();
+      }
       if (sink.hashes.size() != delivered_before) {
         delivered_before = sink.hashes.size();
         last_progress = Clock::now();
+        if (unplugged) {
+          max_recovery_s = std::max(max_recovery_s, std::chrono::duration<double>(last_progress - *unplugged).count());
+          unplugged.reset();
+        }
       } else if (Clock::now() - last_progress > std::chrono::seconds(15)) {
         const hal::SourceStats st = source.stats();
         std::printf("hil_flirone_hal: FAIL no frame for 15 s after %zu frames (timeouts %llu short %llu "
@@ -145,14 +157,20 @@ int main(int argc, char** argv) {
     expect(counted >= injected_losses, "faults counted " + std::to_string(counted) + " < injected " +
                                            std::to_string(injected_losses));
     expect(sink.hashes.size() >= min_frames, "fewer than " + std::to_string(min_frames) + " frames");
+    const std::uint64_t unplugs = expected->injected[static_cast<std::size_t>(bolo::hil::Fault::disconnect)];
+    expect(st.disconnects == unplugs, "disconnects counted " + std::to_string(st.disconnects) + ", injected " +
+                                          std::to_string(unplugs));
+    expect(max_recovery_s <= 2.0, "replug recovery took " + std::to_string(max_recovery_s) + " s (> 2 s)");
     std::printf("hil_flirone_hal: %s: FlirOneSource delivered %zu frames in %.1f s (%.0f/s); emulator broke %llu "
-                "frames; source counted timeouts %llu short %llu corrupt %llu disconnects %llu (%llu fault returns)\n",
+                "frames; source counted timeouts %llu short %llu corrupt %llu disconnects %llu (%llu fault returns); "
+                "max replug recovery %.3f s\n",
                 failures == 0 ? "PASS" : "FAIL", sink.hashes.size(), seconds,
                 static_cast<double>(sink.hashes.size()) / seconds,
                 static_cast<unsigned long long>(injected_losses), static_cast<unsigned long long>(st.timeouts),
                 static_cast<unsigned long long>(st.short_transfers),
                 static_cast<unsigned long long>(st.corrupt_transfers),
-                static_cast<unsigned long long>(st.disconnects), static_cast<unsigned long long>(faults));
+                static_cast<unsigned long long>(st.disconnects), static_cast<unsigned long long>(faults),
+                max_recovery_s);
     return failures == 0 ? 0 : 1;
   } catch (const std::exception& e) {
     std::printf("hil_flirone_hal: FAIL %s\n", e.what());

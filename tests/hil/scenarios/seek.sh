@@ -2,8 +2,7 @@
 # HIL scenario, run inside the VM: the Seek Compact emulator on FunctionFS, the host side
 # through the project's SeekSource: 1) images without faults, shutter cycles every 100 images:
 # none lost, every image bit-exact, every shutter frame an FFC event, the start-up frame's 5
-# dead pixels found; 2) 1 % of each fault kind, stalls included; unplug/replug is left out while
-# the transport's intermittent crash after a replug is open (docs/hil.md).
+# dead pixels found; 2) 1 % of each fault kind, stalls and unplug/replug included.
 # BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 3000 on x86-64, 1000 in the arm64 VM) sets the clean
 # run's length; the fault run streams a quarter of it.
 # device: usb:seek
@@ -27,6 +26,6 @@ run() {  # name, emulator arguments, host arguments
 run seek_clean "--frames $frames --shutter-period 100" \
   "--min-frames $frames --shutters $(((frames - 1) / 100)) --dead-pixels 5"
 run seek_faults "--frames $fault_frames --shutter-period 100 --fault-rate 0.01 --seed 3 \
-  --faults short_transfer,timeout,frame_id_jump,duplicate,stall" \
+  --faults short_transfer,timeout,frame_id_jump,duplicate,stall,disconnect" \
   "--min-frames $((fault_frames * 9 / 10))"
 exit $failed
