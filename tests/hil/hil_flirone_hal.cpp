@@ -96,20 +96,24 @@ int main(int argc, char** argv) {
     std::optional<Clock::time_point> done_seen;
     auto last_progress = Clock::now();
     std::size_t delivered_before = 0;
-    // Replug recovery: from the unplug the source reports to the next frame it delivers.
+    // Replug recovery, bounded from above: from the last frame delivered before an unplug (the
+    // source counts the unplug only once it has reconnected) to the first one after it. It
+    // includes the emulator's 0.2 s away and the broken frame's first half.
     std::uint64_t disconnects_before = 0;
     std::optional<Clock::time_point> unplugged;
+    Clock::time_point last_frame = Clock::now();
     double max_recovery_s = 0;
     for (;;) {
       const hal::StreamStatus status = source.stream_frame(sink);
       if (status == hal::StreamStatus::fault) ++faults;
       if (source.stats().disconnects != disconnects_before) {
         disconnects_before = source.stats().disconnects;
-        if (!unplugged) unplugged = Clock::now();
+        if (!unplugged) unplugged = last_frame;
       }
       if (sink.hashes.size() != delivered_before) {
         delivered_before = sink.hashes.size();
         last_progress = Clock::now();
+        last_frame = last_progress;
         if (unplugged) {
           max_recovery_s = std::max(max_recovery_s, std::chrono::duration<double>(last_progress - *unplugged).count());
           unplugged.reset();
