@@ -449,7 +449,11 @@ LibusbConfig seek_libusb_config() {
   c.vendor_id = kSeekVendorId;
   c.product_ids = {kSeekCompact.product_id, kSeekCompactPro.product_id};
   c.endpoint = EndpointChoice::first_bulk_in;
-  c.streaming = false;
+  // A frame's chunks are read through 4 queued reads: one round trip per frame instead of one
+  // per chunk (2-4x the frame rate in the HIL VM). Each read ends at a chunk's short packet, so
+  // chunks still arrive one per read, in order.
+  c.streaming = true;
+  c.in_flight = 4;
   c.transfer_bytes = kSeekCompact.chunk_bytes > kSeekCompactPro.chunk_bytes ? kSeekCompact.chunk_bytes
                                                                             : kSeekCompactPro.chunk_bytes;
   return c;

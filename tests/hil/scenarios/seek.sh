@@ -4,7 +4,7 @@
 # none lost, every image bit-exact, every shutter frame an FFC event, the start-up frame's 5
 # dead pixels found; 2) 1 % of each fault kind, stalls and unplug/replug included; 3) ~9
 # unplug/replug cycles in a row.
-# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 3000 on x86-64, 1000 in the arm64 VM) sets the clean
+# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 10000 on x86-64, 1000 in the arm64 VM) sets the clean
 # run's length; the fault run streams a quarter of it.
 # device: usb:seek
 # real: echo "usb:seek on a real camera: not written yet (docs/hil.md)"; exit 77
