@@ -130,6 +130,11 @@ struct LibusbTransport::Impl {
       }
       claimed.push_back(iface);
     }
+    if (!alloc_transfers()) {
+      close();
+      why = "cannot allocate transfers";
+      return false;
+    }
     gone = false;
     endpoint = opened.endpoint;
     stream_interface = opened.interface_number;
@@ -185,9 +190,9 @@ struct LibusbTransport::Impl {
   }
 
   // Cancels every transfer and waits, by time not by event count (each call returns at the first
-  // event, and an unplug brings many), until libusb has given them all back. False when some are
-  // still in flight after that.
-  bool cancel_all() {
+  // event, and an unplug brings many), until libusb has given them all back (at most 2 s; what is
+  // still in flight then stays busy).
+  void cancel_all() {
     for (Slot& s : slots)
       if (s.busy) libusb_cancel_transfer(s.transfer);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
@@ -196,20 +201,40 @@ struct LibusbTransport::Impl {
       libusb_handle_events_timeout_completed(ctx, &tv, nullptr);
     }
     done.clear();
-    return !any_busy();
   }
 
-  // Transfers libusb still holds keep their memory; the slots get fresh ones.
-  void retire_in_flight() {
+  // libusb transfers belong to one opened device: a submitted transfer keeps a reference to its
+  // device until it is submitted again or freed (libusb_submit_transfer drops the old reference,
+  // libusb_free_transfer the last one), and dropping the last reference reaches into the
+  // device's context. A transfer therefore never outlives the context it was submitted in: the
+  // slots get fresh transfers at each open and free them at close, before the context is exited.
+  // Reusing them across a reconnect freed the old device inside the exited context on the first
+  // submission after a replug: the intermittent segfault after "destroy device" (docs/hil.md).
+  bool alloc_transfers() {
     for (Slot& s : slots) {
-      if (!s.busy) continue;
-      s.transfer->user_data = nullptr;
-      retired_buffers.push_back(std::move(s.buffer));
-      s.buffer.assign(config.transfer_bytes, 0);
-      s.transfer = libusb_alloc_transfer(0);
-      s.busy = false;
+      if (!s.transfer) s.transfer = libusb_alloc_transfer(0);
+      if (!s.transfer) return false;
     }
-    context_pinned = true;
+    return true;
+  }
+
+  // At close, with the device's context still alive. Transfers libusb still holds (cancelled but
+  // not given back) are retired instead: never freed, their buffers kept, and the handle and
+  // context they point at pinned; their callback finds no slot.
+  void free_transfers() {
+    for (Slot& s : slots) {
+      if (!s.transfer) continue;
+      if (s.busy) {
+        s.transfer->user_data = nullptr;
+        retired_buffers.push_back(std::move(s.buffer));
+        s.buffer.assign(config.transfer_bytes, 0);
+        s.busy = false;
+        context_pinned = true;
+      } else {
+        libusb_free_transfer(s.transfer);
+      }
+      s.transfer = nullptr;
+    }
   }
 
   int stream_interface = -1;
@@ -234,15 +259,14 @@ struct LibusbTransport::Impl {
 
   void close() {
     if (!handle) return;
-    const bool idle = cancel_all();
+    cancel_all();
     if (!gone) send(config.stop);
     for (int iface : claimed) libusb_release_interface(handle, iface);
     claimed.clear();
-    if (idle)
-      libusb_close(handle);
-    else
-      retire_in_flight();  // the handle stays open: in-flight transfers point at it
+    free_transfers();
+    if (!context_pinned) libusb_close(handle);  // else in-flight transfers still point at it
     handle = nullptr;
+    done.clear();  // completions seen while stopping belong to the closed device
   }
 
   // The context is exited only when nothing of ours can still be inside it.
@@ -270,7 +294,6 @@ LibusbTransport::LibusbTransport(const LibusbConfig& config) : impl_(std::make_u
   const int count = config.streaming ? (config.in_flight < 1 ? 1 : config.in_flight) : 1;
   impl_->slots.resize(static_cast<std::size_t>(count));
   for (auto& s : impl_->slots) {
-    s.transfer = libusb_alloc_transfer(0);
     s.buffer.resize(config.transfer_bytes);
     s.owner = impl_.get();
   }
@@ -282,22 +305,31 @@ LibusbTransport::LibusbTransport(const LibusbConfig& config) : impl_(std::make_u
       pids += hex4(p);
     }
     const std::string message = "usb " + hex4(config.vendor_id) + ":" + pids + ": " + why;
-    for (auto& s : impl_->slots) libusb_free_transfer(s.transfer);
-    libusb_exit(impl_->ctx);
+    impl_->drop_context();
     throw std::runtime_error(message);
   }
 }
 
 LibusbTransport::~LibusbTransport() {
   impl_->close();
-  for (auto& s : impl_->slots) libusb_free_transfer(s.transfer);
   impl_->drop_context();
 }
 
 Transfer LibusbTransport::next(std::span<std::uint8_t> buffer, std::uint32_t timeout_ms) {
   Impl& m = *impl_;
   Transfer out;
-  if (!m.handle || m.gone) {
+  // Transfers that completed before the unplug was seen are handed out first: they hold the end
+  // of the last good frame (the kernel may have filled several while a submission found the
+  // device gone). On a gone device every queued transfer comes back at once, with its data or
+  // with `no device`: wait for them, a bounded time, without cancelling.
+  if (m.handle && m.gone && m.done.empty()) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
+    while (m.done.empty() && m.any_busy() && std::chrono::steady_clock::now() < until) {
+      timeval tv{0, 10000};
+      libusb_handle_events_timeout_completed(m.ctx, &tv, nullptr);
+    }
+  }
+  if (!m.handle || (m.gone && m.done.empty())) {
     out.status = TransferStatus::disconnected;
     return out;
   }
@@ -417,7 +449,11 @@ LibusbConfig seek_libusb_config() {
   c.vendor_id = kSeekVendorId;
   c.product_ids = {kSeekCompact.product_id, kSeekCompactPro.product_id};
   c.endpoint = EndpointChoice::first_bulk_in;
-  c.streaming = false;
+  // A frame's chunks are read through 4 queued reads: one round trip per frame instead of one
+  // per chunk (2-4x the frame rate in the HIL VM). Each read ends at a chunk's short packet, so
+  // chunks still arrive one per read, in order.
+  c.streaming = true;
+  c.in_flight = 4;
   c.transfer_bytes = kSeekCompact.chunk_bytes > kSeekCompactPro.chunk_bytes ? kSeekCompact.chunk_bytes
                                                                             : kSeekCompactPro.chunk_bytes;
   return c;

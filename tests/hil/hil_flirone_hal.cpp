@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <span>
 #include <thread>
 #include <stdexcept>
 #include <string>
@@ -58,6 +59,29 @@ class HashingSink final : public fw::LineSink {
   bool width_ok_ = false;
 };
 
+// Between the source and the transport: when the transport first reported an unplug, and the
+// longest single reconnect() that succeeded.
+class TimedTransport final : public hal::BulkInTransport {
+ public:
+  explicit TimedTransport(hal::BulkInTransport& inner) : inner_(inner) {}
+  hal::Transfer next(std::span<std::uint8_t> buffer, std::uint32_t timeout_ms) override {
+    const hal::Transfer t = inner_.next(buffer, timeout_ms);
+    if (t.status == hal::TransferStatus::disconnected && !gone_at) gone_at = Clock::now();
+    return t;
+  }
+  bool reconnect(std::uint32_t timeout_ms) override {
+    const auto start = Clock::now();
+    const bool ok = inner_.reconnect(timeout_ms);
+    if (ok) max_reconnect_s = std::max(max_reconnect_s, std::chrono::duration<double>(Clock::now() - start).count());
+    return ok;
+  }
+  std::optional<Clock::time_point> gone_at;  // reset by the caller once recovered
+  double max_reconnect_s = 0;
+
+ private:
+  hal::BulkInTransport& inner_;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -88,7 +112,8 @@ int main(int argc, char** argv) {
     hal::FlirOneSourceConfig config;
     config.transfer_timeout_ms = 500;
     config.reconnect_timeout_ms = 2000;
-    hal::FlirOneSource source(*transport, config);
+    TimedTransport timed(*transport);
+    hal::FlirOneSource source(timed, config);
     HashingSink sink;
     const auto start = Clock::now();
     std::uint64_t faults = 0, ends = 0;
@@ -96,12 +121,35 @@ int main(int argc, char** argv) {
     std::optional<Clock::time_point> done_seen;
     auto last_progress = Clock::now();
     std::size_t delivered_before = 0;
+    // Replug recovery, bounded from above: from the last frame delivered before an unplug (the
+    // source counts the unplug only once it has reconnected) to the first one after it, divided
+    // by the unplugs in between (back-to-back faults unplug again before a frame gets through).
+    // It includes the emulator's 0.2 s away and the broken frame's first half.
+    std::uint64_t disconnects_before = 0, unplugs_in_gap = 0;
+    std::optional<Clock::time_point> unplugged;
+    Clock::time_point last_frame = Clock::now();
+    double max_recovery_s = 0, max_detect_s = 0;
     for (;;) {
       const hal::StreamStatus status = source.stream_frame(sink);
       if (status == hal::StreamStatus::fault) ++faults;
+      if (source.stats().disconnects != disconnects_before) {
+        unplugs_in_gap += source.stats().disconnects - disconnects_before;
+        disconnects_before = source.stats().disconnects;
+        if (!unplugged) unplugged = last_frame;
+      }
       if (sink.hashes.size() != delivered_before) {
         delivered_before = sink.hashes.size();
         last_progress = Clock::now();
+        last_frame = last_progress;
+        if (unplugged) {
+          const double gap = std::chrono::duration<double>(last_progress - *unplugged).count();
+          max_recovery_s = std::max(max_recovery_s, gap / static_cast<double>(unplugs_in_gap));
+          if (timed.gone_at && unplugs_in_gap == 1)
+            max_detect_s = std::max(max_detect_s, std::chrono::duration<double>(*timed.gone_at - *unplugged).count());
+          timed.gone_at.reset();
+          unplugs_in_gap = 0;
+          unplugged.reset();
+        }
       } else if (Clock::now() - last_progress > std::chrono::seconds(15)) {
         const hal::SourceStats st = source.stats();
         std::printf("hil_flirone_hal: FAIL no frame for 15 s after %zu frames (timeouts %llu short %llu "
@@ -145,14 +193,20 @@ int main(int argc, char** argv) {
     expect(counted >= injected_losses, "faults counted " + std::to_string(counted) + " < injected " +
                                            std::to_string(injected_losses));
     expect(sink.hashes.size() >= min_frames, "fewer than " + std::to_string(min_frames) + " frames");
+    const std::uint64_t unplugs = expected->injected[static_cast<std::size_t>(bolo::hil::Fault::disconnect)];
+    expect(st.disconnects == unplugs, "disconnects counted " + std::to_string(st.disconnects) + ", injected " +
+                                          std::to_string(unplugs));
+    expect(max_recovery_s <= 2.0, "replug recovery took " + std::to_string(max_recovery_s) + " s (> 2 s)");
     std::printf("hil_flirone_hal: %s: FlirOneSource delivered %zu frames in %.1f s (%.0f/s); emulator broke %llu "
-                "frames; source counted timeouts %llu short %llu corrupt %llu disconnects %llu (%llu fault returns)\n",
+                "frames; source counted timeouts %llu short %llu corrupt %llu disconnects %llu (%llu fault returns); "
+                "max replug recovery %.3f s (of which at most: unplug seen %.3f s, reopened %.3f s)\n",
                 failures == 0 ? "PASS" : "FAIL", sink.hashes.size(), seconds,
                 static_cast<double>(sink.hashes.size()) / seconds,
                 static_cast<unsigned long long>(injected_losses), static_cast<unsigned long long>(st.timeouts),
                 static_cast<unsigned long long>(st.short_transfers),
                 static_cast<unsigned long long>(st.corrupt_transfers),
-                static_cast<unsigned long long>(st.disconnects), static_cast<unsigned long long>(faults));
+                static_cast<unsigned long long>(st.disconnects), static_cast<unsigned long long>(faults),
+                max_recovery_s, max_detect_s, timed.max_reconnect_s);
     return failures == 0 ? 0 : 1;
   } catch (const std::exception& e) {
     std::printf("hil_flirone_hal: FAIL %s\n", e.what());

@@ -128,6 +128,9 @@ int main(int argc, char** argv) {
     const std::uint64_t counted = st.timeouts + st.short_transfers + st.corrupt_transfers + st.disconnects;
     expect(counted >= broken, "faults counted " + std::to_string(counted) + " < frames broken " + std::to_string(broken));
     expect(sink.hashes.size() >= min_frames, "fewer than " + std::to_string(min_frames) + " images");
+    const std::uint64_t unplugs = expected->injected[static_cast<std::size_t>(bolo::hil::Fault::disconnect)];
+    expect(st.disconnects == unplugs, "disconnects counted " + std::to_string(st.disconnects) + ", injected " +
+                                          std::to_string(unplugs));
     if (want_shutters > 0)
       expect(source.counters().shutter_frames == want_shutters,
              "shutter frames: got " + std::to_string(source.counters().shutter_frames) + ", want " +

@@ -1,17 +1,34 @@
 #!/bin/sh
 # HIL scenario, run inside the VM: gpio-sim (built out of tree by toolchain/vm/gpio-sim.sh) makes
-# a simulated GPIO chip through configfs; the project's libgpiod backend must list it with its
-# label and line count (`bolo devices`). Skipped without the module or the CLI.
+# a simulated GPIO chip through configfs. 1) hil_gpio drives its lines through the project's
+# libgpiod backend and GpioSyncedSource: frame-sync edges made through the sim's `pull`
+# attributes arrive timestamped and matched to frames, "FFC imminent" marks the frames it is held
+# over, shutter pulses toggle the output line (read back through the sim's `value`) and mark the
+# next frame as an FFC frame. 2) `bolo devices` lists the chip with its label and line count.
+# Skipped without the module, or without both programs.
 # device: gpio
 # real: echo "gpio on a real board: run 'bolo devices' (docs/hil.md)"; exit 77
 grep -q '^gpio_sim ' /proc/modules || { echo "no gpio-sim module in this VM" >/tmp/skip-reason; exit 77; }
-[ -x ./bolo ] || { echo "no bolo CLI in this build" >/tmp/skip-reason; exit 77; }
+[ -x ./hil_gpio ] || [ -x ./bolo ] || { echo "neither hil_gpio nor the bolo CLI in this build" >/tmp/skip-reason; exit 77; }
 chip=/sys/kernel/config/gpio-sim/hil
 mkdir "$chip" "$chip/bank0" || exit 1
 echo 8 >"$chip/bank0/num_lines"
 echo hil-bank >"$chip/bank0/label"
 echo 1 >"$chip/live" || exit 1
 name="$(cat "$chip/bank0/chip_name")"
-./bolo devices >/tmp/devices.txt
-cat /tmp/devices.txt
-grep -Eq "^  $name +hil-bank +8 lines" /tmp/devices.txt
+failed=0
+if [ -x ./hil_gpio ]; then
+  echo "HIL-STEP gpio_lines start $(cut -d' ' -f1 /proc/uptime)"
+  ./hil_gpio --chip "$name" --sysfs "/sys/bus/gpio/devices/$name" --frames "${BOLO_HIL_GPIO_FRAMES:-1000}" || failed=1
+  echo "HIL-STEP gpio_lines end $(cut -d' ' -f1 /proc/uptime)"
+else
+  echo "HIL-STEP gpio_lines: skipped (no hil_gpio: the HAL was built without libgpiod)"
+fi
+if [ -x ./bolo ]; then
+  ./bolo devices >/tmp/devices.txt
+  cat /tmp/devices.txt
+  grep -Eq "^  $name +hil-bank +8 lines" /tmp/devices.txt || { echo "HIL-STEP gpio_list: FAIL"; failed=1; }
+else
+  echo "HIL-STEP gpio_list: skipped (no bolo CLI in this build)"
+fi
+exit $failed

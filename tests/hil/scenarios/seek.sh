@@ -2,9 +2,9 @@
 # HIL scenario, run inside the VM: the Seek Compact emulator on FunctionFS, the host side
 # through the project's SeekSource: 1) images without faults, shutter cycles every 100 images:
 # none lost, every image bit-exact, every shutter frame an FFC event, the start-up frame's 5
-# dead pixels found; 2) 1 % of each fault kind, stalls included; unplug/replug is left out while
-# the transport's intermittent crash after a replug is open (docs/hil.md).
-# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 3000 on x86-64, 1000 in the arm64 VM) sets the clean
+# dead pixels found; 2) 1 % of each fault kind, stalls and unplug/replug included; 3) ~9
+# unplug/replug cycles in a row.
+# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 10000 on x86-64, 1000 in the arm64 VM) sets the clean
 # run's length; the fault run streams a quarter of it.
 # device: usb:seek
 # real: echo "usb:seek on a real camera: not written yet (docs/hil.md)"; exit 77
@@ -27,6 +27,10 @@ run() {  # name, emulator arguments, host arguments
 run seek_clean "--frames $frames --shutter-period 100" \
   "--min-frames $frames --shutters $(((frames - 1) / 100)) --dead-pixels 5"
 run seek_faults "--frames $fault_frames --shutter-period 100 --fault-rate 0.01 --seed 3 \
-  --faults short_transfer,timeout,frame_id_jump,duplicate,stall" \
+  --faults short_transfer,timeout,frame_id_jump,duplicate,stall,disconnect" \
   "--min-frames $((fault_frames * 9 / 10))"
+# Unplug/replug in a row (3 % of 300 images: ~9; the camera boots again after each): every good
+# image delivered bit-exactly, every unplug counted once.
+run seek_replug "--frames 300 --shutter-period 100 --fault-rate 0.03 --seed 5 --faults disconnect" \
+  "--min-frames 270"
 exit $failed
