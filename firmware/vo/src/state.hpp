@@ -27,6 +27,7 @@ struct Point {
   PointStatus status = PointStatus::empty;
   std::uint8_t good = 0, bad = 0;
   bool inlier = false;   // in the last tracking
+  bool in_view = false;  // tracking: visible at the start of the current pyramid level
 };
 
 struct Keyframe {

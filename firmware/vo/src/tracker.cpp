@@ -25,9 +25,13 @@ struct Accumulated {
 };
 
 // One pass over the active points at `level` for the pose T_cw; `cutoff` is the per-point
-// pattern energy above which a point counts as an outlier for this pass.
+// pattern energy above which a point counts as an outlier for this pass. `select_view`: this
+// pose starts the level, and the points it sees are the level's point set: a point of the set
+// that a step moves out of the view costs the cutoff (no step gains by pushing points out), a
+// point outside the set costs nothing (no step gains by pulling points in, which would bias
+// forward motion backwards, towards the poses that keep the most points in view).
 Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a, double b,
-                       float cutoff, bool with_jacobians, bool mark_inliers) {
+                       float cutoff, bool with_jacobians, bool mark_inliers, bool select_view = false) {
   Accumulated acc;
   const Level& cur = s.frame.level[level];
   const Scaled k = camera_at(s.cfg.camera, level);
@@ -46,18 +50,19 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
     for (std::uint32_t i = 0; i < host.count; ++i) {
       Point& p = host.points[i];
       if (p.status != PointStatus::active) continue;
+      if (!select_view && !p.in_view) continue;
       const Eigen::Vector3f n((p.u - k0.cx) / k0.fx, (p.v - k0.cy) / k0.fy, 1.0f);
       const Eigen::Vector3f X = R * n + t * p.idepth;
-      // Leaving the view costs as much as an outlier, so no step gains by pushing points out.
-      if (X.z() <= 1e-4f) {
-        acc.energy += cutoff;
-        continue;
-      }
-      const float x = X.x() / X.z(), y = X.y() / X.z(), iz = p.idepth / X.z();
+      const bool ahead = X.z() > 1e-4f;
+      const float z = ahead ? X.z() : 1.0f;
+      const float x = X.x() / z, y = X.y() / z, iz = p.idepth / z;
       const float u = k.fx * x + k.cx, v = k.fy * y + k.cy;
       const float hu = (p.u + 0.5f) * scale - 0.5f, hv = (p.v + 0.5f) * scale - 0.5f;
-      if (!inside(cur.value, u, v, 3.0f) || !inside(ref.value, hu, hv, 3.0f)) {
-        acc.energy += cutoff;
+      const bool seen = ahead && inside(cur.value, u, v, 3.0f) && inside(ref.value, hu, hv, 3.0f);
+      if (select_view) p.in_view = seen;
+      if (!seen) {
+        if (!select_view) acc.energy += cutoff;  // left the view during this level
+        if (mark_inliers) p.inlier = false;
         continue;
       }
       ++acc.visible;
@@ -114,7 +119,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
     const auto l = static_cast<std::uint32_t>(level);
     // Coarse levels start far from the optimum: a looser outlier cut.
     float cutoff = kPattern * hub * hub * (level > 0 ? 12.0f : 6.0f);
-    Accumulated acc = accumulate(s, l, T, a, b, cutoff, true, false);
+    Accumulated acc = accumulate(s, l, T, a, b, cutoff, true, false, true);
     for (int grow = 0; grow < 3 && acc.visible > 0 && acc.inliers * 2 < acc.visible; ++grow) {
       cutoff *= 2;
       acc = accumulate(s, l, T, a, b, cutoff, true, false);
@@ -153,7 +158,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
       }
     }
     if (level == 0) {
-      const Accumulated final_pass = accumulate(s, 0, T, a, b, cutoff, false, true);
+      const Accumulated final_pass = accumulate(s, 0, T, a, b, cutoff, false, true, true);
       out.visible = final_pass.visible;
       out.inliers = final_pass.inliers;
       out.rms = final_pass.residuals ? static_cast<float>(std::sqrt(final_pass.squared / final_pass.residuals)) : 1e9f;
