@@ -56,6 +56,7 @@ State* lay_out(const VoConfig& config, Arena& arena) {
   s.retired = arena.take<WorldPoint>(std::size_t{c.max_keyframes} * ppk);  // a restart retires all
   s.ba_hxr = arena.take<float>(std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8));
   s.ba_index = arena.take<std::uint32_t>(std::size_t{c.max_keyframes} * ppk);
+  s.ref = arena.take<RefPoint>(std::size_t{c.max_keyframes} * ppk);
   s.tau.h = s.tau.c = c.tau_init_s;
   return arena.failed() ? nullptr : &s;
 }
@@ -163,6 +164,7 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
   Keyframe& kf = s.kf[slot];
   kf.used = true;
   kf.id = s.kf_created++;
+  s.ref_dirty = true;
   kf.T_cw = s.T_cw;
   kf.a = s.a, kf.b = s.b;
   kf.t_s = s.t_s, kf.exposure_s = s.exposure_s, kf.readout_prev_s = s.readout_prev_s;
@@ -215,6 +217,7 @@ std::size_t Odometry::arena_bytes(const VoConfig& config) {
   bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
   bytes += std::size_t{c.max_keyframes} * ppk * sizeof(WorldPoint) + 16;
   bytes += std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8) * sizeof(float) + std::size_t{c.max_keyframes} * ppk * sizeof(std::uint32_t) + 32;
+  bytes += std::size_t{c.max_keyframes} * ppk * sizeof(RefPoint) + 16;
   return bytes + 256 + 64;  // + the buffer's own misalignment (Arena aligns addresses)
 }
 

@@ -27,7 +27,14 @@ struct Point {
   PointStatus status = PointStatus::empty;
   std::uint8_t good = 0, bad = 0;
   bool inlier = false;   // in the last tracking
-  bool in_view = false;  // tracking: visible at the start of the current pyramid level
+};
+
+// A window point as the tracker sees it: reprojected into the newest keyframe (the tracking
+// reference), so the patterns compared with the frame come from the keyframe nearest to it.
+struct RefPoint {
+  float u = 0, v = 0, idepth = 1;  // in the reference keyframe, level 0
+  std::uint32_t source = 0;        // host slot << 16 | point index
+  bool in_view = false;            // tracking: visible at the start of the current pyramid level
 };
 
 struct Keyframe {
@@ -79,6 +86,9 @@ struct State {
   SelectorScratch selector;
   std::span<WorldPoint> retired;
   std::size_t retired_count = 0;
+  std::span<RefPoint> ref;   // tracking reference: the window's active points in the newest keyframe
+  std::uint32_t ref_count = 0;
+  bool ref_dirty = true;     // keyframes, poses or depths changed since it was built
   std::span<float> ba_hxr;  // per window point: coupling to the keyframe parameters (BA)
   std::span<std::uint32_t> ba_index;
   BaMatrix ba_H;
@@ -116,6 +126,8 @@ struct TrackResult {
   bool ok = false;
 };
 TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset);
+// Rebuilds the tracking reference (s.ref) from the window's active points.
+void build_tracking_reference(State& s);
 // Returns true once the map is initialised from the first keyframe and the current frame.
 bool initialise_step(State& s);
 void start_initialisation(State& s);

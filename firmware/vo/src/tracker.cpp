@@ -1,6 +1,7 @@
 // Frame-to-keyframe-window direct alignment: the pose (SE(3)) and brightness parameters of the
-// new frame minimise the Huber- and gradient-weighted photometric error of every active point's
-// pattern, coarse to fine over the pyramid, by Levenberg-Marquardt.
+// new frame minimise the Huber- and gradient-weighted photometric error of every active point of
+// the window, reprojected into the newest keyframe (the tracking reference, as DSO's coarse
+// tracker does), coarse to fine over the pyramid, by Levenberg-Marquardt.
 
 #include <cmath>
 
@@ -24,7 +25,10 @@ struct Accumulated {
   std::uint32_t residuals = 0, visible = 0, inliers = 0;
 };
 
-// One pass over the active points at `level` for the pose T_cw; `cutoff` is the per-point
+// One pass over the tracking reference (the window's active points reprojected into the newest
+// keyframe, whose image supplies the patterns: the nearest keyframe looks most like the frame,
+// while an older host's pattern is zoomed and sheared against it, which biased the coarse levels)
+// at `level` for the pose T_cw; `cutoff` is the per-point
 // pattern energy above which a point counts as an outlier for this pass. `select_view`: this
 // pose starts the level, and the points it sees are the level's point set: a point of the set
 // that a step moves out of the view costs the cutoff (no step gains by pushing points out), a
@@ -38,69 +42,70 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
   const Scaled k0 = camera_at(s.cfg.camera, 0);
   const float scale = 1.0f / static_cast<float>(1u << level);
   const float hub = s.cfg.huber_counts, c2 = s.cfg.gradient_c * s.cfg.gradient_c;
-  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
-    Keyframe& host = s.kf[slot];
-    if (!host.used) continue;
-    const Se3 M = T_cw * host.T_cw.inverse();
-    const Eigen::Matrix3f R = M.R.cast<float>();
-    const Eigen::Vector3f t = M.t.cast<float>();
-    const Level& ref = host.pyramid.level[level];
-    const float gain = static_cast<float>(std::exp(a - host.a));
-    const float hb = static_cast<float>(host.b), fb = static_cast<float>(b);
-    for (std::uint32_t i = 0; i < host.count; ++i) {
-      Point& p = host.points[i];
-      if (p.status != PointStatus::active) continue;
-      if (!select_view && !p.in_view) continue;
-      const Eigen::Vector3f n((p.u - k0.cx) / k0.fx, (p.v - k0.cy) / k0.fy, 1.0f);
-      const Eigen::Vector3f X = R * n + t * p.idepth;
-      const bool ahead = X.z() > 1e-4f;
-      const float z = ahead ? X.z() : 1.0f;
-      const float x = X.x() / z, y = X.y() / z, iz = p.idepth / z;
-      const float u = k.fx * x + k.cx, v = k.fy * y + k.cy;
-      const float hu = (p.u + 0.5f) * scale - 0.5f, hv = (p.v + 0.5f) * scale - 0.5f;
-      const bool seen = ahead && inside(cur.value, u, v, 3.0f) && inside(ref.value, hu, hv, 3.0f);
-      if (select_view) p.in_view = seen;
-      if (!seen) {
-        if (!select_view) acc.energy += cutoff;  // left the view during this level
-        if (mark_inliers) p.inlier = false;
-        continue;
-      }
-      ++acc.visible;
-      float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], refv[kPattern];
-      float energy = 0;
-      for (std::uint32_t j = 0; j < kPattern; ++j) {
-        const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u + kPatternX[j], v + kPatternY[j]);
-        refv[j] = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
-        r[j] = c.value - (gain * (refv[j] - hb) + fb);
-        const float hw = huber_weight(r[j], hub);
-        w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
-        gx[j] = c.gx, gy[j] = c.gy;
-        energy += hw * r[j] * r[j] * (2.0f - hw);
-      }
-      if (mark_inliers) {
-        p.energy = energy;
-        p.inlier = energy <= cutoff;
-      }
-      if (energy > cutoff) {
-        acc.energy += cutoff;  // truncated cost: leaving the inlier set is not free
-        continue;
-      }
-      ++acc.inliers;
-      acc.energy += energy;
-      for (std::uint32_t j = 0; j < kPattern; ++j) acc.squared += r[j] * r[j];
-      acc.residuals += kPattern;
-      if (!with_jacobians) continue;
-      // Geometric Jacobian of the centre pixel, used for the whole pattern (as DSO does).
-      const float du[6] = {k.fx * iz, 0, -k.fx * x * iz, -k.fx * x * y, k.fx * (1 + x * x), -k.fx * y};
-      const float dv[6] = {0, k.fy * iz, -k.fy * y * iz, -k.fy * (1 + y * y), k.fy * x * y, k.fy * x};
-      for (std::uint32_t j = 0; j < kPattern; ++j) {
-        Vec8 J;
-        for (int q = 0; q < 6; ++q) J[q] = gx[j] * du[q] + gy[j] * dv[q];
-        J[6] = -gain * (refv[j] - hb);
-        J[7] = -1.0;
-        acc.H.selfadjointView<Eigen::Upper>().rankUpdate(J, w[j]);
-        acc.g += J * (w[j] * r[j]);
-      }
+  if (s.kf_count == 0) return acc;
+  const Keyframe& host = s.kf[s.order[s.kf_count - 1]];
+  const Se3 M = T_cw * host.T_cw.inverse();
+  const Eigen::Matrix3f R = M.R.cast<float>();
+  const Eigen::Vector3f t = M.t.cast<float>();
+  const Level& ref = host.pyramid.level[level];
+  const float gain = static_cast<float>(std::exp(a - host.a));
+  const float hb = static_cast<float>(host.b), fb = static_cast<float>(b);
+  if (mark_inliers)
+    for (const Keyframe& kf : s.kf)
+      if (kf.used)
+        for (std::uint32_t i = 0; i < kf.count; ++i) kf.points[i].inlier = false;
+  for (std::uint32_t i = 0; i < s.ref_count; ++i) {
+    RefPoint& p = s.ref[i];
+    if (!select_view && !p.in_view) continue;
+    const Eigen::Vector3f n((p.u - k0.cx) / k0.fx, (p.v - k0.cy) / k0.fy, 1.0f);
+    const Eigen::Vector3f X = R * n + t * p.idepth;
+    const bool ahead = X.z() > 1e-4f;
+    const float z = ahead ? X.z() : 1.0f;
+    const float x = X.x() / z, y = X.y() / z, iz = p.idepth / z;
+    const float u = k.fx * x + k.cx, v = k.fy * y + k.cy;
+    const float hu = (p.u + 0.5f) * scale - 0.5f, hv = (p.v + 0.5f) * scale - 0.5f;
+    const bool seen = ahead && inside(cur.value, u, v, 3.0f) && inside(ref.value, hu, hv, 3.0f);
+    if (select_view) p.in_view = seen;
+    if (!seen) {
+      if (!select_view) acc.energy += cutoff;  // left the view during this level
+      continue;
+    }
+    ++acc.visible;
+    float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], refv[kPattern];
+    float energy = 0;
+    for (std::uint32_t j = 0; j < kPattern; ++j) {
+      const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u + kPatternX[j], v + kPatternY[j]);
+      refv[j] = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
+      r[j] = c.value - (gain * (refv[j] - hb) + fb);
+      const float hw = huber_weight(r[j], hub);
+      w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
+      gx[j] = c.gx, gy[j] = c.gy;
+      energy += hw * r[j] * r[j] * (2.0f - hw);
+    }
+    if (mark_inliers) {
+      Point& source = s.kf[p.source >> 16].points[p.source & 0xffffu];
+      source.energy = energy;
+      source.inlier = energy <= cutoff;
+    }
+    if (energy > cutoff) {
+      acc.energy += cutoff;  // truncated cost: leaving the inlier set is not free
+      continue;
+    }
+    ++acc.inliers;
+    acc.energy += energy;
+    for (std::uint32_t j = 0; j < kPattern; ++j) acc.squared += r[j] * r[j];
+    acc.residuals += kPattern;
+    if (!with_jacobians) continue;
+    // Geometric Jacobian of the centre pixel, used for the whole pattern (as DSO does).
+    const float du[6] = {k.fx * iz, 0, -k.fx * x * iz, -k.fx * x * y, k.fx * (1 + x * x), -k.fx * y};
+    const float dv[6] = {0, k.fy * iz, -k.fy * y * iz, -k.fy * (1 + y * y), k.fy * x * y, k.fy * x};
+    for (std::uint32_t j = 0; j < kPattern; ++j) {
+      Vec8 J;
+      for (int q = 0; q < 6; ++q) J[q] = gx[j] * du[q] + gy[j] * dv[q];
+      J[6] = -gain * (refv[j] - hb);
+      J[7] = -1.0;
+      acc.H.selfadjointView<Eigen::Upper>().rankUpdate(J, w[j]);
+      acc.g += J * (w[j] * r[j]);
     }
   }
   acc.H = acc.H.selfadjointView<Eigen::Upper>();
@@ -109,8 +114,40 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
 
 }  // namespace
 
+void build_tracking_reference(State& s) {
+  s.ref_count = 0;
+  s.ref_dirty = false;
+  if (s.kf_count == 0) return;
+  const std::uint32_t ref_slot = s.order[s.kf_count - 1];
+  const Keyframe& reference = s.kf[ref_slot];
+  const Scaled k = camera_at(s.cfg.camera, 0);
+  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
+    const Keyframe& host = s.kf[slot];
+    if (!host.used) continue;
+    const Se3 M = reference.T_cw * host.T_cw.inverse();
+    for (std::uint32_t i = 0; i < host.count && s.ref_count < s.ref.size(); ++i) {
+      const Point& p = host.points[i];
+      if (p.status != PointStatus::active || !(p.idepth > 0)) continue;
+      RefPoint r;
+      r.source = slot << 16 | i;
+      if (slot == ref_slot) {
+        r.u = p.u, r.v = p.v, r.idepth = p.idepth;
+      } else {
+        const Vec3 X = M * (Vec3((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0) / p.idepth);
+        if (X.z() <= 1e-6) continue;
+        r.u = static_cast<float>(k.fx * X.x() / X.z() + k.cx);
+        r.v = static_cast<float>(k.fy * X.y() / X.z() + k.cy);
+        r.idepth = static_cast<float>(1.0 / X.z());
+        if (!inside(reference.pyramid.level[0].value, r.u, r.v, 3.0f)) continue;
+      }
+      s.ref[s.ref_count++] = r;
+    }
+  }
+}
+
 TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset) {
   TrackResult out;
+  if (s.ref_dirty) build_tracking_reference(s);
   Se3 T = guess;
   const bool affine = s.cfg.photometric == Photometric::affine;
   const std::uint32_t iterations[kMaxLevels] = {8, 8, 10, 10, 10, 10};

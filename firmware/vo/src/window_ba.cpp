@@ -206,6 +206,7 @@ void window_bundle_adjustment(State& s) {
     }
   }
   accumulate(s, win, false, true);  // points that fit most keyframes badly leave the map
+  s.ref_dirty = true;
   // The newest keyframe is the current frame: follow its refined pose.
   const Keyframe& newest = s.kf[s.order[s.kf_count - 1]];
   s.T_cw = newest.T_cw;
