@@ -44,6 +44,7 @@ State* lay_out(const VoConfig& config, Arena& arena) {
   if (!frame.empty()) s.frame = make_pyramid(frame, c.width, c.height, c.levels);
   s.raw = arena.take<float>(plane(c));
   s.raw_prev = arena.take<float>(plane(c));
+  s.raw_prev2 = arena.take<float>(plane(c));
   s.occupied = arena.take<std::uint8_t>(plane(c));
   s.candidates = arena.take<PixelPoint>(ppk);
   s.selector.block_threshold = arena.take<float>(selector_block_count(c.width, c.height));
@@ -201,7 +202,6 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
     p.u = s.candidates[i].x, p.v = s.candidates[i].y;
     p.status = PointStatus::immature;
     p.idepth = 1.0f, p.idepth_min = 0.0f, p.idepth_max = -1.0f;
-    store_raw_pattern(s, p);
   }
 }
 
@@ -212,7 +212,7 @@ std::size_t Odometry::arena_bytes(const VoConfig& config) {
   const std::size_t pyr = pyramid_floats(c.width, c.height, c.levels) * sizeof(float) + 16;
   const std::size_t ppk = c.points_per_keyframe;
   bytes += pyr * (1 + c.max_keyframes);
-  bytes += 3 * (plane(c) * sizeof(float) + 16) + plane(c) + 16;
+  bytes += 4 * (plane(c) * sizeof(float) + 16) + plane(c) + 16;
   bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + 64 * 2 + 16;
   bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
   bytes += std::size_t{c.max_keyframes} * ppk * sizeof(WorldPoint) + 16;
@@ -257,11 +257,16 @@ FrameResult Odometry::process(const FrameInput& in) {
   State& s = *state_;
   const VoConfig& c = s.cfg;
   s.retired_count = 0;
+  std::swap(s.raw_prev, s.raw_prev2);
   std::swap(s.raw, s.raw_prev);
   for (std::size_t i = 0; i < plane(c); ++i) s.raw[i] = static_cast<float>(in.raw[i]);
   const bool had_prev = s.have_prev;
   s.have_prev = true;
+  s.chain_ok_prev = s.chain_ok;
   s.chain_ok = had_prev && !in.chain_broken;
+  s.T_prev = s.T_cw;
+  s.prev_posed = s.posed;
+  s.posed = false;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
   const bool ir = c.photometric == Photometric::ir || c.photometric == Photometric::ir_loop;
 
@@ -299,6 +304,7 @@ FrameResult Odometry::process(const FrameInput& in) {
       return out;
     }
     if (!initialise_step(s)) return out;
+    s.posed = true;
     out.state = TrackingState::tracking;
     out.has_pose = true;
     out.T_wc = s.T_cw.inverse();
@@ -349,6 +355,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (!free_offset) s.a = best.a, s.b = best.b;
   out.state = TrackingState::tracking;
   out.has_pose = true;
+  s.posed = true;
 
   if (ir && c.estimate_tau) refine_tau(s);
   search_immature_points(s);

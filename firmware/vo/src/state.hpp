@@ -21,7 +21,6 @@ enum class PointStatus : std::uint8_t { empty, immature, active };
 struct Point {
   float u = 0, v = 0;  // host pixel, level 0
   float idepth = 1, idepth_min = 0, idepth_max = -1;  // max < 0: unbounded
-  float raw[kPattern] = {}, raw_prev[kPattern] = {};  // host raw counts, for tau
   float energy = 0;      // last pattern energy when tracked
   float quality = 0;     // immature: second-best / best energy of the last search
   PointStatus status = PointStatus::empty;
@@ -79,7 +78,7 @@ struct State {
   std::uint32_t kf_created = 0;
 
   Pyramid frame;                    // tracking image of the current frame
-  std::span<float> raw, raw_prev;   // raw counts of this and the previous frame
+  std::span<float> raw, raw_prev, raw_prev2;  // raw counts of this and the two previous frames
   bool have_prev = false;
   std::span<std::uint8_t> occupied;
   std::span<PixelPoint> candidates;
@@ -105,11 +104,15 @@ struct State {
   std::uint32_t init_frames = 0;
   float last_rms = 0;
 
-  // Tau (ir modes): estimate and its accumulated information
+  Se3 T_prev;                  // the previous frame's pose, when prev_posed
+  bool prev_posed = false, posed = false;
+
+  // Tau (ir modes): estimate and the sums it is solved from (tau_estimator.cpp)
   Tau tau;
-  Eigen::Matrix2d tau_info = Eigen::Matrix2d::Zero();
+  double tau_sab = 0, tau_sbb = 0, tau_sbbr = 0;
   CarryCoefficients carry;  // of the current frame
-  bool chain_ok = false;
+  bool chain_ok = false;       // raw_prev is this frame's predecessor on the sensor
+  bool chain_ok_prev = false;  // raw_prev2 is raw_prev's predecessor
   double exposure_s = 0, readout_prev_s = 0, t_s = 0;
 };
 
@@ -135,8 +138,6 @@ void search_immature_points(State& s);
 void activate_mature_points(State& s);
 void window_bundle_adjustment(State& s);
 void refine_tau(State& s);
-// Fills the pattern's raw values of a new point from the current frame.
-void store_raw_pattern(const State& s, Point& p);
 std::uint32_t new_keyframe_slot(State& s);
 // Appends a keyframe's active points (world coordinates) to the retired-points output.
 void retire_points(State& s, const Keyframe& kf);
