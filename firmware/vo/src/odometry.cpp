@@ -318,16 +318,30 @@ FrameResult Odometry::process(const FrameInput& in) {
   const bool free_offset = ir && !s.chain_ok;
   const Se3 half = Se3::exp(0.5 * s.motion.log());
   const Se3 guesses[] = {s.motion * s.T_cw, s.T_cw, half * s.T_cw, s.motion * s.motion * s.T_cw};
-  // Every guess is tracked and the best fit kept (not the first that passes): a constant-velocity
+  // Every guess is looked at and the best kept (not the first that passes): a constant-velocity
   // guess carries the last frame's error into this one, and the tracker's basin on these images is
   // narrow enough that it can settle beside the truth and pass the checks (seen on street/drive:
-  // the error then grows frame by frame until the track is lost).
+  // the error then grows frame by frame until the track is lost). The guesses are ranked at the
+  // second-coarsest level (as DSO ranks its motion hypotheses at the coarsest), the best is tracked
+  // to the finest; the others only if it fails.
   TrackResult best;
   bool have = false;
-  for (const Se3& g : guesses) {
-    TrackResult r = track_frame(s, g, s.a, s.b, free_offset);
+  const std::uint32_t screen_level = s.frame.levels > 2 ? s.frame.levels - 2 : 0;
+  constexpr std::size_t kGuesses = sizeof(guesses) / sizeof(guesses[0]);
+  std::size_t order[kGuesses] = {0, 1, 2, 3};
+  if (screen_level > 0) {
+    double energy[kGuesses];
+    for (std::size_t g = 0; g < kGuesses; ++g) {
+      const TrackResult r = track_frame(s, guesses[g], s.a, s.b, free_offset, screen_level);
+      energy[g] = r.ok ? r.mean_energy : 1e30;
+    }
+    std::sort(order, order + kGuesses, [&](std::size_t x, std::size_t y) { return energy[x] < energy[y]; });
+  }
+  for (const std::size_t g : order) {
+    TrackResult r = track_frame(s, guesses[g], s.a, s.b, free_offset);
     if (r.ok && step_translation_flow(s, r.T_cw * s.T_cw.inverse()) > kMaxStepFlow * (c.width + c.height)) r.ok = false;
     if (!have || (r.ok && !best.ok) || (r.ok == best.ok && r.rms < best.rms)) best = r, have = true;
+    if (best.ok && screen_level > 0) break;
   }
   out.residual_rms = best.rms;
   out.tracked_points = best.inliers;

@@ -34,6 +34,7 @@ struct RefPoint {
   float u = 0, v = 0, idepth = 1;  // in the reference keyframe, level 0
   std::uint32_t source = 0;        // host slot << 16 | point index
   bool in_view = false;            // tracking: visible at the start of the current pyramid level
+  float refv[kPattern] = {};       // the reference keyframe's pattern at the current level
 };
 
 struct Keyframe {
@@ -125,10 +126,14 @@ struct TrackResult {
   Se3 T_cw;
   double a = 0, b = 0;
   float rms = 0;
+  double mean_energy = 0;  // robust energy per point of the last level's point set
   std::uint32_t visible = 0, inliers = 0;
   bool ok = false;
 };
-TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset);
+// Coarse to fine down to `last_level` (0: the full tracking; above 0: a quick look at a guess,
+// mean_energy and the pose at that level only, ok = finite).
+TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset,
+                        std::uint32_t last_level = 0);
 // Rebuilds the tracking reference (s.ref) from the window's active points.
 void build_tracking_reference(State& s);
 // Returns true once the map is initialised from the first keyframe and the current frame.

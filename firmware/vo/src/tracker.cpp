@@ -3,6 +3,7 @@
 // the window, reprojected into the newest keyframe (the tracking reference, as DSO's coarse
 // tracker does), coarse to fine over the pyramid, by Levenberg-Marquardt.
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -12,7 +13,9 @@
 namespace bolo::vo {
 namespace {
 
-constexpr double kMotionPrior = 0.02;  // share of each translation axis' own information
+constexpr double kMotionPrior = 0.02;
+constexpr double kConverged = 0.003;  // a level stops when a step gains less than this share
+constexpr std::uint32_t kPixelsPerTrackedPoint = 40;  // share of each translation axis' own information
 
 using Mat8 = Eigen::Matrix<double, 8, 8>;
 using Vec8 = Eigen::Matrix<double, 8, 1>;
@@ -71,12 +74,13 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
       continue;
     }
     ++acc.visible;
-    float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], refv[kPattern];
+    if (select_view)
+      for (std::uint32_t j = 0; j < kPattern; ++j) p.refv[j] = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
+    float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
     float energy = 0;
     for (std::uint32_t j = 0; j < kPattern; ++j) {
       const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u + kPatternX[j], v + kPatternY[j]);
-      refv[j] = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
-      r[j] = c.value - (gain * (refv[j] - hb) + fb);
+      r[j] = c.value - (gain * (p.refv[j] - hb) + fb);
       const float hw = huber_weight(r[j], hub);
       w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
       gx[j] = c.gx, gy[j] = c.gy;
@@ -96,17 +100,31 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
     for (std::uint32_t j = 0; j < kPattern; ++j) acc.squared += r[j] * r[j];
     acc.residuals += kPattern;
     if (!with_jacobians) continue;
-    // Geometric Jacobian of the centre pixel, used for the whole pattern (as DSO does).
+    // Geometric Jacobian of the centre pixel, used for the whole pattern (as DSO does): each
+    // residual's pose row is gx du + gy dv, so the point adds D S D^T to the pose block with
+    // D = [du dv] and S the weighted 2x2 gradient structure of its pattern (one product a point
+    // instead of one 8x8 update a pixel). Columns 6, 7: gain and offset.
     const float du[6] = {k.fx * iz, 0, -k.fx * x * iz, -k.fx * x * y, k.fx * (1 + x * x), -k.fx * y};
     const float dv[6] = {0, k.fy * iz, -k.fy * y * iz, -k.fy * (1 + y * y), k.fy * x * y, k.fy * x};
+    float sxx = 0, sxy = 0, syy = 0, sxa = 0, sya = 0, sxb = 0, syb = 0, saa = 0, sab = 0, sbb = 0;
+    float rx = 0, ry = 0, ra = 0, rb = 0;
     for (std::uint32_t j = 0; j < kPattern; ++j) {
-      Vec8 J;
-      for (int q = 0; q < 6; ++q) J[q] = gx[j] * du[q] + gy[j] * dv[q];
-      J[6] = -gain * (refv[j] - hb);
-      J[7] = -1.0;
-      acc.H.selfadjointView<Eigen::Upper>().rankUpdate(J, w[j]);
-      acc.g += J * (w[j] * r[j]);
+      const float ja = -gain * (p.refv[j] - hb);  // d r / d a; d r / d b = -1
+      const float wx = w[j] * gx[j], wy = w[j] * gy[j];
+      sxx += wx * gx[j], sxy += wx * gy[j], syy += wy * gy[j];
+      sxa += wx * ja, sya += wy * ja, sxb -= wx, syb -= wy;
+      saa += w[j] * ja * ja, sab -= w[j] * ja, sbb += w[j];
+      rx += wx * r[j], ry += wy * r[j], ra += w[j] * ja * r[j], rb -= w[j] * r[j];
     }
+    for (int q = 0; q < 6; ++q) {
+      for (int e = q; e < 6; ++e)
+        acc.H(q, e) += sxx * du[q] * du[e] + sxy * (du[q] * dv[e] + dv[q] * du[e]) + syy * dv[q] * dv[e];
+      acc.H(q, 6) += sxa * du[q] + sya * dv[q];
+      acc.H(q, 7) += sxb * du[q] + syb * dv[q];
+      acc.g[q] += rx * du[q] + ry * dv[q];
+    }
+    acc.H(6, 6) += saa, acc.H(6, 7) += sab, acc.H(7, 7) += sbb;
+    acc.g[6] += ra, acc.g[7] += rb;
   }
   acc.H = acc.H.selfadjointView<Eigen::Upper>();
   return acc;
@@ -143,16 +161,26 @@ void build_tracking_reference(State& s) {
       s.ref[s.ref_count++] = r;
     }
   }
+  // Enough points for the pose, not more (tracking is most of the VO's time): an even thinning
+  // by index keeps the spread over hosts and image regions.
+  const std::uint32_t cap = std::max<std::uint32_t>(1000, s.cfg.width * s.cfg.height / kPixelsPerTrackedPoint);
+  if (s.ref_count > cap) {
+    std::uint32_t kept = 0;
+    for (std::uint32_t i = 0; i < s.ref_count; ++i)
+      if (static_cast<std::uint64_t>(i) * cap / s.ref_count != static_cast<std::uint64_t>(i + 1) * cap / s.ref_count)
+        s.ref[kept++] = s.ref[i];
+    s.ref_count = kept;
+  }
 }
 
-TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset) {
+TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset, std::uint32_t last_level) {
   TrackResult out;
   if (s.ref_dirty) build_tracking_reference(s);
   Se3 T = guess;
   const bool affine = s.cfg.photometric == Photometric::affine;
   const std::uint32_t iterations[kMaxLevels] = {8, 8, 10, 10, 10, 10};
   const float hub = s.cfg.huber_counts;
-  for (int level = static_cast<int>(s.frame.levels) - 1; level >= 0; --level) {
+  for (int level = static_cast<int>(s.frame.levels) - 1; level >= static_cast<int>(last_level); --level) {
     const auto l = static_cast<std::uint32_t>(level);
     // Coarse levels start far from the optimum: a looser outlier cut.
     float cutoff = kPattern * hub * hub * (level > 0 ? 12.0f : 6.0f);
@@ -186,9 +214,10 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
       Accumulated next = accumulate(s, l, T_new, a_new, b_new, cutoff, true, false);
       next.energy += prior_energy(T_new);
       if (next.energy <= acc.energy) {
+        const bool small_gain = next.energy > (1.0 - kConverged) * acc.energy;
         T = T_new, a = a_new, b = b_new, acc = next;
         lambda = std::max(lambda * 0.5, 1e-6);
-        if (delta.head<6>().norm() < 1e-5) break;
+        if (delta.head<6>().norm() < 1e-5 || small_gain) break;
       } else {
         lambda *= 4;
         if (lambda > 1e4) break;
@@ -199,10 +228,17 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
       out.visible = final_pass.visible;
       out.inliers = final_pass.inliers;
       out.rms = final_pass.residuals ? static_cast<float>(std::sqrt(final_pass.squared / final_pass.residuals)) : 1e9f;
+    } else if (l == last_level) {
+      out.visible = acc.visible, out.inliers = acc.inliers;
+      out.mean_energy = acc.visible ? acc.energy / acc.visible : 1e30;
     }
   }
   out.T_cw = T, out.a = a, out.b = b;
   const bool finite = T.R.allFinite() && T.t.allFinite() && std::isfinite(a) && std::isfinite(b);
+  if (last_level > 0) {
+    out.ok = finite;
+    return out;
+  }
   out.ok = finite && out.inliers >= 20 && out.inliers * 10 >= out.visible * 3 && out.rms < 5.0f * hub;
   return out;
 }
