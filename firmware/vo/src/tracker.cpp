@@ -180,8 +180,9 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
   const bool affine = s.cfg.photometric == Photometric::affine;
   const std::uint32_t iterations[kMaxLevels] = {8, 8, 10, 10, 10, 10};
   const float hub = s.cfg.huber_counts;
-  for (int level = static_cast<int>(s.frame.levels) - 1; level >= static_cast<int>(last_level); --level) {
-    const auto l = static_cast<std::uint32_t>(level);
+  const std::uint32_t levels = std::min(s.frame.levels, kMaxLevels);
+  for (std::uint32_t l = levels; l-- > last_level;) {
+    const int level = static_cast<int>(l);
     // Coarse levels start far from the optimum: a looser outlier cut.
     float cutoff = kPattern * hub * hub * (level > 0 ? 12.0f : 6.0f);
     Accumulated acc = accumulate(s, l, T, a, b, cutoff, true, false, true);
