@@ -213,7 +213,7 @@ std::size_t Odometry::arena_bytes(const VoConfig& config) {
   const std::size_t ppk = c.points_per_keyframe;
   bytes += pyr * (1 + c.max_keyframes);
   bytes += 4 * (plane(c) * sizeof(float) + 16) + plane(c) + 16;
-  bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + 64 * 2 + 16;
+  bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + std::size_t{64} * 2 + 16;
   bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
   bytes += std::size_t{c.max_keyframes} * ppk * sizeof(WorldPoint) + 16;
   bytes += std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8) * sizeof(float) + std::size_t{c.max_keyframes} * ppk * sizeof(std::uint32_t) + 32;

@@ -145,7 +145,7 @@ void window_bundle_adjustment(State& s);
 void refine_tau(State& s);
 std::uint32_t new_keyframe_slot(State& s);
 // Appends a keyframe's active points (world coordinates) to the retired-points output.
-void retire_points(State& s, const Keyframe& kf);
+void retire_points(State& s, const Keyframe& old);
 void make_keyframe(State& s, std::uint32_t slot, bool select_points_now);
 
 }  // namespace bolo::vo
