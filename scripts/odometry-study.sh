@@ -6,7 +6,8 @@
 #   scripts/odometry-study.sh [BUILD_DIR] [WORK_DIR]
 #
 # Grid (environment overrides): TRAJECTORIES="drive handheld" FPS="30 60" TAUS="0.0002 0.008
-# 0.012 0.015" SEEDS="1 2 3" SECONDS_LONG=4 SIZE=160x120 NOISE=3 MODES="none affine ir ir-loop".
+# 0.012 0.015" SEEDS="1 2 3" SECONDS_LONG=4 SIZE=160x120 NOISE=3 MODES="none affine ir ir-loop"
+# SUPERSAMPLE=1 (rays per pixel per axis, bolo simulate --supersample) DOCS=docs/odometry-study.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -22,6 +23,10 @@ SECONDS_LONG="${SECONDS_LONG:-4}"
 SIZE="${SIZE:-160x120}"
 NOISE="${NOISE:-3}"
 MODES="${MODES:-none affine ir ir-loop}"
+SUPERSAMPLE="${SUPERSAMPLE:-1}"
+DOCS="${DOCS:-$here/docs/odometry-study}"
+ss_tag=""
+[ "$SUPERSAMPLE" = 1 ] || ss_tag="-ss$SUPERSAMPLE"
 
 mkdir -p "$work"
 for traj in $TRAJECTORIES; do
@@ -29,10 +34,10 @@ for traj in $TRAJECTORIES; do
     frames=$(( SECONDS_LONG * fps ))
     for tau in $TAUS; do
       for seed in $SEEDS; do
-        seq="$work/seq-$traj-${fps}hz-tau$tau-s$seed"
+        seq="$work/seq-$traj-${fps}hz-tau$tau-s$seed$ss_tag"
         if [ ! -d "$seq" ]; then
           "$bolo" simulate "$seq" --scene street --trajectory "$traj" --fps "$fps" --frames "$frames" \
-            --size "$SIZE" --tau "$tau" --noise "$NOISE" --seed "$seed" > /dev/null
+            --size "$SIZE" --tau "$tau" --noise "$NOISE" --seed "$seed" --supersample "$SUPERSAMPLE" > /dev/null
         fi
         for mode in $MODES; do
           run="$seq-vo-$mode"
@@ -47,7 +52,7 @@ for traj in $TRAJECTORIES; do
       done
     done
   done
-done > "$work/index.txt"
-python3 "$here/scripts/study/summarise.py" "$work/index.txt" "$here/docs/odometry-study" \
-  "size $SIZE, noise $NOISE counts, ${SECONDS_LONG} s per sequence, seeds $SEEDS"
-echo "odometry-study: wrote docs/odometry-study/results.md and figures from $(wc -l < "$work/index.txt") runs"
+done > "$work/index$ss_tag.txt"
+python3 "$here/scripts/study/summarise.py" "$work/index$ss_tag.txt" "$DOCS" \
+  "size $SIZE, noise $NOISE counts, ${SECONDS_LONG} s per sequence, seeds $SEEDS, $SUPERSAMPLE x $SUPERSAMPLE rays per pixel"
+echo "odometry-study: wrote $DOCS/results.md and figures from $(wc -l < "$work/index$ss_tag.txt") runs"

@@ -139,7 +139,8 @@ int run_simulate(const SimulateOptions& o, std::ostream& out) {
   const sim::SensorPreset& preset = sim::sensor_preset(o.preset);
   const sim::SimulatorConfig config = resolve(o, preset);
   const sim::SimulationInfo& i = config.info;
-  SimulatedScene scene = make_simulated_scene(o.scene, o.trajectory, preset, i);
+  if (o.supersample < 1 || o.supersample > 8) fail("--supersample: must be 1..8, got ", o.supersample);
+  SimulatedScene scene = make_simulated_scene(o.scene, o.trajectory, preset, i, o.supersample);
   sim::Simulator simulator(config, scene.input);  // checks the effects before anything is written
 
   rec::RecordingInfo info;
@@ -153,6 +154,7 @@ int run_simulate(const SimulateOptions& o, std::ostream& out) {
   source << "bolo simulate: scene " << o.scene << (scene.trajectory.empty() ? "" : ", trajectory " + scene.trajectory)
          << ", preset " << preset.name << ", tau_h " << i.tau_h_s << " s, tau_c " << i.tau_c_s
          << " s, noise " << config.noise_counts << " counts, seed " << o.seed;
+  if (o.supersample > 1) source << ", " << o.supersample << "x" << o.supersample << " rays per pixel";
   for (const auto& e : o.effects) source << ", effect " << e;
   info.source = source.str();
   info.notes = "scene.npy holds the steady-state input; truth/ the model, its parameters and maps";
@@ -224,6 +226,9 @@ Command add_simulate_command(CLI::App& parent) {
   app->add_option("--noise-1f", o->noise_1f, "1/f temporal noise, standard deviation in counts")->capture_default_str();
   app->add_option("--bits", o->bits, "Sensor bit depth 8..16 (default: the preset's)")->check(not_negative());
   app->add_option("--substeps", o->substeps, "Scene samples per exposure (motion within a frame), 1 to 64")
+      ->check(not_negative())->capture_default_str();
+  app->add_option("--supersample", o->supersample,
+                  "3D scenes: N x N rays per pixel, averaged (the pixel's area; 1 = one ray through its centre, aliased), 1 to 8")
       ->check(not_negative())->capture_default_str();
   app->add_option("--effect", o->effects, "Catalogue effect ID[:KEY=VALUE,...]; repeatable");
   app->add_option("--seed", o->seed, "Seed of noise, maps and scene")->check(not_negative())->capture_default_str();

@@ -61,7 +61,7 @@ int run_render(const RenderOptions& options, std::ostream& out);
 
 // bolo simulate OUT [--preset NAME] [--scene NAME] [--trajectory NAME] [--frames N] [--size WxH]
 //   [--fps F] [--tau S | --tau-h S --tau-c S] [--exposure S] [--readout S] [--noise C] [--noise-1f C]
-//   [--bits B] [--substeps K] [--effect ID:K=V,...]... [--seed K] [--overwrite]
+//   [--bits B] [--substeps K] [--supersample N] [--effect ID:K=V,...]... [--seed K] [--overwrite]
 struct SimulateOptions {
   std::filesystem::path output;
   std::string preset = "generic";
@@ -78,6 +78,7 @@ struct SimulateOptions {
   double noise_1f = 0.0;
   std::optional<std::uint32_t> bits;   // default: the preset's
   std::uint32_t substeps = 4;
+  std::uint32_t supersample = 1;       // 3D scenes: N x N rays per pixel
   std::vector<std::string> effects;
   std::uint64_t seed = 1;
   bool overwrite = false;

@@ -46,7 +46,8 @@ std::string default_trajectory(const std::string& scene) {
 std::string simulated_scene_names() { return "demo, " + join(sim::scene::scene_names()); }
 
 SimulatedScene make_simulated_scene(const std::string& scene_name, const std::string& trajectory_name,
-                                    const sim::SensorPreset& preset, const sim::SimulationInfo& info) {
+                                    const sim::SensorPreset& preset, const sim::SimulationInfo& info,
+                                    unsigned supersample) {
   if (scene_name == "demo") return demo_scene(trajectory_name, info);
   bool known = false;
   for (const auto& n : sim::scene::scene_names()) known = known || n == scene_name;
@@ -61,7 +62,10 @@ SimulatedScene make_simulated_scene(const std::string& scene_name, const std::st
   if (trajectory->scene() != scene_name && scene_name != "checker")
     fail("--trajectory ", path, ": laid out for the ", trajectory->scene(), " scene, not ", scene_name);
   const sim::scene::Camera camera(info.width, info.height, kHorizontalFovDeg);
-  auto renderer = std::make_shared<sim::scene::Renderer>(sim::scene::make_scene(scene_name, info.seed), camera);
+  sim::scene::RenderOptions render_options;
+  render_options.supersample = supersample;
+  auto renderer = std::make_shared<sim::scene::Renderer>(sim::scene::make_scene(scene_name, info.seed), camera,
+                                                         render_options);
   // Kelvin to the sensor's steady-state counts, linear about 300 K and scaled to the bit depth.
   const double scale = std::ldexp(1.0, static_cast<int>(info.bits) - 14);
   const double level = info.reference_level, per_kelvin = preset.counts_per_kelvin * scale;

@@ -21,8 +21,10 @@ struct SimulatedScene {
 };
 
 // Throws bolo::cli::Error naming the unknown scene or trajectory and listing the known ones.
+// `supersample` n: n x n rays per pixel for the 3D scenes (1: one ray through the pixel centre).
 SimulatedScene make_simulated_scene(const std::string& scene, const std::string& trajectory,
-                                    const sim::SensorPreset& preset, const sim::SimulationInfo& info);
+                                    const sim::SensorPreset& preset, const sim::SimulationInfo& info,
+                                    unsigned supersample = 1);
 std::string simulated_scene_names();
 
 }  // namespace bolo::cli

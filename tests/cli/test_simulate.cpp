@@ -63,6 +63,8 @@ TEST_CASE("simulate refuses bad options", "[cli][simulate][refusal]") {
            {{"--frames", "-3"}, "--frames: must not be negative"},
            {{"--frames", "0"}, "--frames"},
            {{"--substeps", "0"}, "--substeps"},
+           {{"--supersample", "0"}, "--supersample"},
+           {{"--supersample", "9"}, "--supersample"},
            {{"--bits", "-16"}, "--bits: must not be negative"},
            {{"--effect", "offset_fpn:sigma=-2"}, "offset_fpn: sigma"},
            {{"--preset", "nosuch"}, "--preset nosuch"},
@@ -107,6 +109,22 @@ TEST_CASE("simulate a 3D scene: camera.json, one pose per frame, counts from kel
   std::vector<float> scene(64 * 48);
   rec.read_scene(0, scene);
   CHECK(*std::min_element(scene.begin(), scene.end()) < 8000 - 40 * 35);
+  // --supersample: the pixel's area instead of its centre. The first frame is the steady state of
+  // its input, so scene.npy's level (a mean of the same rays and more) stays close, edges differ.
+  const auto ss = tmp / "street-ss";
+  REQUIRE(run_bolo({"simulate", "--out", ss.string(), "--scene", "street", "--trajectory", "drive", "--size", "64x48",
+                    "--frames", "1", "--fps", "60", "--tau", "0.010", "--noise", "0", "--seed", "1", "--supersample", "3"})
+              .code == 0);
+  rec::Recording ss_rec(ss);
+  std::vector<float> one_ray(64 * 48), area(64 * 48);
+  rec.read_scene(0, one_ray);
+  ss_rec.read_scene(0, area);
+  double mean_one = 0, mean_area = 0, differ = 0;
+  for (std::size_t k = 0; k < area.size(); ++k)
+    mean_one += one_ray[k], mean_area += area[k], differ += std::fabs(area[k] - one_ray[k]) > 1.0f;
+  CHECK(std::fabs(mean_one - mean_area) / static_cast<double>(area.size()) < 40.0);  // within a kelvin on average
+  CHECK(differ > 0.05 * static_cast<double>(area.size()));
+  CHECK(ss_rec.info().source.find("3x3 rays per pixel") != std::string::npos);
   CHECK(run_bolo({"simulate", (tmp / "x").string(), "--scene", "street", "--trajectory", "warp"}).code == 2);
   CHECK(run_bolo({"simulate", (tmp / "y").string(), "--scene", "street", "--trajectory", "blackbody"}).err.find("laid out for the lab scene") != std::string::npos);
 }

@@ -1,9 +1,15 @@
-// The tau estimator (ir modes) against truth: frames rendered in-process go through the
-// two-frame bolometer model with tau = 12 ms; with the true poses and depths, the online
-// estimate started at 8 ms must come within 10 % of the truth within 2 s of frames.
-// Hidden ([.]): it fails today (the estimate drifts to ~4.5 ms), see docs/odometry-study.md.
+// The tau estimator (ir modes) against truth: frames of the street/drive scene rendered in-process
+// go through the two-frame bolometer model (y_i = alpha y_{i-1} + beta u_i) with a known tau and
+// 3 counts of white noise; with the true poses and depths, the online estimate, started elsewhere,
+// must come within 10 % of the truth within 2 s of frames (120 at 60 Hz).
+//
+// The renders integrate each pixel's area (3 x 3 rays, `bolo simulate --supersample 3`). With one
+// ray per pixel the street's sharp facades alias: the same scene point sampled at two sub-pixel
+// phases differs by ~50 counts rms, as much as the carry-over signal itself, and the fit is biased
+// low (10.7 ms for 12 ms when written; reported, not checked, by the hidden case below).
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -15,19 +21,20 @@
 using namespace bolo;
 
 namespace {
-double estimate_after_2s(unsigned supersample) {
+
+double estimate_after_2s(unsigned supersample, double tau, double tau_start) {
   test::RenderedSequence seq{"street", "drive", 160, 120, supersample};
   vo::VoConfig cfg;
   cfg.width = seq.width, cfg.height = seq.height;
   cfg.camera = seq.intrinsics();
   cfg.photometric = vo::Photometric::ir;
-  cfg.tau_init_s = 0.008f;
+  cfg.tau_init_s = static_cast<float>(tau_start);
   std::vector<std::byte> memory(vo::Odometry::arena_bytes(cfg));
   vo::Arena arena(memory);
   vo::State* s = vo::lay_out(cfg, arena);
   if (s == nullptr) return 0;
 
-  const double fps = 60, te = 0.5 / fps, tr = 0.5 / fps, tau = 0.012;
+  const double fps = 60, te = 0.5 / fps, tr = 0.5 / fps;
   const double alpha = std::exp(-tr / tau), beta = 1 - std::exp(-te / tau);
   const std::size_t n = std::size_t{seq.width} * seq.height;
   std::vector<double> y(n);
@@ -36,45 +43,68 @@ double estimate_after_2s(unsigned supersample) {
     const auto u = seq.frame(t0 - 1 / fps);
     for (std::size_t i = 0; i < n; ++i) y[i] = u[i];  // settled
   }
-  vo::Keyframe* kf = nullptr;
-  double estimate_2s = 0;
+  std::uint32_t noise_state = 12345;
+  const auto noise = [&]() {  // ~N(0, 3^2): sum of 12 uniforms
+    double sum = 0;
+    for (int q = 0; q < 12; ++q) {
+      noise_state = noise_state * 1664525u + 1013904223u;
+      sum += static_cast<double>(noise_state >> 8) / 16777216.0;
+    }
+    return 3.0 * (sum - 6.0);
+  };
+  bool have_keyframe = false;
   for (int k = 0; k <= 120; ++k) {
     const double t = t0 + k / fps;
     const auto u = seq.frame(t);
+    std::swap(s->raw_prev, s->raw_prev2);
     std::swap(s->raw, s->raw_prev);
     for (std::size_t i = 0; i < n; ++i) {
       y[i] = alpha * y[i] + beta * u[i];
-      s->raw[i] = static_cast<float>(y[i]);
+      s->raw[i] = static_cast<float>(y[i] + noise());
     }
     s->have_prev = k > 0;
+    s->chain_ok_prev = k > 1;
     s->chain_ok = k > 0;
     s->exposure_s = te, s->readout_prev_s = tr, s->t_s = t;
+    s->T_prev = s->T_cw;
+    s->prev_posed = k > 0;
     s->T_cw = seq.T_cw(t);
-    if (k % 12 == 1) {
+    if (k % 12 == 0) {
       // A new keyframe every 12 frames, its points at their true depth.
       for (std::size_t i = 0; i < n; ++i) s->frame.level[0].value.data[i] = s->raw[i];
       vo::build_pyramid(s->frame);
       const std::uint32_t slot = vo::new_keyframe_slot(*s);
       vo::make_keyframe(*s, slot, true);
-      kf = &s->kf[slot];
-      for (std::uint32_t i = 0; i < kf->count; ++i) {
-        vo::Point& p = kf->points[i];
+      vo::Keyframe& kf = s->kf[slot];
+      for (std::uint32_t i = 0; i < kf.count; ++i) {
+        vo::Point& p = kf.points[i];
         const double z = seq.depth(t, p.u, p.v);
         p.status = z > 0 && z < 150 ? vo::PointStatus::active : vo::PointStatus::empty;
         p.idepth = static_cast<float>(1 / z);
         p.inlier = true;
       }
-      continue;
+      have_keyframe = true;
     }
-    if (kf) vo::refine_tau(*s);
-    if (k == 120) estimate_2s = s->tau.c;
+    if (have_keyframe) vo::refine_tau(*s);
   }
-  return estimate_2s;
+  return s->tau.c;
 }
+
 }  // namespace
 
-TEST_CASE("tau estimate converges to the bolometer's time constant with true geometry", "[.][vo][tau]") {
-  const double estimate = estimate_after_2s(1);
-  INFO("tau_c after 2 s: " << estimate * 1e3 << " ms (truth 12 ms, start 8 ms)");
-  CHECK(std::fabs(estimate - 0.012) < 0.1 * 0.012);
+TEST_CASE("tau estimate converges to the bolometer's time constant with true geometry", "[vo][tau]") {
+  struct Case {
+    double tau, start;
+  };
+  for (const Case c : {Case{0.012, 0.008}, Case{0.008, 0.012}, Case{0.015, 0.010}}) {
+    const double estimate = estimate_after_2s(3, c.tau, c.start);
+    INFO("tau after 2 s: " << estimate * 1e3 << " ms (truth " << c.tau * 1e3 << " ms, start " << c.start * 1e3 << " ms)");
+    CHECK(std::fabs(estimate - c.tau) < 0.1 * c.tau);
+  }
+}
+
+TEST_CASE("tau estimate on one-ray (aliased) renders: the bias, reported", "[vo][tau][.]") {
+  const double estimate = estimate_after_2s(1, 0.012, 0.008);
+  WARN("one ray per pixel: tau after 2 s " << estimate * 1e3 << " ms (truth 12 ms)");
+  CHECK(estimate > 0);
 }

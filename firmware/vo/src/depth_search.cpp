@@ -168,6 +168,7 @@ void search_immature_points(State& s) {
 }
 
 void activate_mature_points(State& s) {
+  s.ref_dirty = true;
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
     Keyframe& host = s.kf[slot];
     if (!host.used) continue;

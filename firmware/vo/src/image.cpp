@@ -12,7 +12,17 @@ float bilinear(const Image& img, float x, float y) {
 }
 
 Sample bilinear_with_gradient(const Image& img, const Image& gx, const Image& gy, float x, float y) {
-  return {bilinear(img, x, y), bilinear(gx, x, y), bilinear(gy, x, y)};
+  // bilinear() on the three planes with the weights and offsets computed once (same arithmetic,
+  // same results).
+  const auto xi = static_cast<std::uint32_t>(x), yi = static_cast<std::uint32_t>(y);
+  const float fx = x - static_cast<float>(xi), fy = y - static_cast<float>(yi);
+  const std::size_t o = std::size_t{yi} * img.width + xi, w = img.width;
+  const auto at = [&](const float* p) {
+    const float top = p[o] + fx * (p[o + 1] - p[o]);
+    const float bottom = p[o + w] + fx * (p[o + w + 1] - p[o + w]);
+    return top + fy * (bottom - top);
+  };
+  return {at(img.data), at(gx.data), at(gy.data)};
 }
 
 std::size_t pyramid_floats(std::uint32_t width, std::uint32_t height, std::uint32_t levels) {

@@ -254,6 +254,7 @@ bool initialise_step(State& s) {
     p.idepth_min = p.idepth * 0.5f, p.idepth_max = p.idepth * 2.0f;
   }
   s.initialised = true;
+  s.ref_dirty = true;
   return true;
 }
 

@@ -44,6 +44,7 @@ State* lay_out(const VoConfig& config, Arena& arena) {
   if (!frame.empty()) s.frame = make_pyramid(frame, c.width, c.height, c.levels);
   s.raw = arena.take<float>(plane(c));
   s.raw_prev = arena.take<float>(plane(c));
+  s.raw_prev2 = arena.take<float>(plane(c));
   s.occupied = arena.take<std::uint8_t>(plane(c));
   s.candidates = arena.take<PixelPoint>(ppk);
   s.selector.block_threshold = arena.take<float>(selector_block_count(c.width, c.height));
@@ -56,6 +57,7 @@ State* lay_out(const VoConfig& config, Arena& arena) {
   s.retired = arena.take<WorldPoint>(std::size_t{c.max_keyframes} * ppk);  // a restart retires all
   s.ba_hxr = arena.take<float>(std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8));
   s.ba_index = arena.take<std::uint32_t>(std::size_t{c.max_keyframes} * ppk);
+  s.ref = arena.take<RefPoint>(std::size_t{c.max_keyframes} * ppk);
   s.tau.h = s.tau.c = c.tau_init_s;
   return arena.failed() ? nullptr : &s;
 }
@@ -163,6 +165,7 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
   Keyframe& kf = s.kf[slot];
   kf.used = true;
   kf.id = s.kf_created++;
+  s.ref_dirty = true;
   kf.T_cw = s.T_cw;
   kf.a = s.a, kf.b = s.b;
   kf.t_s = s.t_s, kf.exposure_s = s.exposure_s, kf.readout_prev_s = s.readout_prev_s;
@@ -199,7 +202,6 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
     p.u = s.candidates[i].x, p.v = s.candidates[i].y;
     p.status = PointStatus::immature;
     p.idepth = 1.0f, p.idepth_min = 0.0f, p.idepth_max = -1.0f;
-    store_raw_pattern(s, p);
   }
 }
 
@@ -210,11 +212,12 @@ std::size_t Odometry::arena_bytes(const VoConfig& config) {
   const std::size_t pyr = pyramid_floats(c.width, c.height, c.levels) * sizeof(float) + 16;
   const std::size_t ppk = c.points_per_keyframe;
   bytes += pyr * (1 + c.max_keyframes);
-  bytes += 3 * (plane(c) * sizeof(float) + 16) + plane(c) + 16;
-  bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + 64 * 2 + 16;
+  bytes += 4 * (plane(c) * sizeof(float) + 16) + plane(c) + 16;
+  bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + std::size_t{64} * 2 + 16;
   bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
   bytes += std::size_t{c.max_keyframes} * ppk * sizeof(WorldPoint) + 16;
   bytes += std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8) * sizeof(float) + std::size_t{c.max_keyframes} * ppk * sizeof(std::uint32_t) + 32;
+  bytes += std::size_t{c.max_keyframes} * ppk * sizeof(RefPoint) + 16;
   return bytes + 256 + 64;  // + the buffer's own misalignment (Arena aligns addresses)
 }
 
@@ -254,11 +257,16 @@ FrameResult Odometry::process(const FrameInput& in) {
   State& s = *state_;
   const VoConfig& c = s.cfg;
   s.retired_count = 0;
+  std::swap(s.raw_prev, s.raw_prev2);
   std::swap(s.raw, s.raw_prev);
   for (std::size_t i = 0; i < plane(c); ++i) s.raw[i] = static_cast<float>(in.raw[i]);
   const bool had_prev = s.have_prev;
   s.have_prev = true;
+  s.chain_ok_prev = s.chain_ok;
   s.chain_ok = had_prev && !in.chain_broken;
+  s.T_prev = s.T_cw;
+  s.prev_posed = s.posed;
+  s.posed = false;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
   const bool ir = c.photometric == Photometric::ir || c.photometric == Photometric::ir_loop;
 
@@ -296,6 +304,7 @@ FrameResult Odometry::process(const FrameInput& in) {
       return out;
     }
     if (!initialise_step(s)) return out;
+    s.posed = true;
     out.state = TrackingState::tracking;
     out.has_pose = true;
     out.T_wc = s.T_cw.inverse();
@@ -309,13 +318,30 @@ FrameResult Odometry::process(const FrameInput& in) {
   const bool free_offset = ir && !s.chain_ok;
   const Se3 half = Se3::exp(0.5 * s.motion.log());
   const Se3 guesses[] = {s.motion * s.T_cw, s.T_cw, half * s.T_cw, s.motion * s.motion * s.T_cw};
+  // Every guess is looked at and the best kept (not the first that passes): a constant-velocity
+  // guess carries the last frame's error into this one, and the tracker's basin on these images is
+  // narrow enough that it can settle beside the truth and pass the checks (seen on street/drive:
+  // the error then grows frame by frame until the track is lost). The guesses are ranked at the
+  // second-coarsest level (as DSO ranks its motion hypotheses at the coarsest), the best is tracked
+  // to the finest; the others only if it fails.
   TrackResult best;
   bool have = false;
-  for (const Se3& g : guesses) {
-    TrackResult r = track_frame(s, g, s.a, s.b, free_offset);
+  const std::uint32_t screen_level = s.frame.levels > 2 ? s.frame.levels - 2 : 0;
+  constexpr std::size_t kGuesses = sizeof(guesses) / sizeof(guesses[0]);
+  std::size_t order[kGuesses] = {0, 1, 2, 3};
+  if (screen_level > 0) {
+    double energy[kGuesses];
+    for (std::size_t g = 0; g < kGuesses; ++g) {
+      const TrackResult r = track_frame(s, guesses[g], s.a, s.b, free_offset, screen_level);
+      energy[g] = r.ok ? r.mean_energy : 1e30;
+    }
+    std::sort(order, order + kGuesses, [&](std::size_t x, std::size_t y) { return energy[x] < energy[y]; });
+  }
+  for (const std::size_t g : order) {
+    TrackResult r = track_frame(s, guesses[g], s.a, s.b, free_offset);
     if (r.ok && step_translation_flow(s, r.T_cw * s.T_cw.inverse()) > kMaxStepFlow * (c.width + c.height)) r.ok = false;
     if (!have || (r.ok && !best.ok) || (r.ok == best.ok && r.rms < best.rms)) best = r, have = true;
-    if (best.ok) break;
+    if (best.ok && screen_level > 0) break;
   }
   out.residual_rms = best.rms;
   out.tracked_points = best.inliers;
@@ -343,6 +369,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (!free_offset) s.a = best.a, s.b = best.b;
   out.state = TrackingState::tracking;
   out.has_pose = true;
+  s.posed = true;
 
   if (ir && c.estimate_tau) refine_tau(s);
   search_immature_points(s);

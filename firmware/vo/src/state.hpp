@@ -21,12 +21,20 @@ enum class PointStatus : std::uint8_t { empty, immature, active };
 struct Point {
   float u = 0, v = 0;  // host pixel, level 0
   float idepth = 1, idepth_min = 0, idepth_max = -1;  // max < 0: unbounded
-  float raw[kPattern] = {}, raw_prev[kPattern] = {};  // host raw counts, for tau
   float energy = 0;      // last pattern energy when tracked
   float quality = 0;     // immature: second-best / best energy of the last search
   PointStatus status = PointStatus::empty;
   std::uint8_t good = 0, bad = 0;
   bool inlier = false;   // in the last tracking
+};
+
+// A window point as the tracker sees it: reprojected into the newest keyframe (the tracking
+// reference), so the patterns compared with the frame come from the keyframe nearest to it.
+struct RefPoint {
+  float u = 0, v = 0, idepth = 1;  // in the reference keyframe, level 0
+  std::uint32_t source = 0;        // host slot << 16 | point index
+  bool in_view = false;            // tracking: visible at the start of the current pyramid level
+  float refv[kPattern] = {};       // the reference keyframe's pattern at the current level
 };
 
 struct Keyframe {
@@ -71,13 +79,16 @@ struct State {
   std::uint32_t kf_created = 0;
 
   Pyramid frame;                    // tracking image of the current frame
-  std::span<float> raw, raw_prev;   // raw counts of this and the previous frame
+  std::span<float> raw, raw_prev, raw_prev2;  // raw counts of this and the two previous frames
   bool have_prev = false;
   std::span<std::uint8_t> occupied;
   std::span<PixelPoint> candidates;
   SelectorScratch selector;
   std::span<WorldPoint> retired;
   std::size_t retired_count = 0;
+  std::span<RefPoint> ref;   // tracking reference: the window's active points in the newest keyframe
+  std::uint32_t ref_count = 0;
+  bool ref_dirty = true;     // keyframes, poses or depths changed since it was built
   std::span<float> ba_hxr;  // per window point: coupling to the keyframe parameters (BA)
   std::span<std::uint32_t> ba_index;
   BaMatrix ba_H;
@@ -94,11 +105,15 @@ struct State {
   std::uint32_t init_frames = 0;
   float last_rms = 0;
 
-  // Tau (ir modes): estimate and its accumulated information
+  Se3 T_prev;                  // the previous frame's pose, when prev_posed
+  bool prev_posed = false, posed = false;
+
+  // Tau (ir modes): estimate and the sums it is solved from (tau_estimator.cpp)
   Tau tau;
-  Eigen::Matrix2d tau_info = Eigen::Matrix2d::Zero();
+  double tau_sab = 0, tau_sbb = 0, tau_sbbr = 0;
   CarryCoefficients carry;  // of the current frame
-  bool chain_ok = false;
+  bool chain_ok = false;       // raw_prev is this frame's predecessor on the sensor
+  bool chain_ok_prev = false;  // raw_prev2 is raw_prev's predecessor
   double exposure_s = 0, readout_prev_s = 0, t_s = 0;
 };
 
@@ -111,10 +126,16 @@ struct TrackResult {
   Se3 T_cw;
   double a = 0, b = 0;
   float rms = 0;
+  double mean_energy = 0;  // robust energy per point of the last level's point set
   std::uint32_t visible = 0, inliers = 0;
   bool ok = false;
 };
-TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset);
+// Coarse to fine down to `last_level` (0: the full tracking; above 0: a quick look at a guess,
+// mean_energy and the pose at that level only, ok = finite).
+TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset,
+                        std::uint32_t last_level = 0);
+// Rebuilds the tracking reference (s.ref) from the window's active points.
+void build_tracking_reference(State& s);
 // Returns true once the map is initialised from the first keyframe and the current frame.
 bool initialise_step(State& s);
 void start_initialisation(State& s);
@@ -122,11 +143,9 @@ void search_immature_points(State& s);
 void activate_mature_points(State& s);
 void window_bundle_adjustment(State& s);
 void refine_tau(State& s);
-// Fills the pattern's raw values of a new point from the current frame.
-void store_raw_pattern(const State& s, Point& p);
 std::uint32_t new_keyframe_slot(State& s);
 // Appends a keyframe's active points (world coordinates) to the retired-points output.
-void retire_points(State& s, const Keyframe& kf);
+void retire_points(State& s, const Keyframe& old);
 void make_keyframe(State& s, std::uint32_t slot, bool select_points_now);
 
 }  // namespace bolo::vo

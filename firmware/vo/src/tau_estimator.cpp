@@ -1,83 +1,87 @@
-// Online estimation of the bolometer time constants (ir, ir-loop). tau_h and tau_c are global
-// parameters: every tracked frame whose carry-over chain is intact adds the information of the
-// residual
-//   r = u_i(p') - u_h(p),  u = (raw - alpha raw_prev) / beta
-// (Eq. 7 of Zhang et al., divided by beta_i, with the host keyframe's corrected intensity as the
-// reference) over the patterns of the inlier points, at the tracked pose; the estimate takes a
-// Gauss-Newton step with
-// the information accumulated so far (recursive least squares, slow forgetting). With constant
-// exposure tau_h only scales u, which cancels between frames: tau_h and tau_c cannot be told
-// apart, and one tau (tau_h = tau_c) is estimated.
+// Online estimation of the bolometer time constants (ir, ir-loop) from the carry-over between
+// consecutive frames.
+//
+// A window point seen at p_i in frame i and at p_{i-1} in frame i-1 (tracked poses, its inverse
+// depth) has one scene value u, so by the two-frame model y_i = alpha y_{i-1} + beta u (paper
+// Eq. 7) at both pixels
+//   A = y_i(p_i) - y_{i-1}(p_{i-1})   and   B = y_{i-1}(p_i) - y_{i-2}(p_{i-1})
+// satisfy A = alpha B: beta and u cancel, and alpha = exp(-t_r / tau_c) is fitted by weighted
+// least squares, alpha = sum(w A B) / sum(w B^2), from sums accumulated over frames. B is the
+// carry-over that moved with the image: it is zero where the image does not change, so only
+// moving edges inform tau (the estimate stays where it is while the camera is still).
+//
+// Why not against the host keyframe (u_i(p') - u_h(p), the first version): over the window's
+// baselines the host's pattern is zoomed and sheared against the frame, and that error grows
+// with 1/beta; the fit then drifted to a third of the true tau. Between consecutive frames the
+// patterns match up to the sampling phase.
+//
+// tau_h is not observable here: with a constant exposure it only scales u, a gain the photometric
+// model absorbs (the static level (1 - alpha) / beta * y does not depend on it when t_e = t_r).
+// It is kept equal to tau_c.
 
 #include <cmath>
 
 #include "state.hpp"
 
 namespace bolo::vo {
+namespace {
 
-void store_raw_pattern(const State& s, Point& p) {
-  const Image raw{s.raw.data(), s.cfg.width, s.cfg.height};
-  const Image prev{s.raw_prev.data(), s.cfg.width, s.cfg.height};
-  for (std::uint32_t j = 0; j < kPattern; ++j) {
-    const float x = p.u + kPatternX[j], y = p.v + kPatternY[j];
-    p.raw[j] = inside(raw, x, y, 1.0f) ? bilinear(raw, x, y) : 0.0f;
-    p.raw_prev[j] = inside(prev, x, y, 1.0f) && s.have_prev ? bilinear(prev, x, y) : p.raw[j];
-  }
-}
+constexpr double kForget = 0.995;      // per frame: a drifting tau is followed over ~200 frames
+constexpr double kPriorWeight = 1e4;   // sum of B^2 the starting tau counts for (counts^2)
+constexpr double kMinInformation = 1e6;  // sum of B^2 before the estimate moves (counts^2)
+
+}  // namespace
 
 void refine_tau(State& s) {
-  if (!s.chain_ok) return;
-  const Image raw{s.raw.data(), s.cfg.width, s.cfg.height};
-  const Image prev{s.raw_prev.data(), s.cfg.width, s.cfg.height};
+  if (!s.chain_ok || !s.chain_ok_prev || !s.prev_posed || s.kf_count == 0) return;
+  const std::uint32_t w = s.cfg.width, h = s.cfg.height;
+  const Image y0{s.raw.data(), w, h}, y1{s.raw_prev.data(), w, h}, y2{s.raw_prev2.data(), w, h};
   const Scaled k = camera_at(s.cfg.camera, 0);
   const float hub = s.cfg.huber_counts;
-  const CarryCoefficients ci = carry_coefficients(s.tau, s.readout_prev_s, s.exposure_s);
-  Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
-  Eigen::Vector2d g = Eigen::Vector2d::Zero();
-  std::uint32_t used = 0;
+  const double readout = s.readout_prev_s;
+  if (!(readout > 0)) return;
+  const double alpha_now = std::exp(-readout / s.tau.c);
+  double sab = 0, sbb = 0;
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
     const Keyframe& host = s.kf[slot];
-    if (!host.used || !host.chain_ok) continue;
-    const CarryCoefficients ch = carry_coefficients(s.tau, host.readout_prev_s, host.exposure_s);
-    const Se3 M = s.T_cw * host.T_cw.inverse();
-    const Eigen::Matrix3f R = M.R.cast<float>();
-    const Eigen::Vector3f t = M.t.cast<float>();
+    if (!host.used) continue;
+    const Se3 Mi = s.T_cw * host.T_cw.inverse(), Mp = s.T_prev * host.T_cw.inverse();
+    const Eigen::Matrix3f Ri = Mi.R.cast<float>(), Rp = Mp.R.cast<float>();
+    const Eigen::Vector3f ti = Mi.t.cast<float>(), tp = Mp.t.cast<float>();
     for (std::uint32_t i = 0; i < host.count; ++i) {
       const Point& p = host.points[i];
       if (p.status != PointStatus::active || !p.inlier) continue;
-      const Eigen::Vector3f X = R * Eigen::Vector3f((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0f) + t * p.idepth;
-      if (X.z() <= 1e-4f) continue;
-      const float u = k.fx * X.x() / X.z() + k.cx, v = k.fy * X.y() / X.z() + k.cy;
-      if (!inside(raw, u, v, 3.0f)) continue;
-      ++used;
+      const Eigen::Vector3f n((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0f);
+      const Eigen::Vector3f Xi = Ri * n + ti * p.idepth, Xp = Rp * n + tp * p.idepth;
+      if (Xi.z() <= 1e-4f || Xp.z() <= 1e-4f) continue;
+      const float ui = k.fx * Xi.x() / Xi.z() + k.cx, vi = k.fy * Xi.y() / Xi.z() + k.cy;
+      const float up = k.fx * Xp.x() / Xp.z() + k.cx, vp = k.fy * Xp.y() / Xp.z() + k.cy;
+      if (!inside(y0, ui, vi, 3.0f) || !inside(y0, up, vp, 3.0f)) continue;
       for (std::uint32_t j = 0; j < kPattern; ++j) {
-        const double yi = bilinear(raw, u + kPatternX[j], v + kPatternY[j]);
-        const double yp = bilinear(prev, u + kPatternX[j], v + kPatternY[j]);
-        // In scene units (u = (raw - alpha raw_prev) / beta): in raw units the residual shrinks
-        // with beta, and the fit would drift to large tau just to shrink it.
-        const double ui = (yi - ci.alpha * yp) / ci.beta;
-        const double uh = (p.raw[j] - ch.alpha * p.raw_prev[j]) / ch.beta;
-        const double r = ui - uh;
-        const double Jc = -ci.dalpha_dtau_c * yp / ci.beta + ch.dalpha_dtau_c * p.raw_prev[j] / ch.beta;
-        const double Jh = -ui * ci.dbeta_dtau_h / ci.beta + uh * ch.dbeta_dtau_h / ch.beta;
-        const double w = huber_weight(static_cast<float>(r), hub);
-        const Eigen::Vector2d J(Jh, Jc);
-        H += w * J * J.transpose();
-        g += w * J * r;
+        const float oi_x = ui + kPatternX[j], oi_y = vi + kPatternY[j];
+        const float op_x = up + kPatternX[j], op_y = vp + kPatternY[j];
+        const double A = bilinear(y0, oi_x, oi_y) - bilinear(y1, op_x, op_y);
+        const double B = bilinear(y1, oi_x, oi_y) - bilinear(y2, op_x, op_y);
+        const double wt = huber_weight(static_cast<float>(A - alpha_now * B), hub);
+        sab += wt * A * B;
+        sbb += wt * B * B;
       }
     }
   }
-  if (used < 20) return;
-  // One tau for both: with tau_h = tau_c the information is J = J_h + J_c (see above).
-  const double info = H(0, 0) + H(1, 1) + 2 * H(0, 1), grad = g(0) + g(1);
-  // Slow forgetting: the estimate follows a drifting tau, older frames' linearisations fade.
-  s.tau_info(0, 0) = 0.98 * s.tau_info(0, 0) + info;
-  const double step = -grad / (s.tau_info(0, 0) + 1e-9);
-  if (!std::isfinite(step)) return;
-  // Bounded steps (10 % a frame) and a physical range keep a bad frame from throwing tau away.
-  const double limit = 0.1 * s.tau.c;
-  const double value = std::max(0.001, std::min(0.1, s.tau.c + std::max(-limit, std::min(limit, step))));
-  s.tau.c = s.tau.h = value;
+  s.tau_sab = kForget * s.tau_sab + sab;
+  s.tau_sbb = kForget * s.tau_sbb + sbb;
+  s.tau_sbbr = kForget * s.tau_sbbr + sbb * readout;
+  if (s.tau_sbb < kMinInformation) return;
+  // The starting tau as a weak prior (pseudo-observations with B^2 summing to kPriorWeight).
+  const double readout_mean = s.tau_sbbr / s.tau_sbb;
+  const double alpha_init = std::exp(-readout_mean / static_cast<double>(s.cfg.tau_init_s));
+  const double alpha = (s.tau_sab + kPriorWeight * alpha_init) / (s.tau_sbb + kPriorWeight);
+  // A physical range: 1 ms .. 100 ms.
+  const double lo = std::exp(-readout_mean / 0.001), hi = std::exp(-readout_mean / 0.1);
+  const double a = std::max(lo, std::min(hi, alpha));
+  const double tau = -readout_mean / std::log(a);
+  if (!std::isfinite(tau)) return;
+  s.tau.c = s.tau.h = tau;
 }
 
 }  // namespace bolo::vo

@@ -1,7 +1,9 @@
 // Frame-to-keyframe-window direct alignment: the pose (SE(3)) and brightness parameters of the
-// new frame minimise the Huber- and gradient-weighted photometric error of every active point's
-// pattern, coarse to fine over the pyramid, by Levenberg-Marquardt.
+// new frame minimise the Huber- and gradient-weighted photometric error of every active point of
+// the window, reprojected into the newest keyframe (the tracking reference, as DSO's coarse
+// tracker does), coarse to fine over the pyramid, by Levenberg-Marquardt.
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -11,7 +13,9 @@
 namespace bolo::vo {
 namespace {
 
-constexpr double kMotionPrior = 0.02;  // share of each translation axis' own information
+constexpr double kMotionPrior = 0.02;
+constexpr double kConverged = 0.003;  // a level stops when a step gains less than this share
+constexpr std::uint32_t kPixelsPerTrackedPoint = 40;  // share of each translation axis' own information
 
 using Mat8 = Eigen::Matrix<double, 8, 8>;
 using Vec8 = Eigen::Matrix<double, 8, 1>;
@@ -24,79 +28,103 @@ struct Accumulated {
   std::uint32_t residuals = 0, visible = 0, inliers = 0;
 };
 
-// One pass over the active points at `level` for the pose T_cw; `cutoff` is the per-point
-// pattern energy above which a point counts as an outlier for this pass.
+// One pass over the tracking reference (the window's active points reprojected into the newest
+// keyframe, whose image supplies the patterns: the nearest keyframe looks most like the frame,
+// while an older host's pattern is zoomed and sheared against it, which biased the coarse levels)
+// at `level` for the pose T_cw; `cutoff` is the per-point
+// pattern energy above which a point counts as an outlier for this pass. `select_view`: this
+// pose starts the level, and the points it sees are the level's point set: a point of the set
+// that a step moves out of the view costs the cutoff (no step gains by pushing points out), a
+// point outside the set costs nothing (no step gains by pulling points in, which would bias
+// forward motion backwards, towards the poses that keep the most points in view).
 Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a, double b,
-                       float cutoff, bool with_jacobians, bool mark_inliers) {
+                       float cutoff, bool with_jacobians, bool mark_inliers, bool select_view = false) {
   Accumulated acc;
   const Level& cur = s.frame.level[level];
   const Scaled k = camera_at(s.cfg.camera, level);
   const Scaled k0 = camera_at(s.cfg.camera, 0);
   const float scale = 1.0f / static_cast<float>(1u << level);
   const float hub = s.cfg.huber_counts, c2 = s.cfg.gradient_c * s.cfg.gradient_c;
-  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
-    Keyframe& host = s.kf[slot];
-    if (!host.used) continue;
-    const Se3 M = T_cw * host.T_cw.inverse();
-    const Eigen::Matrix3f R = M.R.cast<float>();
-    const Eigen::Vector3f t = M.t.cast<float>();
-    const Level& ref = host.pyramid.level[level];
-    const float gain = static_cast<float>(std::exp(a - host.a));
-    const float hb = static_cast<float>(host.b), fb = static_cast<float>(b);
-    for (std::uint32_t i = 0; i < host.count; ++i) {
-      Point& p = host.points[i];
-      if (p.status != PointStatus::active) continue;
-      const Eigen::Vector3f n((p.u - k0.cx) / k0.fx, (p.v - k0.cy) / k0.fy, 1.0f);
-      const Eigen::Vector3f X = R * n + t * p.idepth;
-      // Leaving the view costs as much as an outlier, so no step gains by pushing points out.
-      if (X.z() <= 1e-4f) {
-        acc.energy += cutoff;
-        continue;
-      }
-      const float x = X.x() / X.z(), y = X.y() / X.z(), iz = p.idepth / X.z();
-      const float u = k.fx * x + k.cx, v = k.fy * y + k.cy;
-      const float hu = (p.u + 0.5f) * scale - 0.5f, hv = (p.v + 0.5f) * scale - 0.5f;
-      if (!inside(cur.value, u, v, 3.0f) || !inside(ref.value, hu, hv, 3.0f)) {
-        acc.energy += cutoff;
-        continue;
-      }
-      ++acc.visible;
-      float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], refv[kPattern];
-      float energy = 0;
-      for (std::uint32_t j = 0; j < kPattern; ++j) {
-        const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u + kPatternX[j], v + kPatternY[j]);
-        refv[j] = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
-        r[j] = c.value - (gain * (refv[j] - hb) + fb);
-        const float hw = huber_weight(r[j], hub);
-        w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
-        gx[j] = c.gx, gy[j] = c.gy;
-        energy += hw * r[j] * r[j] * (2.0f - hw);
-      }
-      if (mark_inliers) {
-        p.energy = energy;
-        p.inlier = energy <= cutoff;
-      }
-      if (energy > cutoff) {
-        acc.energy += cutoff;  // truncated cost: leaving the inlier set is not free
-        continue;
-      }
-      ++acc.inliers;
-      acc.energy += energy;
-      for (std::uint32_t j = 0; j < kPattern; ++j) acc.squared += r[j] * r[j];
-      acc.residuals += kPattern;
-      if (!with_jacobians) continue;
-      // Geometric Jacobian of the centre pixel, used for the whole pattern (as DSO does).
-      const float du[6] = {k.fx * iz, 0, -k.fx * x * iz, -k.fx * x * y, k.fx * (1 + x * x), -k.fx * y};
-      const float dv[6] = {0, k.fy * iz, -k.fy * y * iz, -k.fy * (1 + y * y), k.fy * x * y, k.fy * x};
-      for (std::uint32_t j = 0; j < kPattern; ++j) {
-        Vec8 J;
-        for (int q = 0; q < 6; ++q) J[q] = gx[j] * du[q] + gy[j] * dv[q];
-        J[6] = -gain * (refv[j] - hb);
-        J[7] = -1.0;
-        acc.H.selfadjointView<Eigen::Upper>().rankUpdate(J, w[j]);
-        acc.g += J * (w[j] * r[j]);
-      }
+  if (s.kf_count == 0) return acc;
+  const Keyframe& host = s.kf[s.order[s.kf_count - 1]];
+  const Se3 M = T_cw * host.T_cw.inverse();
+  const Eigen::Matrix3f R = M.R.cast<float>();
+  const Eigen::Vector3f t = M.t.cast<float>();
+  const Level& ref = host.pyramid.level[level];
+  const float gain = static_cast<float>(std::exp(a - host.a));
+  const float hb = static_cast<float>(host.b), fb = static_cast<float>(b);
+  if (mark_inliers)
+    for (const Keyframe& kf : s.kf)
+      if (kf.used)
+        for (std::uint32_t i = 0; i < kf.count; ++i) kf.points[i].inlier = false;
+  for (std::uint32_t i = 0; i < s.ref_count; ++i) {
+    RefPoint& p = s.ref[i];
+    if (!select_view && !p.in_view) continue;
+    const Eigen::Vector3f n((p.u - k0.cx) / k0.fx, (p.v - k0.cy) / k0.fy, 1.0f);
+    const Eigen::Vector3f X = R * n + t * p.idepth;
+    const bool ahead = X.z() > 1e-4f;
+    const float z = ahead ? X.z() : 1.0f;
+    const float x = X.x() / z, y = X.y() / z, iz = p.idepth / z;
+    const float u = k.fx * x + k.cx, v = k.fy * y + k.cy;
+    const float hu = (p.u + 0.5f) * scale - 0.5f, hv = (p.v + 0.5f) * scale - 0.5f;
+    const bool seen = ahead && inside(cur.value, u, v, 3.0f) && inside(ref.value, hu, hv, 3.0f);
+    if (select_view) p.in_view = seen;
+    if (!seen) {
+      if (!select_view) acc.energy += cutoff;  // left the view during this level
+      continue;
     }
+    ++acc.visible;
+    if (select_view)
+      for (std::uint32_t j = 0; j < kPattern; ++j) p.refv[j] = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
+    float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
+    float energy = 0;
+    for (std::uint32_t j = 0; j < kPattern; ++j) {
+      const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u + kPatternX[j], v + kPatternY[j]);
+      r[j] = c.value - (gain * (p.refv[j] - hb) + fb);
+      const float hw = huber_weight(r[j], hub);
+      w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
+      gx[j] = c.gx, gy[j] = c.gy;
+      energy += hw * r[j] * r[j] * (2.0f - hw);
+    }
+    if (mark_inliers) {
+      Point& source = s.kf[p.source >> 16].points[p.source & 0xffffu];
+      source.energy = energy;
+      source.inlier = energy <= cutoff;
+    }
+    if (energy > cutoff) {
+      acc.energy += cutoff;  // truncated cost: leaving the inlier set is not free
+      continue;
+    }
+    ++acc.inliers;
+    acc.energy += energy;
+    for (std::uint32_t j = 0; j < kPattern; ++j) acc.squared += r[j] * r[j];
+    acc.residuals += kPattern;
+    if (!with_jacobians) continue;
+    // Geometric Jacobian of the centre pixel, used for the whole pattern (as DSO does): each
+    // residual's pose row is gx du + gy dv, so the point adds D S D^T to the pose block with
+    // D = [du dv] and S the weighted 2x2 gradient structure of its pattern (one product a point
+    // instead of one 8x8 update a pixel). Columns 6, 7: gain and offset.
+    const float du[6] = {k.fx * iz, 0, -k.fx * x * iz, -k.fx * x * y, k.fx * (1 + x * x), -k.fx * y};
+    const float dv[6] = {0, k.fy * iz, -k.fy * y * iz, -k.fy * (1 + y * y), k.fy * x * y, k.fy * x};
+    float sxx = 0, sxy = 0, syy = 0, sxa = 0, sya = 0, sxb = 0, syb = 0, saa = 0, sab = 0, sbb = 0;
+    float rx = 0, ry = 0, ra = 0, rb = 0;
+    for (std::uint32_t j = 0; j < kPattern; ++j) {
+      const float ja = -gain * (p.refv[j] - hb);  // d r / d a; d r / d b = -1
+      const float wx = w[j] * gx[j], wy = w[j] * gy[j];
+      sxx += wx * gx[j], sxy += wx * gy[j], syy += wy * gy[j];
+      sxa += wx * ja, sya += wy * ja, sxb -= wx, syb -= wy;
+      saa += w[j] * ja * ja, sab -= w[j] * ja, sbb += w[j];
+      rx += wx * r[j], ry += wy * r[j], ra += w[j] * ja * r[j], rb -= w[j] * r[j];
+    }
+    for (int q = 0; q < 6; ++q) {
+      for (int e = q; e < 6; ++e)
+        acc.H(q, e) += sxx * du[q] * du[e] + sxy * (du[q] * dv[e] + dv[q] * du[e]) + syy * dv[q] * dv[e];
+      acc.H(q, 6) += sxa * du[q] + sya * dv[q];
+      acc.H(q, 7) += sxb * du[q] + syb * dv[q];
+      acc.g[q] += rx * du[q] + ry * dv[q];
+    }
+    acc.H(6, 6) += saa, acc.H(6, 7) += sab, acc.H(7, 7) += sbb;
+    acc.g[6] += ra, acc.g[7] += rb;
   }
   acc.H = acc.H.selfadjointView<Eigen::Upper>();
   return acc;
@@ -104,17 +132,60 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
 
 }  // namespace
 
-TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset) {
+void build_tracking_reference(State& s) {
+  s.ref_count = 0;
+  s.ref_dirty = false;
+  if (s.kf_count == 0) return;
+  const std::uint32_t ref_slot = s.order[s.kf_count - 1];
+  const Keyframe& reference = s.kf[ref_slot];
+  const Scaled k = camera_at(s.cfg.camera, 0);
+  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
+    const Keyframe& host = s.kf[slot];
+    if (!host.used) continue;
+    const Se3 M = reference.T_cw * host.T_cw.inverse();
+    for (std::uint32_t i = 0; i < host.count && s.ref_count < s.ref.size(); ++i) {
+      const Point& p = host.points[i];
+      if (p.status != PointStatus::active || !(p.idepth > 0)) continue;
+      RefPoint r;
+      r.source = slot << 16 | i;
+      if (slot == ref_slot) {
+        r.u = p.u, r.v = p.v, r.idepth = p.idepth;
+      } else {
+        const Vec3 X = M * (Vec3((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0) / p.idepth);
+        if (X.z() <= 1e-6) continue;
+        r.u = static_cast<float>(k.fx * X.x() / X.z() + k.cx);
+        r.v = static_cast<float>(k.fy * X.y() / X.z() + k.cy);
+        r.idepth = static_cast<float>(1.0 / X.z());
+        if (!inside(reference.pyramid.level[0].value, r.u, r.v, 3.0f)) continue;
+      }
+      s.ref[s.ref_count++] = r;
+    }
+  }
+  // Enough points for the pose, not more (tracking is most of the VO's time): an even thinning
+  // by index keeps the spread over hosts and image regions.
+  const std::uint32_t cap = std::max<std::uint32_t>(1000, s.cfg.width * s.cfg.height / kPixelsPerTrackedPoint);
+  if (s.ref_count > cap) {
+    std::uint32_t kept = 0;
+    for (std::uint32_t i = 0; i < s.ref_count; ++i)
+      if (static_cast<std::uint64_t>(i) * cap / s.ref_count != static_cast<std::uint64_t>(i + 1) * cap / s.ref_count)
+        s.ref[kept++] = s.ref[i];
+    s.ref_count = kept;
+  }
+}
+
+TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset, std::uint32_t last_level) {
   TrackResult out;
+  if (s.ref_dirty) build_tracking_reference(s);
   Se3 T = guess;
   const bool affine = s.cfg.photometric == Photometric::affine;
   const std::uint32_t iterations[kMaxLevels] = {8, 8, 10, 10, 10, 10};
   const float hub = s.cfg.huber_counts;
-  for (int level = static_cast<int>(s.frame.levels) - 1; level >= 0; --level) {
-    const auto l = static_cast<std::uint32_t>(level);
+  const std::uint32_t levels = std::min(s.frame.levels, kMaxLevels);
+  for (std::uint32_t l = levels; l-- > last_level;) {
+    const int level = static_cast<int>(l);
     // Coarse levels start far from the optimum: a looser outlier cut.
     float cutoff = kPattern * hub * hub * (level > 0 ? 12.0f : 6.0f);
-    Accumulated acc = accumulate(s, l, T, a, b, cutoff, true, false);
+    Accumulated acc = accumulate(s, l, T, a, b, cutoff, true, false, true);
     for (int grow = 0; grow < 3 && acc.visible > 0 && acc.inliers * 2 < acc.visible; ++grow) {
       cutoff *= 2;
       acc = accumulate(s, l, T, a, b, cutoff, true, false);
@@ -144,23 +215,31 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
       Accumulated next = accumulate(s, l, T_new, a_new, b_new, cutoff, true, false);
       next.energy += prior_energy(T_new);
       if (next.energy <= acc.energy) {
+        const bool small_gain = next.energy > (1.0 - kConverged) * acc.energy;
         T = T_new, a = a_new, b = b_new, acc = next;
         lambda = std::max(lambda * 0.5, 1e-6);
-        if (delta.head<6>().norm() < 1e-5) break;
+        if (delta.head<6>().norm() < 1e-5 || small_gain) break;
       } else {
         lambda *= 4;
         if (lambda > 1e4) break;
       }
     }
     if (level == 0) {
-      const Accumulated final_pass = accumulate(s, 0, T, a, b, cutoff, false, true);
+      const Accumulated final_pass = accumulate(s, 0, T, a, b, cutoff, false, true, true);
       out.visible = final_pass.visible;
       out.inliers = final_pass.inliers;
       out.rms = final_pass.residuals ? static_cast<float>(std::sqrt(final_pass.squared / final_pass.residuals)) : 1e9f;
+    } else if (l == last_level) {
+      out.visible = acc.visible, out.inliers = acc.inliers;
+      out.mean_energy = acc.visible ? acc.energy / acc.visible : 1e30;
     }
   }
   out.T_cw = T, out.a = a, out.b = b;
   const bool finite = T.R.allFinite() && T.t.allFinite() && std::isfinite(a) && std::isfinite(b);
+  if (last_level > 0) {
+    out.ok = finite;
+    return out;
+  }
   out.ok = finite && out.inliers >= 20 && out.inliers * 10 >= out.visible * 3 && out.rms < 5.0f * hub;
   return out;
 }

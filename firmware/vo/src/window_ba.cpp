@@ -117,8 +117,9 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
           const int off[2] = {8 * hi, 8 * ti};
           for (int A = 0; A < 2; ++A) {
             for (int B = 0; B < 2; ++B)
-              s.ba_H.block<8, 8>(off[A], off[B]).noalias() += wj * J.segment<8>(8 * A) * J.segment<8>(8 * B).transpose();
-            s.ba_b.segment<8>(off[A]) += wj * r[j] * J.segment<8>(8 * A);
+              s.ba_H.block<8, 8>(off[A], off[B]).noalias() +=
+                  wj * J.segment<8>(Eigen::Index{8} * A) * J.segment<8>(Eigen::Index{8} * B).transpose();
+            s.ba_b.segment<8>(off[A]) += wj * r[j] * J.segment<8>(Eigen::Index{8} * A);
             for (int q = 0; q < 8; ++q) row[3 + off[A] + q] += static_cast<float>(wj * J[8 * A + q] * jd);
           }
           row[0] += static_cast<float>(wj * jd * jd);
@@ -179,7 +180,7 @@ void window_bundle_adjustment(State& s) {
       if (!kf.used) continue;
       const int idx = win.index[slot];
       saved_pose[slot] = kf.T_cw, saved_a[slot] = kf.a, saved_b[slot] = kf.b;
-      kf.T_cw = Se3::exp(dx.segment<6>(8 * idx)) * kf.T_cw;
+      kf.T_cw = Se3::exp(dx.segment<6>(Eigen::Index{8} * idx)) * kf.T_cw;
       kf.a += dx[8 * idx + 6], kf.b += dx[8 * idx + 7];
     }
     for (std::uint32_t pi = 0; pi < points; ++pi) {
@@ -206,6 +207,7 @@ void window_bundle_adjustment(State& s) {
     }
   }
   accumulate(s, win, false, true);  // points that fit most keyframes badly leave the map
+  s.ref_dirty = true;
   // The newest keyframe is the current frame: follow its refined pose.
   const Keyframe& newest = s.kf[s.order[s.kf_count - 1]];
   s.T_cw = newest.T_cw;

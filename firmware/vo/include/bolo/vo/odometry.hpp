@@ -56,7 +56,7 @@ class Odometry {
   Odometry(const VoConfig& config, std::span<std::byte> arena);
   bool ok() const { return state_ != nullptr; }
 
-  FrameResult process(const FrameInput& frame);
+  FrameResult process(const FrameInput& in);
   Tau tau() const;
 
   // Active points of the keyframes retired by the last process() call, in world coordinates.
