@@ -155,7 +155,7 @@ TEST_CASE("corrector: runs give what single lines give, broken frames included",
       REQUIRE(out_a.lines() == out_b.lines());
       require_same(a, b);
       // The frame stores (the next frame's predecessor); the output rows after them differ.
-      REQUIRE(std::equal(store_a.begin(), store_a.begin() + std::ptrdiff_t{w} * h, store_b.begin()));
+      REQUIRE(std::equal(store_a.begin(), store_a.begin() + static_cast<std::ptrdiff_t>(w) * h, store_b.begin()));
     }
   }
 }

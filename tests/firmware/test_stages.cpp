@@ -196,7 +196,7 @@ std::vector<fw::Pixel> bad_pixel_reference(const std::vector<fw::Pixel>& frame, 
     const bool stuck = cfg.detect_stuck && (v == cfg.stuck_low || v == cfg.stuck_high);
     return stuck || (!cfg.mask.empty() && cfg.mask[std::size_t{r} * w + c] != 0);
   };
-  std::vector<fw::Pixel> out(frame.begin(), frame.begin() + std::ptrdiff_t{rows} * w);
+  std::vector<fw::Pixel> out(frame.begin(), frame.begin() + static_cast<std::ptrdiff_t>(rows) * w);
   for (std::uint32_t r = 0; r < rows; ++r)
     for (std::uint32_t c = 0; c < w; ++c) {
       if (!bad(r, c)) continue;
@@ -283,7 +283,7 @@ TEST_CASE("the bad-pixel stage equals the plain rule on random frames", "[bad_pi
           CHECK(std::equal(want.begin(), want.end(), sink.frame().begin()));
           CHECK(sink.last_row() == k + 1);
           CHECK(std::equal(frame.begin(), frame.begin() + w,
-                           sink.frame().begin() + std::ptrdiff_t{k + 1} * w));
+                           sink.frame().begin() + static_cast<std::ptrdiff_t>(k + 1) * w));
           CHECK(stage.last_frame().replaced == want_stats.replaced);
           CHECK(stage.last_frame().unrepairable == want_stats.unrepairable);
           stage.end_frame();
