@@ -88,6 +88,8 @@ void BadPixelStage::push_line(std::uint32_t row, LineView line) {
 
 void BadPixelStage::push_lines(std::uint32_t first_row, std::uint32_t count, const Pixel* pixels,
                                std::size_t width, std::size_t stride) {
+  // An empty run is nothing to do (and `first_row + count - 1` below would wrap).
+  if (count == 0) return;
   if (!active_ || first_row != rows_in_ || width != width_ || count > height_ - first_row) {
     LineSink::push_lines(first_row, count, pixels, width, stride);  // push_line decides
     return;
