@@ -6,17 +6,11 @@
 #include <sstream>
 
 #include "dynamic_effects.hpp"
+#include "stats.hpp"
 #include "pooled.hpp"
 
 namespace bolo::diag {
 namespace {
-
-std::string number(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
 
 // A second, slower thermal path: the residual follows a slow low-pass of the input minus the
 // input itself (its steady-state share is in the baseline gain).

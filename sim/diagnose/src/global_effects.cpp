@@ -16,13 +16,6 @@
 namespace bolo::diag {
 namespace {
 
-std::string number(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-
 struct FrameMeans {
   std::vector<double> sum, count;
 };

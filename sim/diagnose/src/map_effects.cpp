@@ -13,13 +13,6 @@
 namespace bolo::diag {
 namespace {
 
-std::string number(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-
 Where whole(const DiagnoseData& d, std::string summary) {
   Where w;
   w.frames = {{0, d.shape.n - 1}};

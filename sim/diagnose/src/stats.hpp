@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <string>
 #include <vector>
 
 namespace bolo::diag {
@@ -17,6 +19,14 @@ T median_in_place(std::vector<T>& v) {
 
 template <typename T>
 T median_of(std::vector<T> v) { return median_in_place(v); }
+
+// A parameter value as the simulator's effect text takes it (six significant digits).
+inline std::string number(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
 
 // Upper tail of the chi-square distribution (Wilson-Hilferty); enough for a reported p-value.
 inline double chi2_sf(double x, double dof) {
