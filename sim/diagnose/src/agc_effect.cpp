@@ -16,16 +16,10 @@
 #include <Eigen/Dense>
 
 #include "dynamic_effects.hpp"
+#include "stats.hpp"
 
 namespace bolo::diag {
 namespace {
-
-std::string number(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
 
 struct Stretch {
   double p_lo, p_hi;
@@ -80,8 +74,7 @@ class Agc final : public Candidate {
     usable_ = d.has_scene && N >= 8;
     if (!usable_) return;
     sums_.assign(N, {});
-    lo_.assign(std::size_t(N) * kStretchCount, 0.0);
-    hi_.assign(std::size_t(N) * kStretchCount, 0.0);
+    std::vector<double> lo(std::size_t(N) * kStretchCount), hi(lo.size());  // [frame][stretch]
     std::vector<float> sorted(P);
     for (int n = 0; n < N; ++n) {
       const float *s = d.frame(d.baseline, n), *res = d.frame(r, n);
@@ -113,10 +106,13 @@ class Agc final : public Candidate {
         from = rank + 1;
       }
       for (int k = 0; k < kStretchCount; ++k) {
-        lo_[std::size_t(n) * kStretchCount + k] = sorted[ranks[2 * k]];
-        hi_[std::size_t(n) * kStretchCount + k] = sorted[ranks[2 * k + 1]];
+        lo[std::size_t(n) * kStretchCount + k] = sorted[ranks[2 * k]];
+        hi[std::size_t(n) * kStretchCount + k] = sorted[ranks[2 * k + 1]];
       }
     }
+    // The stretches depend on the baseline only, not on which frames a fold trains on.
+    stretches_.assign(kAlternatives, {});
+    for (int alt = 0; alt < kAlternatives; ++alt) stretches_[alt] = stretch_of(alt, lo, hi);
   }
 
   std::unique_ptr<FittedEffect> fit(const std::vector<char>& train) const override {
@@ -125,9 +121,9 @@ class Agc final : public Candidate {
     int best = -1;
     double best_gain = 0;
     Eigen::Vector3d best_beta = Eigen::Vector3d::Zero();
-    std::vector<double> u, v, best_u, best_v;
     for (int alt = 0; alt < kAlternatives; ++alt) {
-      if (!stretch_of(alt, u, v)) continue;
+      const std::vector<double>&u = stretches_[alt].u, &v = stretches_[alt].v;
+      if (u.empty()) continue;
       // r - (u s + v) regressed on [s, 1, u]: a global gain and offset, and where the core's zero
       // lies in the baseline's units (the stretch's offset moves with the gain about that zero).
       Eigen::Matrix3d xtx = Eigen::Matrix3d::Zero();
@@ -157,11 +153,10 @@ class Agc final : public Candidate {
         best = alt;
         best_gain = gain;
         best_beta = beta;
-        best_u = u;
-        best_v = v;
       }
     }
     if (best < 0) return nullptr;
+    const std::vector<double>& best_u = stretches_[best].u;
     const Stretch st = kStretches[best % kStretchCount];
     const double damping = damping_of(best / kStretchCount);
     // Where: the frames whose gain moves most from its typical value.
@@ -184,7 +179,7 @@ class Agc final : public Candidate {
                              {"p_hi", st.p_hi},
                              {"gain_range", hi - lo}};
     const std::string sim = "agc:damping=" + number(damping) + ",p_lo=" + number(st.p_lo) + ",p_hi=" + number(st.p_hi);
-    return std::make_unique<AgcFit>(*data_, std::move(best_u), std::move(best_v), best_beta, params, sim, where);
+    return std::make_unique<AgcFit>(*data_, best_u, stretches_[best].v, best_beta, params, sim, where);
   }
 
   static std::size_t rank_of(double pct, std::size_t pixels) {
@@ -193,23 +188,24 @@ class Agc final : public Candidate {
 
   void release() override {
     sums_.clear();
-    lo_.clear();
-    hi_.clear();
+    stretches_.clear();
   }
 
  private:
   // The damped stretch of one alternative, as a gain change u_n (relative to the mean gain) and
   // an offset v_n (in the same units), so that the stretched frame is s + u_n s + v_n up to a
-  // global gain and offset. False when the frames' range never changes.
-  bool stretch_of(int alt, std::vector<double>& u, std::vector<double>& v) const {
+  // global gain and offset. Empty when the frames' range never changes.
+  struct Stretched {
+    std::vector<double> u, v;
+  };
+  Stretched stretch_of(int alt, const std::vector<double>& lo_of, const std::vector<double>& hi_of) const {
     const int N = data_->shape.n, k = alt % kStretchCount;
     const double damping = damping_of(alt / kStretchCount);
-    u.assign(N, 0.0);
-    v.assign(N, 0.0);
+    std::vector<double> u(N), v(N);
     double a = 0, b = 0, mean_a = 0;
     for (int n = 0; n < N; ++n) {
-      const double lo = lo_[std::size_t(n) * kStretchCount + k], hi = hi_[std::size_t(n) * kStretchCount + k];
-      if (!(hi > lo)) return false;
+      const double lo = lo_of[std::size_t(n) * kStretchCount + k], hi = hi_of[std::size_t(n) * kStretchCount + k];
+      if (!(hi > lo)) return {};
       const double a_target = 1.0 / (hi - lo), b_target = -lo * a_target;
       if (n == 0) { a = a_target; b = b_target; }
       else { a += damping * (a_target - a); b += damping * (b_target - b); }
@@ -224,13 +220,14 @@ class Agc final : public Candidate {
       v[n] /= mean_a;
       spread = std::max(spread, std::fabs(u[n]));
     }
-    return spread > 1e-6;
+    if (!(spread > 1e-6)) return {};
+    return {std::move(u), std::move(v)};
   }
 
   const DiagnoseData* data_ = nullptr;
   bool usable_ = false;
   std::vector<FrameSums> sums_;
-  std::vector<double> lo_, hi_;  // [frame][stretch]
+  std::vector<Stretched> stretches_;  // [alternative]
 };
 
 }  // namespace
