@@ -120,16 +120,21 @@ void BadPixelStage::push_lines(std::uint32_t first_row, std::uint32_t count, con
   }
 }
 
-void BadPixelStage::ingest(std::uint32_t row, const Pixel* line) {
+detail::IngestLine BadPixelStage::ingest_job(std::uint32_t row, const Pixel* input) {
   const std::size_t at = std::size_t{row} * width_;
   const std::uint8_t* mask = config_.mask.empty() ? nullptr : config_.mask.data() + at;
-  detail::IngestLine job{line, nullptr, nullptr, mask, config_.detect_stuck,
+  detail::IngestLine job{input, nullptr, nullptr, mask, config_.detect_stuck,
                          config_.stuck_low, config_.stuck_high, ring_line(row), ring_flags(row),
                          width_};
   if (nuc_ != nullptr) {
     job.gain_q14 = nuc_->gain_q14.data() + at;
     job.offset = nuc_->offset.data() + at;
   }
+  return job;
+}
+
+void BadPixelStage::ingest(std::uint32_t row, const Pixel* line) {
+  const detail::IngestLine job = ingest_job(row, line);
   const std::uint64_t bit = std::uint64_t{1} << (row & (ring_rows_ - 1));
   row_flagged_ = detail::ingest_line(job) ? row_flagged_ | bit : row_flagged_ & ~bit;
   rows_in_ = row + 1;
@@ -138,15 +143,7 @@ void BadPixelStage::ingest(std::uint32_t row, const Pixel* line) {
 // Rows row ... row + count - 1 into consecutive ring lines (the caller keeps them from wrapping).
 void BadPixelStage::ingest_run(std::uint32_t row, std::uint32_t count, const Pixel* lines,
                                std::size_t stride) {
-  const std::size_t at = std::size_t{row} * width_;
-  const std::uint8_t* mask = config_.mask.empty() ? nullptr : config_.mask.data() + at;
-  detail::IngestLine job{lines, nullptr, nullptr, mask, config_.detect_stuck,
-                         config_.stuck_low, config_.stuck_high, ring_line(row), ring_flags(row),
-                         width_};
-  if (nuc_ != nullptr) {
-    job.gain_q14 = nuc_->gain_q14.data() + at;
-    job.offset = nuc_->offset.data() + at;
-  }
+  const detail::IngestLine job = ingest_job(row, lines);
   const std::uint32_t slot = row & (ring_rows_ - 1);
   const std::uint64_t lines_mask = (count == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << count) - 1)
                                    << slot;

@@ -18,6 +18,10 @@
 
 namespace bolo::fw {
 
+namespace detail {
+struct IngestLine;
+}  // namespace detail
+
 struct BadPixelConfig {
   std::uint32_t width = 0;
   std::uint32_t height = 0;
@@ -75,6 +79,8 @@ class BadPixelStage final : public Stage {
   std::uint8_t* ring_flags(std::uint32_t row) {
     return flags_.data() + std::size_t{row & (ring_rows_ - 1)} * flag_words(width_) * 4;
   }
+  // Row `row`'s intake: its input, mask, NUC tables, ring line and flags.
+  detail::IngestLine ingest_job(std::uint32_t row, const Pixel* input);
   void ingest(std::uint32_t row, const Pixel* line);
   void ingest_run(std::uint32_t row, std::uint32_t count, const Pixel* lines, std::size_t stride);
   void repair_row(std::uint32_t row);
