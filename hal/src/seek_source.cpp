@@ -161,7 +161,8 @@ StreamStatus SeekSource::stream_frame(fw::LineSink& sink) {
     header.ffc = ffc_pending_ ? fw::FfcState::completed : fw::FfcState::none;
     ffc_pending_ = false;
     sink.begin_frame(header);
-    for (std::uint32_t row = 0; row < header.height; ++row) sink.push_line(row, parser_.image_row(row));
+    // The image rows lie one after another in the parser's frame: one run.
+    sink.push_lines(0, header.height, parser_.image_row(0).data(), header.width, header.width);
     sink.end_frame();
     ++stats_.frames_delivered;
     return StreamStatus::frame;
