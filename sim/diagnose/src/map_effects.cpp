@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -58,6 +59,14 @@ PixelSums pixel_sums(const DiagnoseData& d, const std::vector<float>& r, const s
   return s;
 }
 
+// Per pixel: the square of the mean level (sums taken against the baseline), NaN without data.
+std::vector<double> squared_levels(const PixelSums& s) {
+  std::vector<double> q(s.n.size(), NAN);
+  for (std::size_t p = 0; p < s.n.size() && !s.x.empty(); ++p)
+    if (s.n[p] > 0) q[p] = (s.x[p] / s.n[p]) * (s.x[p] / s.n[p]);
+  return q;
+}
+
 // Shrinks `values` (estimates with noise variances `noise_var`) by one common factor.
 double shrink(std::vector<double>& values, const std::vector<double>& noise_var) {
   double var = 0, nv = 0;
@@ -68,6 +77,87 @@ double shrink(std::vector<double>& values, const std::vector<double>& noise_var)
   const double factor = std::max(0.0, 1.0 - nv / var);
   for (double& v : values) v *= factor;
   return factor;
+}
+
+// The static pattern r_p (centred time-averaged residual, noise variance v_p) as a zero-mean
+// field whose variance is a part independent of the level (offset FPN: a) plus a part growing
+// with the square of the pixel's level q_p = ybar_p^2 (gain FPN, y (1 + g): g ybar, b = var g).
+// One static frame cannot tell g ybar from an offset pixel by pixel, but their spread over
+// pixels of different level can: the three variance models are compared by likelihood.
+struct LevelSplit {
+  double offset_var = 0, gain_var = 0;  // a, b of the chosen model
+  bool has_offset = true, has_gain = false;
+  // Pixel p's share of the pattern that is gain: b q / (a + b q + v).
+  double gain_share(double q, double v) const {
+    const double total = offset_var + gain_var * q + v;
+    return has_gain && total > 0 ? gain_var * q / total : 0.0;
+  }
+  double offset_share(double q, double v) const {
+    const double total = offset_var + gain_var * q + v;
+    return has_offset && total > 0 ? offset_var / total : 0.0;
+  }
+};
+
+LevelSplit split_by_level(const std::vector<double>& r, const std::vector<double>& v, const std::vector<double>& q) {
+  std::vector<std::size_t> use;
+  double r2 = 0, qm = 0;
+  for (std::size_t p = 0; p < r.size(); ++p)
+    if (std::isfinite(v[p]) && std::isfinite(q[p]) && q[p] > 0) {
+      use.push_back(p);
+      r2 += r[p] * r[p];
+      qm += q[p];
+    }
+  LevelSplit out;
+  if (use.size() < 16 || !(r2 > 0) || !(qm > 0)) return out;
+  r2 /= double(use.size());
+  qm /= double(use.size());
+  const auto ll = [&](double a, double b) {
+    double sum = 0;
+    for (std::size_t p : use) {
+      const double var = a + b * q[p] + v[p];
+      if (!(var > 0)) return -std::numeric_limits<double>::infinity();
+      sum -= 0.5 * (std::log(var) + r[p] * r[p] / var);
+    }
+    return sum;
+  };
+  // Golden-section search for the maximum of f on [0, hi].
+  const auto argmax = [](const auto& f, double hi) {
+    const double g = 0.5 * (std::sqrt(5.0) - 1);
+    double lo = 0, x1 = hi - g * hi, x2 = g * hi, f1 = f(x1), f2 = f(x2);
+    for (int i = 0; i < 48; ++i) {
+      if (f1 < f2) { lo = x1; x1 = x2; f1 = f2; x2 = lo + g * (hi - lo); f2 = f(x2); }
+      else { hi = x2; x2 = x1; f2 = f1; x1 = hi - g * (hi - lo); f1 = f(x1); }
+    }
+    return 0.5 * (lo + hi);
+  };
+  const double a_hi = 4 * r2, b_hi = 4 * r2 / qm;
+  const double a_only = argmax([&](double a) { return ll(a, 0); }, a_hi);
+  const double b_only = argmax([&](double b) { return ll(0, b); }, b_hi);
+  // Both: a and b trade off along a ridge, so search the offset's fraction t of the pattern's
+  // variance (a = t S, b q_mean = (1 - t) S) and, for each t, the scale S.
+  const auto best_scale = [&](double t) { return argmax([&](double sc) { return ll(t * sc, (1 - t) * sc / qm); }, a_hi); };
+  const double t = argmax([&](double x) {
+    const double sc = best_scale(x);
+    return ll(x * sc, (1 - x) * sc / qm);
+  }, 1.0);
+  const double scale = best_scale(t);
+  const double a = t * scale, b = (1 - t) * scale / qm;
+  const double ll_offset = ll(a_only, 0), ll_gain = ll(0, b_only), ll_both = std::max(ll(a, b), std::max(ll_offset, ll_gain));
+  // Offset FPN is the default reading of a static pattern: the gain part must pay its BIC price
+  // and a margin (a pattern on a scene of one level stays an offset pattern). Once it has, the
+  // offset part stays unless it is plainly absent: a one-sided likelihood-ratio test at ~0.7 %
+  // (a pure gain pattern fits a ~ 0 and gains nothing from it).
+  const double price = 0.5 * std::log(double(use.size())) + 2.0;
+  const bool gain_needed = ll_both - ll_offset > price;
+  const bool offset_needed = ll_both - ll_gain > 3.0;
+  if (gain_needed && offset_needed) {
+    out.offset_var = a, out.gain_var = b, out.has_offset = true, out.has_gain = true;
+  } else if (gain_needed) {
+    out.gain_var = b_only, out.has_offset = false, out.has_gain = true;
+  } else {
+    out.offset_var = a_only;
+  }
+  return out;
 }
 
 double rms(const std::vector<double>& v) {
@@ -117,7 +207,7 @@ class StaticMap final : public Candidate {
     if (!d.has_scene) return nullptr;
     const int H = d.shape.height, W = d.shape.width;
     const std::size_t P = d.shape.pixels();
-    const PixelSums s = pixel_sums(d, *residual_, train, nullptr);
+    const PixelSums s = pixel_sums(d, *residual_, train, part_ == StaticPart::offset ? &d.baseline : nullptr);
     std::vector<double> mean(P, 0.0), noise(P, INFINITY);
     for (std::size_t p = 0; p < P; ++p)
       if (s.n[p] > 0) { mean[p] = s.r[p] / s.n[p]; noise[p] = s.residual_var / s.n[p]; }
@@ -215,10 +305,21 @@ class StaticMap final : public Candidate {
         }
         const double m = std::accumulate(rest.begin(), rest.end(), 0.0) / double(P);
         for (double& v : rest) v -= m;
-        shrink(rest, noise_rest);
+        // A pattern whose spread follows the level is gain_fpn's (its static part); where both
+        // are there, this takes the offset's share of each pixel.
+        const std::vector<double> level2 = squared_levels(s);
+        const LevelSplit split = split_by_level(rest, noise_rest, level2);
+        if (!split.has_offset) return nullptr;
+        if (split.has_gain)
+          for (std::size_t p = 0; p < P; ++p) rest[p] *= split.offset_share(level2[p], noise_rest[p]);
+        else
+          shrink(rest, noise_rest);
         for (std::size_t p = 0; p < P; ++p) map[p] = float(rest[p]);
-        params = {{"sigma", rms(rest)}};
-        sim = "offset_fpn:sigma=" + number(rms(rest));
+        // Beside a gain pattern the map holds each pixel's expected offset share (shrunk); the
+        // spread is the variance component's.
+        const double sigma = split.has_gain ? std::sqrt(split.offset_var) : rms(rest);
+        params = {{"sigma", sigma}};
+        sim = "offset_fpn:sigma=" + number(sigma);
         where = whole(d, "static pixel-to-pixel pattern in the time-averaged residual");
         break;
       }
@@ -281,20 +382,30 @@ class SlopeMap final : public Candidate {
     if (!d.has_scene || x_->empty()) return nullptr;
     const std::size_t P = d.shape.pixels();
     PixelSums s = pixel_sums(d, *residual_, train, x_.get());
-    std::vector<double> slope(P, 0.0), noise(P, INFINITY), intercept(P, 0.0), noise_i(P, INFINITY);
+    std::vector<double> slope(P, 0.0), noise(P, INFINITY), intercept(P, 0.0);
     std::vector<float> centre(P, 0.0f);
-    // gain_fpn: y (1 + g) = y + g ybar + g (y - ybar). The static part g ybar cannot be told from
-    // an offset pattern, so it is left to offset_fpn; gain_fpn claims only the slope on the
-    // level's change. tau_spread acts only through the transient.
-    if (!tau_)
+    // gain_fpn: y (1 + g) = y + g ybar + g (y - ybar): the slope on the level's change, and the
+    // static part g ybar, which pixel by pixel looks like an offset; it is claimed only when the
+    // static pattern's spread follows the level (split_by_level; otherwise it is offset_fpn's).
+    // tau_spread acts only through the transient.
+    LevelSplit split;
+    if (!tau_) {
+      std::vector<double> rest(P, 0.0), noise_rest(P, INFINITY);
+      const std::vector<double> level2 = squared_levels(s);
+      for (std::size_t p = 0; p < P; ++p)
+        if (s.n[p] > 0) { rest[p] = s.r[p] / s.n[p]; noise_rest[p] = s.residual_var / s.n[p]; }
+      const double m = std::accumulate(rest.begin(), rest.end(), 0.0) / double(P);
+      for (double& v : rest) v -= m;
+      split = split_by_level(rest, noise_rest, level2);
+      for (std::size_t p = 0; p < P; ++p) intercept[p] = rest[p] * split.gain_share(level2[p], noise_rest[p]);
       for (std::size_t p = 0; p < P; ++p) {
         if (s.n[p] < 2) continue;
         const double xm = s.x[p] / s.n[p], rm = s.r[p] / s.n[p];
         centre[p] = float(xm);
         s.xr[p] -= s.n[p] * xm * rm;
         s.xx[p] = std::max(0.0, s.xx[p] - s.n[p] * xm * xm);
-        (void)rm;
       }
+    }
     double xx_total = 0;
     for (std::size_t p = 0; p < P; ++p) {
       xx_total += s.xx[p];
@@ -306,13 +417,9 @@ class SlopeMap final : public Candidate {
     for (std::size_t p = 0; p < P; ++p)
       if (s.xx[p] < 1e-3 * typical) { slope[p] = 0; noise[p] = INFINITY; }
     shrink(slope, noise);
-    if (!tau_) {
-      const double m = std::accumulate(intercept.begin(), intercept.end(), 0.0) / double(P);
-      for (double& v : intercept) v -= m;
-      shrink(intercept, noise_i);
-    }
     std::vector<float> map(slope.begin(), slope.end()), icpt(intercept.begin(), intercept.end());
-    const double sigma = rms(slope);
+    // The static part's spread measures g directly where it is claimed; the slopes are noisier.
+    const double sigma = split.has_gain ? std::sqrt(split.gain_var) : rms(slope);
     nlohmann::json params = {{"sigma", sigma}};
     std::string sim = (tau_ ? "tau_spread:sigma=" : "gain_fpn:sigma=") + number(sigma);
     Where where = whole(d, tau_ ? "per-pixel residual proportional to the input change (each pixel its own tau)"
