@@ -123,6 +123,18 @@ TEST_CASE("dead pixels and repeated frames are found", "[diagnose][concealed]") 
   CHECK((*finding(d, "frame_duplication"))["params"]["every"] == 10);
 }
 
+TEST_CASE("two repeated frames in a recording are found wherever the held-out blocks fall", "[diagnose][concealed]") {
+  // every=50 over 120 frames: frames 49 and 99 repeat. A training set holding one or none of them
+  // cannot show a period; the bit-identity rule still marks the held-out repeat.
+  TempDir tmp;
+  const nlohmann::json d = diagnose(simulate(tmp, "dup", {"frame_duplication:every=50"}, 7), tmp / "dup.d");
+  INFO(d["findings"].dump());
+  REQUIRE(found(d) == std::vector<std::string>{"frame_duplication"});
+  CHECK((*finding(d, "frame_duplication"))["params"]["frames"] == nlohmann::json::array({49, 99}));
+  CHECK((*finding(d, "frame_duplication"))["params"]["every"] == 50);
+  CHECK(d["unexplained"].empty());
+}
+
 TEST_CASE("slow drift below the noise tracks the FPA temperature", "[diagnose][concealed]") {
   TempDir tmp;
   // 0.01 K/s x 50 counts/K over 4 s: 2 counts at the end, one noise sigma.
