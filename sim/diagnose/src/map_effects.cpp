@@ -111,12 +111,30 @@ LevelSplit split_by_level(const std::vector<double>& r, const std::vector<double
   if (use.size() < 16 || !(r2 > 0) || !(qm > 0)) return out;
   r2 /= double(use.size());
   qm /= double(use.size());
+  // The likelihood needs per pixel only (r^2, q, v): pixels sorted by level and pooled into at
+  // most 1024 bins of neighbouring levels (exact up to 1024 pixels; the search below evaluates
+  // it a few thousand times).
+  std::sort(use.begin(), use.end(), [&](std::size_t x, std::size_t y) { return q[x] < q[y]; });
+  struct Bin {
+    double count = 0, r2 = 0, q = 0, v = 0;
+  };
+  std::vector<Bin> bins;
+  const std::size_t per_bin = (use.size() + 1023) / 1024;
+  for (std::size_t i = 0; i < use.size(); i += per_bin) {
+    Bin b;
+    for (std::size_t k = i; k < std::min(use.size(), i + per_bin); ++k) {
+      const std::size_t p = use[k];
+      b.count += 1, b.r2 += r[p] * r[p], b.q += q[p], b.v += v[p];
+    }
+    b.q /= b.count, b.v /= b.count;
+    bins.push_back(b);
+  }
   const auto ll = [&](double a, double b) {
     double sum = 0;
-    for (std::size_t p : use) {
-      const double var = a + b * q[p] + v[p];
+    for (const Bin& bin : bins) {
+      const double var = a + b * bin.q + bin.v;
       if (!(var > 0)) return -std::numeric_limits<double>::infinity();
-      sum -= 0.5 * (std::log(var) + r[p] * r[p] / var);
+      sum -= 0.5 * (bin.count * std::log(var) + bin.r2 / var);
     }
     return sum;
   };
@@ -124,7 +142,7 @@ LevelSplit split_by_level(const std::vector<double>& r, const std::vector<double
   const auto argmax = [](const auto& f, double hi) {
     const double g = 0.5 * (std::sqrt(5.0) - 1);
     double lo = 0, x1 = hi - g * hi, x2 = g * hi, f1 = f(x1), f2 = f(x2);
-    for (int i = 0; i < 48; ++i) {
+    for (int i = 0; i < 40; ++i) {
       if (f1 < f2) { lo = x1; x1 = x2; f1 = f2; x2 = lo + g * (hi - lo); f2 = f(x2); }
       else { hi = x2; x2 = x1; f2 = f1; x1 = hi - g * (hi - lo); f1 = f(x1); }
     }
@@ -164,6 +182,68 @@ double rms(const std::vector<double>& v) {
   double s = 0;
   for (double x : v) s += x * x;
   return v.empty() ? 0.0 : std::sqrt(s / double(v.size()));
+}
+
+// The time-averaged residual (training frames) and its column and row medians, centred, with
+// whether they stand out as stripes.
+struct TimeAveraged {
+  int width = 0;
+  std::vector<double> mean, noise, col, row;
+  double typical_noise = 0;
+  bool stripes_in_columns = false, stripes_in_rows = false;
+  // The per-pixel pattern: the mean less the stripes (column and row medians that are no
+  // stripes belong to the pixel pattern itself), centred.
+  std::vector<double> pixel_pattern() const {
+    std::vector<double> rest(mean.size());
+    const std::size_t W = std::size_t(width);
+    for (std::size_t p = 0; p < mean.size(); ++p)
+      rest[p] = mean[p] - (stripes_in_columns ? col[p % W] : 0.0) - (stripes_in_rows ? row[p / W] : 0.0);
+    const double m = std::accumulate(rest.begin(), rest.end(), 0.0) / double(rest.size());
+    for (double& v : rest) v -= m;
+    return rest;
+  }
+};
+
+TimeAveraged time_averaged(const DiagnoseData& d, const PixelSums& s) {
+  const int H = d.shape.height, W = d.shape.width;
+  const std::size_t P = d.shape.pixels();
+  TimeAveraged a;
+  a.width = W;
+  a.mean.assign(P, 0.0);
+  a.noise.assign(P, INFINITY);
+  for (std::size_t p = 0; p < P; ++p)
+    if (s.n[p] > 0) { a.mean[p] = s.r[p] / s.n[p]; a.noise[p] = s.residual_var / s.n[p]; }
+  // Columns and rows: medians, robust to the odd dead pixel.
+  a.col.assign(W, 0.0);
+  a.row.assign(H, 0.0);
+  std::vector<double> tmp;
+  a.typical_noise = s.residual_var / std::max(1.0, median_of(s.n));
+  for (int c = 0; c < W; ++c) {
+    tmp.clear();
+    for (int rr = 0; rr < H; ++rr) tmp.push_back(a.mean[rr * W + c]);
+    a.col[c] = median_in_place(tmp);
+  }
+  for (int rr = 0; rr < H; ++rr) {
+    tmp.assign(a.mean.begin() + rr * W, a.mean.begin() + (rr + 1) * W);
+    a.row[rr] = median_in_place(tmp);
+  }
+  auto centre = [](std::vector<double>& v) {
+    const double m = std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+    for (double& x : v) x -= m;
+  };
+  centre(a.col);
+  centre(a.row);
+  // Stripes must stand out from what a pixel pattern's own column and row medians are: a
+  // random per-pixel map of spread s has column medians of spread ~1.25 s / sqrt(rows).
+  double pixel_spread = 0;
+  for (std::size_t p = 0; p < P; ++p) {
+    const double v = a.mean[p] - a.col[p % W] - a.row[p / W];
+    pixel_spread += v * v;
+  }
+  pixel_spread = std::sqrt(pixel_spread / double(P));
+  a.stripes_in_columns = rms(a.col) >= 2.0 * pixel_spread / std::sqrt(double(H));
+  a.stripes_in_rows = rms(a.row) >= 2.0 * pixel_spread / std::sqrt(double(W));
+  return a;
 }
 
 class StaticMapFit final : public FittedEffect {
@@ -208,30 +288,9 @@ class StaticMap final : public Candidate {
     const int H = d.shape.height, W = d.shape.width;
     const std::size_t P = d.shape.pixels();
     const PixelSums s = pixel_sums(d, *residual_, train, part_ == StaticPart::offset ? &d.baseline : nullptr);
-    std::vector<double> mean(P, 0.0), noise(P, INFINITY);
-    for (std::size_t p = 0; p < P; ++p)
-      if (s.n[p] > 0) { mean[p] = s.r[p] / s.n[p]; noise[p] = s.residual_var / s.n[p]; }
-    // Columns and rows: medians, robust to the odd dead pixel.
-    std::vector<double> col(W), row(H), noise_col(W), noise_row(H);
-    std::vector<double> tmp;
-    const double typical_noise = s.residual_var / std::max(1.0, median_of(s.n));
-    for (int c = 0; c < W; ++c) {
-      tmp.clear();
-      for (int rr = 0; rr < H; ++rr) tmp.push_back(mean[rr * W + c]);
-      col[c] = median_in_place(tmp);
-      noise_col[c] = 1.57 * typical_noise / H;
-    }
-    for (int rr = 0; rr < H; ++rr) {
-      tmp.assign(mean.begin() + rr * W, mean.begin() + (rr + 1) * W);
-      row[rr] = median_in_place(tmp);
-      noise_row[rr] = 1.57 * typical_noise / W;
-    }
-    auto centre = [](std::vector<double>& v) {
-      const double m = std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
-      for (double& x : v) x -= m;
-    };
-    centre(col);
-    centre(row);
+    TimeAveraged avg = time_averaged(d, s);
+    std::vector<double>&mean = avg.mean, &noise = avg.noise, &col = avg.col, &row = avg.row;
+    std::vector<double> noise_col(W, 1.57 * avg.typical_noise / H), noise_row(H, 1.57 * avg.typical_noise / W);
     // The radial field of the simulator's shading, (x_n^2 + y_n^2)/2 with x_n, y_n in [-1, 1].
     std::vector<double> field(P);
     double fm = 0;
@@ -249,16 +308,7 @@ class StaticMap final : public Candidate {
       fr += f * rest;
     }
     const double amplitude = ff > 0 ? fr / ff : 0.0;
-    // Stripes must stand out from what a pixel pattern's own column and row medians are: a
-    // random per-pixel map of spread s has column medians of spread ~1.25 s / sqrt(rows).
-    double pixel_spread = 0;
-    for (std::size_t p = 0; p < P; ++p) {
-      const double v = mean[p] - col[p % W] - row[p / W];
-      pixel_spread += v * v;
-    }
-    pixel_spread = std::sqrt(pixel_spread / double(P));
-    const bool stripes_in_columns = rms(col) >= 2.0 * pixel_spread / std::sqrt(double(H));
-    const bool stripes_in_rows = rms(row) >= 2.0 * pixel_spread / std::sqrt(double(W));
+    const bool stripes_in_columns = avg.stripes_in_columns, stripes_in_rows = avg.stripes_in_rows;
     if (part_ == StaticPart::column && !stripes_in_columns) return nullptr;
     if (part_ == StaticPart::row && !stripes_in_rows) return nullptr;
     std::vector<float> map(P, 0.0f);
@@ -297,14 +347,7 @@ class StaticMap final : public Candidate {
         // What column and row stripes leave (they are effects of their own). The radial shading
         // field splits into a column and a row part, so shading competes with both and wins
         // with its single parameter when the pattern is radial.
-        std::vector<double> rest(P), noise_rest(P);
-        for (std::size_t p = 0; p < P; ++p) {
-          // Column and row medians that are no stripes belong to the pixel pattern itself.
-          rest[p] = mean[p] - (stripes_in_columns ? col[p % W] : 0.0) - (stripes_in_rows ? row[p / W] : 0.0);
-          noise_rest[p] = noise[p];
-        }
-        const double m = std::accumulate(rest.begin(), rest.end(), 0.0) / double(P);
-        for (double& v : rest) v -= m;
+        std::vector<double> rest = avg.pixel_pattern(), noise_rest = noise;
         // A pattern whose spread follows the level is gain_fpn's (its static part); where both
         // are there, this takes the offset's share of each pixel.
         const std::vector<double> level2 = squared_levels(s);
@@ -390,12 +433,10 @@ class SlopeMap final : public Candidate {
     // tau_spread acts only through the transient.
     LevelSplit split;
     if (!tau_) {
-      std::vector<double> rest(P, 0.0), noise_rest(P, INFINITY);
+      // The same pixel pattern as offset_fpn's (stripes are effects of their own).
+      const TimeAveraged avg = time_averaged(d, s);
+      const std::vector<double> rest = avg.pixel_pattern(), &noise_rest = avg.noise;
       const std::vector<double> level2 = squared_levels(s);
-      for (std::size_t p = 0; p < P; ++p)
-        if (s.n[p] > 0) { rest[p] = s.r[p] / s.n[p]; noise_rest[p] = s.residual_var / s.n[p]; }
-      const double m = std::accumulate(rest.begin(), rest.end(), 0.0) / double(P);
-      for (double& v : rest) v -= m;
       split = split_by_level(rest, noise_rest, level2);
       for (std::size_t p = 0; p < P; ++p) intercept[p] = rest[p] * split.gain_share(level2[p], noise_rest[p]);
       for (std::size_t p = 0; p < P; ++p) {
