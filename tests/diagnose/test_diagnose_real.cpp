@@ -20,10 +20,15 @@ TEST_CASE("lepton35-trailcam-ffc: the shutter event is found at frame 309", "[di
   CHECK((*f)["params"]["frames"].dump().find("309") != std::string::npos);
 }
 
-TEST_CASE("flirone-lepton-telemetry: a tiny recording gives a valid diagnosis", "[diagnose][shared]") {
+TEST_CASE("flirone-lepton-telemetry: the core's repeated frames are found", "[diagnose][shared]") {
   const fs::path rec = shared_recording("flirone-lepton-telemetry");
   if (rec.empty()) return;
   TempDir tmp;
   const nlohmann::json d = diagnose(rec, tmp / "d");
   CHECK(d["noise_floor_rms"].get<double>() > 0);
+  // The capture's notes: frames 1 and 11 carry the core frame counter of 0 and 10 (exported twice).
+  INFO(d["findings"].dump());
+  const nlohmann::json* f = finding(d, "frame_duplication");
+  REQUIRE(f);
+  CHECK((*f)["params"]["frames"] == nlohmann::json::array({1, 11}));
 }

@@ -281,6 +281,7 @@ class FrameDuplication final : public Candidate {
  public:
   const char* id() const override { return "frame_duplication"; }
   int parameter_count() const override { return 1; }
+  bool scored_where_it_acts() const override { return true; }
   void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
     data_ = &d;
     residual_ = &r;

@@ -67,6 +67,7 @@ double effective_samples(const DiagnoseData& d, const std::vector<float>& r, con
 
 struct Scored {
   Evidence evidence;
+  double sse_before_all = 0, sse_after_all = 0, count_all = 0;  // every held-out frame (for RMS)
   std::vector<double> frame_gain;  // held-out SSE reduction per frame
   bool fitted = false;
 };
@@ -79,6 +80,7 @@ Scored score(const Candidate& c, const DiagnoseData& d, const std::vector<float>
   out.frame_gain.assign(N, 0.0);
   std::vector<float> pred(P);
   std::vector<double> after = before.sse;
+  std::vector<char> acted(N, 0);
   after_r = r;
   for (int k = 0; k < blocks.folds; ++k) {
     std::vector<char> train(N);
@@ -87,6 +89,7 @@ Scored score(const Candidate& c, const DiagnoseData& d, const std::vector<float>
     if (!model) return out;
     for (int n = 0; n < N; ++n) {
       if (train[n] || !model->acts_on(n)) continue;
+      acted[n] = 1;
       model->predict(n, pred);
       const float* f = d.frame(r, n);
       float* a = d.frame(after_r, n);
@@ -105,6 +108,10 @@ Scored score(const Candidate& c, const DiagnoseData& d, const std::vector<float>
   for (int n = 0; n < N; ++n) {
     out.frame_gain[n] = before.sse[n] - after[n];
     block_gain[blocks.block_of_frame[n]] += out.frame_gain[n];
+    out.sse_before_all += before.sse[n];
+    out.sse_after_all += after[n];
+    out.count_all += before.count[n];
+    if (c.scored_where_it_acts() && !acted[n]) continue;
     e.sse_before += before.sse[n];
     e.sse_after += after[n];
     e.count += before.count[n];
@@ -243,8 +250,8 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       auto active = active_frames(best_score.frame_gain);
       if (!active.empty()) f.where.frames = active;
     }
-    f.heldout_rms_before = rms_of(best_score.evidence.sse_before, best_score.evidence.count);
-    f.heldout_rms_after = rms_of(best_score.evidence.sse_after, best_score.evidence.count);
+    f.heldout_rms_before = rms_of(best_score.sse_before_all, best_score.count_all);
+    f.heldout_rms_after = rms_of(best_score.sse_after_all, best_score.count_all);
     // Backwards, so an effect reading the previous frame's residual sees it unchanged.
     std::vector<float> pred(P);
     for (int n = N - 1; n >= 0; --n) {

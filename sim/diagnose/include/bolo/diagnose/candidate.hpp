@@ -48,6 +48,10 @@ class Candidate {
   // Static maps are validated on the far half of the recording (fitted on the first half, scored
   // on the second and back): slow noise of neighbouring blocks would otherwise look stable.
   virtual bool needs_distant_holdout() const { return false; }
+  // An effect of a few frames whose test is exact (a bit-identical repeat) is scored on the
+  // held-out frames it acts on, not diluted by all the others (whose noise, correlated over a
+  // moving scene, would shrink the effective sample size below what two exact repeats need).
+  virtual bool scored_where_it_acts() const { return false; }
   // Frees what prepare() built (fitted effects keep their own share alive).
   virtual void release() {}
 };
