@@ -58,6 +58,11 @@ if [ -z "${BOLO_HIL_FRAMES:-}" ]; then
   export BOLO_HIL_FRAMES=10000
   [ "$arch" = aarch64 ] && export BOLO_HIL_FRAMES=2000
 fi
+# PureThermal (UVC): 10000 frames on x86-64, 1000 in the arm64 VM.
+if [ -z "${BOLO_HIL_UVC_FRAMES:-}" ]; then
+  export BOLO_HIL_UVC_FRAMES=10000
+  [ "$arch" = aarch64 ] && export BOLO_HIL_UVC_FRAMES=1000
+fi
 # Seek: 10000 images on x86-64 (~90 s at 110-150 images/s with the transport's queued reads),
 # 1000 in the arm64 VM.
 if [ -z "${BOLO_HIL_SEEK_FRAMES:-}" ]; then
@@ -69,7 +74,7 @@ if [ "$arch" = x86_64 ]; then
   "$repo/toolchain/vm/gpio-sim.sh" >/dev/null || echo "run-hil-test: gpio-sim build failed; GPIO steps will skip" >&2
   # usb_f_uvc with bulk streaming, built once and cached; without it the UVC scenario fails
   # (Debian's module streams isochronous only).
-  if grep -q "usb_f_uvc bulk" "$scenario"; then
+  if grep -q "usb_f_uvc bulk build" "$scenario"; then
     "$repo/toolchain/vm/uvc-gadget.sh" >/dev/null || echo "run-hil-test: uvc-gadget build failed" >&2
   fi
 fi
@@ -78,6 +83,8 @@ args=(--arch "$arch" --scenario "$scenario")
 # The recording made from the same capture, for `bolo capture` to reproduce in the VM.
 recording="$shared/real/flirone-lepton-telemetry"
 [ -d "$recording" ] && args+=(--file "$recording")
+# A Lepton 3 recording for the PureThermal emulator to stream (uvc.sh; simulated frames without).
+grep -q "lepton3-possum" "$scenario" && [ -d "$shared/real/lepton3-possum" ] && args+=(--file "$shared/real/lepton3-possum")
 [ -n "$sysroot" ] && args+=(--sysroot "$sysroot")
 for f in "${files[@]}"; do args+=(--file "$f"); done
 exec "$repo/toolchain/vm/hil-vm.sh" "${args[@]}"
