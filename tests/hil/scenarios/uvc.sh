@@ -5,7 +5,9 @@
 # ../shared); the host side through the real uvcvideo driver and the project's V4l2Source:
 # 1) 160x122 without faults, FFC every 100 frames: none lost, every image and telemetry counter
 # bit-exact, every FFC seen; 2) 160x120 (no telemetry rows); 3) 1 % of each of short frame,
-# duplicate, silence; 4) unplug/replug (2 % of 300 frames).
+# duplicate, silence; 4) unplug/replug (2 % of 300 frames); 5) where the CLI is built and the
+# recording is there: `bolo capture --device v4l2:/dev/videoN` of the recording played once must
+# hold exactly its pixels.
 # BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 10000 on x86-64) sets the clean run's length; the fault
 # run streams a quarter of it.
 # device: usb:purethermal
@@ -41,4 +43,43 @@ run uvc_faults "--frames $fault_frames --ffc-period 100 --fault-rate 0.01 --seed
   --faults short_transfer,duplicate,timeout" "--size 160x122 --min-frames $((fault_frames * 9 / 10)) --ffc-period 100"
 run uvc_replug "--frames 300 --fault-rate 0.02 --seed 5 --faults disconnect" \
   "--size 160x122 --min-frames 250 --lost-per-unplug 4"
+# The host's uvcvideo capture node of the emulated camera (not the gadget's output node, not
+# uvcvideo's metadata node).
+host_node() {
+  for d in /sys/class/video4linux/video*; do
+    grep -q PureThermal "$d/name" 2>/dev/null || continue
+    [ -e "$d/function_name" ] && continue
+    [ "$(cat "$d/index")" = 0 ] && { echo "/dev/$(basename "$d")"; return 0; }
+  done
+  return 1
+}
+
+if [ -x ./bolo ] && [ -n "$recording" ]; then
+  name=uvc_capture
+  echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
+  # 160 frames = the recording once; 30 frames/s: bolo capture keeps up without a credit.
+  ./uvc_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" --done "/tmp/$name.done" \
+    --finished "/tmp/$name.finished" $recording --frames 160 --fps 30 &
+  emulator=$!
+  node=""
+  for i in $(seq 100); do node="$(host_node)" && break; sleep 0.1; done
+  if [ -z "$node" ]; then
+    echo "HIL-STEP $name: no uvcvideo node of the emulator"; failed=1
+  elif ./bolo capture --device "v4l2:$node" --out /tmp/uvc-rec --frames 160 --no-progress; then
+    # The pixels (the .npy header's padding may differ): the last 160x120x160x2 bytes.
+    tail -c 6144000 /tmp/uvc-rec/frames.npy >/tmp/uvc-rec.pixels
+    tail -c 6144000 lepton3-possum/frames.npy >/tmp/possum.pixels
+    if cmp /tmp/uvc-rec.pixels /tmp/possum.pixels; then
+      echo "HIL-STEP $name: 160 frames through bolo capture, pixels identical to real/lepton3-possum"
+    else
+      echo "HIL-STEP $name: bolo capture's frames differ from the recording"; failed=1
+    fi
+    cat /tmp/uvc-rec/capture.json
+  else
+    echo "HIL-STEP $name: bolo capture failed"; failed=1
+  fi
+  touch "/tmp/$name.finished"
+  wait $emulator
+  echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+fi
 exit $failed
