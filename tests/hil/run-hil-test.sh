@@ -72,11 +72,11 @@ fi
 # gpio-sim for the VM's kernel, built once and cached; without it GPIO scenarios skip.
 if [ "$arch" = x86_64 ]; then
   "$repo/toolchain/vm/gpio-sim.sh" >/dev/null || echo "run-hil-test: gpio-sim build failed; GPIO steps will skip" >&2
-  # usb_f_uvc with bulk streaming, built once and cached; without it the UVC scenario fails
-  # (Debian's module streams isochronous only).
-  if grep -q "usb_f_uvc bulk build" "$scenario"; then
-    "$repo/toolchain/vm/uvc-gadget.sh" >/dev/null || echo "run-hil-test: uvc-gadget build failed" >&2
-  fi
+fi
+# usb_f_uvc with bulk streaming, built once and cached (cross-built for aarch64); without it
+# the UVC scenario skips (Debian's module streams isochronous only).
+if grep -q "usb_f_uvc bulk build" "$scenario"; then
+  "$repo/toolchain/vm/uvc-gadget.sh" "$arch" >/dev/null || echo "run-hil-test: uvc-gadget build failed; the UVC scenario will skip" >&2
 fi
 args=(--arch "$arch" --scenario "$scenario")
 [ -n "$capture" ] && args+=(--file "$capture")

@@ -12,6 +12,10 @@
 # run streams a quarter of it.
 # device: usb:purethermal
 # real: echo "a real PureThermal: use BOLO_HIL_DEVICE=v4l2:/dev/videoN (vivid.sh: bolo capture)"; exit 77
+if [ ! -e /sys/module/usb_f_uvc/parameters/bulk_payload ]; then
+  echo "Debian's isochronous-only usb_f_uvc is loaded, not the bulk build (toolchain/vm/uvc-gadget.sh failed or was not run)" >/tmp/skip-reason
+  exit 77
+fi
 frames="${BOLO_HIL_UVC_FRAMES:-1000}"
 fault_frames=$((frames / 4))
 recording=""
