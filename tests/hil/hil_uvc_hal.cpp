@@ -77,24 +77,50 @@ std::string find_uvc_node() {
 
 }  // namespace
 
+// A whole non-negative number, or nothing (the caller names the option).
+std::optional<std::uint64_t> number(const std::string& text) {
+  std::size_t used = 0;
+  try {
+    const std::uint64_t v = std::stoull(text, &used);
+    if (used == text.size() && text[0] != '-') return v;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
 int main(int argc, char** argv) {
   std::string send_log, done, progress, size = "160x122";
   std::uint64_t min_frames = 1, ffc_period = 0, lost_per_unplug = 0;
   std::uint32_t buffers = 4;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  for (int i = 1; i < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--send-log") send_log = argv[i + 1];
-    else if (a == "--done") done = argv[i + 1];
-    else if (a == "--size") size = argv[i + 1];
-    else if (a == "--min-frames") min_frames = std::stoull(argv[i + 1]);
-    else if (a == "--buffers") buffers = static_cast<std::uint32_t>(std::stoul(argv[i + 1]));
-    else if (a == "--ffc-period") ffc_period = std::stoull(argv[i + 1]);
-    else if (a == "--lost-per-unplug") lost_per_unplug = std::stoull(argv[i + 1]);
-    else if (a == "--progress") progress = argv[i + 1];
-    else {
+    if (i + 1 >= argc) {
+      std::printf("hil_uvc_hal: FAIL %s needs a value\n", a.c_str());
+      return 2;
+    }
+    const std::string v = argv[i + 1];
+    std::uint64_t* numeric = a == "--min-frames" ? &min_frames : a == "--ffc-period" ? &ffc_period
+                             : a == "--lost-per-unplug" ? &lost_per_unplug : nullptr;
+    if (a == "--send-log") send_log = v;
+    else if (a == "--done") done = v;
+    else if (a == "--size") size = v;
+    else if (a == "--progress") progress = v;
+    else if (numeric != nullptr || a == "--buffers") {
+      const auto n = number(v);
+      if (!n) {
+        std::printf("hil_uvc_hal: FAIL %s: '%s' is not a whole number\n", a.c_str(), v.c_str());
+        return 2;
+      }
+      if (numeric != nullptr) *numeric = *n;
+      else buffers = static_cast<std::uint32_t>(std::min<std::uint64_t>(*n, 64));
+    } else {
       std::printf("hil_uvc_hal: FAIL unknown option %s\n", a.c_str());
       return 2;
     }
+  }
+  if (send_log.empty() || done.empty()) {
+    std::printf("hil_uvc_hal: FAIL --send-log and --done are required\n");
+    return 2;
   }
   if (size != "160x122" && size != "160x120") {
     std::printf("hil_uvc_hal: FAIL --size must be 160x122 or 160x120, not %s\n", size.c_str());
@@ -195,6 +221,8 @@ int main(int argc, char** argv) {
     }
     std::size_t missing = 0;
     for (bool u : used) missing += !u;
+    expect(unplugs > 0 || expected->lost_by_emulator == 0,
+           std::to_string(expected->lost_by_emulator) + " frames queued by the emulator were never taken");
     if (unplugs == 0)
       expect(missing == 0 && got.size() == want.size(), "frames delivered: got " + std::to_string(got.size()) + ", want " +
                                             std::to_string(want.size()));

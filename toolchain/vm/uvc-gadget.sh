@@ -63,7 +63,7 @@ if grep -h '^#include "' "$out"/*.[ch] | grep -v -E '"(f_uvc|u_uvc|uvc|uvc_confi
   echo "uvc-gadget: the sources include a local header that is not extracted (above)" >&2
   exit 1
 fi
-(cd "$out" && patch -p1 --forward --no-backup-if-mismatch -r - <"$patch_file" >&2) ||
+(cd "$out" && patch -p1 --forward --fuzz=0 --no-backup-if-mismatch -r - <"$patch_file" >&2) ||
   { echo "uvc-gadget: $patch_file does not apply to $kver's sources (upstream changed): check it by hand" >&2; exit 1; }
 printf 'obj-m := usb_f_uvc.o\nusb_f_uvc-y := f_uvc.o uvc_queue.o uvc_v4l2.o uvc_video.o uvc_configfs.o\n' >"$out/Kbuild"
 make -s -C "$headers" M="$out" "${make_args[@]}" modules >&2
