@@ -4,11 +4,11 @@
 # toolchain/vm/uvc-gadget.sh), frames of the lepton3-possum recording (simulated ones without
 # ../shared); the host side through the real uvcvideo driver and the project's V4l2Source:
 # 1) 160x122 without faults, FFC every 100 frames: none lost, every image and telemetry counter
-# bit-exact, every FFC seen; 2) 160x120 (no telemetry rows); 3) 1 % of each of short frame,
+# bit-exact, every FFC seen; 2) 160x120 (no telemetry rows); 3) 1 % faults, drawn among short frame,
 # duplicate, silence; 4) unplug/replug (2 % of 300 frames); 5) where the CLI is built and the
 # recording is there: `bolo capture --device v4l2:/dev/videoN` of the recording played once must
 # hold exactly its pixels.
-# BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 10000 on x86-64) sets the clean run's length; the fault
+# BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 10000 on x86-64, 1000 in the arm64 VM) sets the clean run's length; the fault
 # run streams a quarter of it.
 # device: usb:purethermal
 # real: echo "a real PureThermal: use BOLO_HIL_DEVICE=v4l2:/dev/videoN (vivid.sh: bolo capture)"; exit 77
