@@ -22,6 +22,9 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
     fail("--photometric: unknown model '", o.photometric, "' (none, affine, ir, ir-loop)");
   if (!(o.tau_init_s >= 0.001 && o.tau_init_s <= 0.05)) fail("--tau-init: must be within 0.001..0.05 s, got ", o.tau_init_s);
   options.tau_init_s = o.tau_init_s;
+  if (o.hfov_deg && !(*o.hfov_deg > 1.0 && *o.hfov_deg < 179.0))
+    fail("--hfov: must be within 1..179 degrees, got ", *o.hfov_deg);
+  options.hfov_deg = o.hfov_deg;
   options.estimate_tau = !o.fixed_tau;
   options.window_ba = !o.no_ba;
   options.overwrite = o.overwrite;
@@ -62,12 +65,16 @@ Command add_odometry_command(CLI::App& parent) {
       "(> 1.5 frame periods) break the carry-over chain; such frames are tracked with a free offset.\n\n"
       "Example:\n"
       "  bolo simulate out/street --scene street --trajectory drive --fps 60 --frames 300 --tau 0.012 --noise 3\n"
-      "  bolo odometry out/street --out out/vo-ir --photometric ir");
+      "  bolo odometry out/street --out out/vo-ir --photometric ir\n"
+      "  bolo odometry ../shared/data/real/lepton3-possum --out out/vo-possum --hfov 57");
   app->add_option("REC", o->input, "Recording folder (recording.json, frames.npy, frames.csv, camera.json)")->required();
   app->add_option("--out", o->output, "Output folder (must not exist unless --overwrite)")->required();
   app->add_option("--photometric", o->photometric, "none, affine, ir or ir-loop (default none)");
   app->add_option("--tau-init", o->tau_init_s, "Starting tau for the ir modes, seconds (default 0.010)");
   app->add_flag("--fixed-tau", o->fixed_tau, "ir modes: tau is known (--tau-init) and not estimated");
+  app->add_option("--hfov", o->hfov_deg,
+                  "Horizontal field of view, degrees: an undistorted pinhole centred on the image, used instead "
+                  "of camera.json (for recordings without one, e.g. Lepton 3: 57)");
   app->add_option("--frames", o->frames, "Use only the first N frames")->check(not_negative());
   app->add_flag("--no-ba", o->no_ba, "Skip the sliding-window bundle adjustment (tracking and depth search only)");
   app->add_flag("--overwrite", o->overwrite, "Replace DIR if it exists");

@@ -105,6 +105,7 @@ struct OdometryOptions {
   std::string photometric = "none";
   double tau_init_s = 0.010;
   bool fixed_tau = false;
+  std::optional<double> hfov_deg;
   std::optional<std::uint64_t> frames;
   bool no_ba = false;
   bool overwrite = false;

@@ -111,8 +111,7 @@ StreamStatus FlirOneSource::deliver(fw::LineSink& sink, std::int64_t arrival_ns)
   previous_ffc_ms_ = f.lepton.time_at_last_ffc_ms;
 
   sink.begin_frame(header);
-  for (std::uint32_t row = 0; row < flirone::kHeight; ++row)
-    sink.push_line(row, fw::LineView(&f.pixels[std::size_t{row} * flirone::kWidth], flirone::kWidth));
+  sink.push_lines(0, flirone::kHeight, f.pixels, flirone::kWidth, flirone::kWidth);  // reassembled whole
   sink.end_frame();
   ++stats_.frames_delivered;
   return StreamStatus::frame;

@@ -91,7 +91,22 @@ SeekSource::Read SeekSource::read_frame(std::int64_t& arrival_ns) {
   }
 }
 
+// Every frame the camera sends (images, shutter and calibration frames) carries the next counter
+// value. Returns whether this frame repeats the previous one's.
+bool SeekSource::follow_counter(const SeekFrameInfo& info) {
+  const bool had = have_counter_;
+  const std::uint16_t step = static_cast<std::uint16_t>(info.counter - previous_counter_);
+  have_counter_ = true;
+  previous_counter_ = info.counter;
+  if (!had || step == 1) return false;
+  if (step == 0) return true;
+  ++counters_.counter_jumps;
+  if (step - 1 <= kSeekPlausibleGap) stats_.dropped += step - 1u;
+  return false;
+}
+
 StreamStatus SeekSource::device_gone() {
+  have_counter_ = false;  // a replugged camera boots and counts again
   if (connected_) {  // counted once per unplug, however long the camera stays away
     ++stats_.disconnects;
     ++sequence_;
@@ -125,6 +140,7 @@ StreamStatus SeekSource::stream_frame(fw::LineSink& sink) {
     }
     SeekFrameInfo info;
     parser_.parse_received(info);
+    const bool duplicate = follow_counter(info);
     switch (info.kind) {
       case SeekFrameKind::image: break;
       case SeekFrameKind::shutter:
@@ -141,10 +157,12 @@ StreamStatus SeekSource::stream_frame(fw::LineSink& sink) {
     header.sequence_valid = true;
     header.timestamp_ns = arrival_ns;
     header.timestamp_valid = arrival_ns != 0;
+    if (duplicate) ++stats_.duplicates;  // delivered all the same, as the FLIR ONE's are
     header.ffc = ffc_pending_ ? fw::FfcState::completed : fw::FfcState::none;
     ffc_pending_ = false;
     sink.begin_frame(header);
-    for (std::uint32_t row = 0; row < header.height; ++row) sink.push_line(row, parser_.image_row(row));
+    // The image rows lie one after another in the parser's frame: one run.
+    sink.push_lines(0, header.height, parser_.image_row(0).data(), header.width, header.width);
     sink.end_frame();
     ++stats_.frames_delivered;
     return StreamStatus::frame;

@@ -71,6 +71,28 @@ TEST_CASE("concealed offset FPN (sigma 0.5 x noise) is found with its sigma", "[
   CHECK((*f)["heldout_rms_after"].get<double>() < (*f)["heldout_rms_before"].get<double>());
 }
 
+TEST_CASE("a static gain pattern below the noise is named gain_fpn, not offset_fpn", "[diagnose][concealed]") {
+  // sigma 1.67e-4 on levels of ~6000: ~1 count static per pixel (0.5 noise sigma), its spread
+  // growing with the pixel's level, which is what tells it from an offset pattern.
+  TempDir tmp;
+  const nlohmann::json d = diagnose(simulate(tmp, "gain", {"gain_fpn:sigma=0.000166667"}, 3), tmp / "gain.d");
+  INFO(d["findings"].dump());
+  REQUIRE(found(d) == std::vector<std::string>{"gain_fpn"});
+  CHECK((*finding(d, "gain_fpn"))["params"]["sigma"].get<double>() == Approx(1.667e-4).epsilon(0.2));
+}
+
+TEST_CASE("gain and offset patterns together are both named", "[diagnose][concealed]") {
+  TempDir tmp;
+  const nlohmann::json d =
+      diagnose(simulate(tmp, "gainoff", {"gain_fpn:sigma=0.0003", "offset_fpn:sigma=2"}, 4), tmp / "gainoff.d");
+  INFO(d["findings"].dump());
+  CHECK(found(d).size() == 2);
+  REQUIRE(finding(d, "offset_fpn"));
+  REQUIRE(finding(d, "gain_fpn"));
+  // Found after gain_fpn here, whose share of each pixel took part of the offset: within 50 %.
+  CHECK((*finding(d, "offset_fpn"))["params"]["sigma"].get<double>() == Approx(2.0).epsilon(0.5));
+}
+
 TEST_CASE("concealed column FPN under a 4x larger offset FPN", "[diagnose][concealed]") {
   TempDir tmp;
   const nlohmann::json d =
@@ -99,6 +121,18 @@ TEST_CASE("dead pixels and repeated frames are found", "[diagnose][concealed]") 
   CHECK((*finding(d, "dead_pixels"))["params"]["count"] == 3);
   REQUIRE(finding(d, "frame_duplication"));
   CHECK((*finding(d, "frame_duplication"))["params"]["every"] == 10);
+}
+
+TEST_CASE("two repeated frames in a recording are found wherever the held-out blocks fall", "[diagnose][concealed]") {
+  // every=50 over 120 frames: frames 49 and 99 repeat. A training set holding one or none of them
+  // cannot show a period; the bit-identity rule still marks the held-out repeat.
+  TempDir tmp;
+  const nlohmann::json d = diagnose(simulate(tmp, "dup", {"frame_duplication:every=50"}, 7), tmp / "dup.d");
+  INFO(d["findings"].dump());
+  REQUIRE(found(d) == std::vector<std::string>{"frame_duplication"});
+  CHECK((*finding(d, "frame_duplication"))["params"]["frames"] == nlohmann::json::array({49, 99}));
+  CHECK((*finding(d, "frame_duplication"))["params"]["every"] == 50);
+  CHECK(d["unexplained"].empty());
 }
 
 TEST_CASE("slow drift below the noise tracks the FPA temperature", "[diagnose][concealed]") {

@@ -36,6 +36,7 @@ class FakeSeek final : public hal::VendorUsbTransport {
   struct Planned {
     std::uint16_t type;
     Fault fault = Fault::none;  // replaces the frame's second chunk
+    std::uint16_t counter_step = 1;  // 0: the previous frame's counter again; > 1: a gap
   };
   explicit FakeSeek(const hal::SeekModel& m) : model(m) {}
 
@@ -113,7 +114,8 @@ class FakeSeek final : public hal::VendorUsbTransport {
       p = plan.front();
       plan.pop_front();
     }
-    const auto frame = make_seek_frame(model, p.type, ++counter, static_cast<std::uint16_t>(1000 + counter),
+    counter = static_cast<std::uint16_t>(counter + p.counter_step);
+    const auto frame = make_seek_frame(model, p.type, counter, static_cast<std::uint16_t>(1000 + counter),
                                        p.type == 4 ? dead_in_startup : std::vector<std::uint32_t>{});
     for (std::size_t at = 0, n = 0; at < frame.size(); at += model.chunk_bytes, ++n) {
       const std::size_t end = std::min(frame.size(), at + model.chunk_bytes);

@@ -126,6 +126,11 @@ TEST_CASE("seek source: zero-length reads, timeouts, errors and an unplug are co
   CHECK(st.disconnects == 1);
   CHECK(st.reconnects == 1);
   CHECK(st.frames_delivered == 5);
+  // The lost frames' counters were skipped: one gap after the zero-length read, one of two after
+  // the timeout and the error; the unplug restarts the count.
+  CHECK(st.dropped == 3);
+  CHECK(source.counters().counter_jumps == 2);
+  CHECK(st.duplicates == 0);
   // After the replug the start-up sequence ran again.
   CHECK(std::count(cam.log.begin(), cam.log.end(), std::uint8_t{84}) == 2);
 }
@@ -152,4 +157,25 @@ TEST_CASE("seek source: a refused start-up is a counted fault, an unplugged came
   cam.fail_first_write = true;  // fails once: the retry inside start() succeeds
   CHECK(source.stream_frame(sink) == hal::StreamStatus::frame);
   CHECK(source.counters().start_failures == 1);
+}
+
+TEST_CASE("seek source: the frame counter shows duplicates, gaps and surprises", "[hal][seek]") {
+  const hal::SeekModel m = hal::kSeekCompact;
+  test::FakeSeek cam(m);
+  // Image counters 1, 2, 2 (a duplicate), 5 (two lost), 1005 (a surprise), 1006; then a shutter
+  // cycle whose frames count too, and an image right after it.
+  cam.plan = {{3}, {3}, {3, {}, 0}, {3, {}, 3}, {3, {}, 1000}, {3}, {6}, {1}, {20}, {3}};
+  hal::SeekSource source(cam, m);
+  test::FrameCollector sink(m.width, m.height);
+  std::vector<std::uint64_t> seq;
+  for (int i = 0; i < 7; ++i) {
+    REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);
+    seq.push_back(sink.header().sequence);
+  }
+  CHECK(seq == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5, 6});  // duplicates are delivered
+  const hal::SourceStats st = source.stats();
+  CHECK(st.duplicates == 1);
+  CHECK(st.dropped == 2);  // the surprise of 999 is not counted as losses
+  CHECK(source.counters().counter_jumps == 2);
+  CHECK(source.counters().shutter_frames == 1);
 }

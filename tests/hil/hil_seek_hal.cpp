@@ -2,11 +2,15 @@
 // streaming from the Seek Compact emulator. Every delivered 208x156 image must equal, bit for
 // bit and in order, an image frame the emulator sent whole; shutter frames must show up as FFC
 // events, the start-up frame's dead pixels in the dead-pixel map, broken frames in the counters.
+// On a real camera (no send log to compare with) every image must arrive whole and in sequence:
+// nothing dropped, duplicated, short or corrupt, no disconnect, no timeout once streaming.
 //
 //   hil_seek_hal --send-log FILE --done FILE [--min-frames N] [--shutters N] [--dead-pixels N]
+//   hil_seek_hal --real --frames N
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -55,14 +59,77 @@ class HashingSink final : public fw::LineSink {
   fw::FfcState ffc_ = fw::FfcState::unknown;
 };
 
+// A real camera: `frames` images, each whole and in sequence. Timeouts before the first image are
+// the camera's start-up (it boots, then calibrates) and are only reported.
+int stream_real_camera(hal::SeekSource& source, HashingSink& sink, const hal::SeekModel& model,
+                       std::uint64_t frames) {
+  const auto start = Clock::now();
+  auto last_progress = start;
+  std::optional<hal::SourceStats> at_first_image;
+  while (sink.hashes.size() < frames) {
+    const std::size_t before = sink.hashes.size();
+    source.stream_frame(sink);
+    if (sink.hashes.size() != before) {
+      last_progress = Clock::now();
+      if (!at_first_image) at_first_image = source.stats();
+    } else if (Clock::now() - last_progress > std::chrono::seconds(15)) {
+      break;
+    }
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const hal::SourceStats st = source.stats();
+  std::uint64_t repeated = 0;  // a sensor's noise makes two equal images in a row a duplicate
+  for (std::size_t i = 1; i < sink.hashes.size(); ++i) repeated += sink.hashes[i] == sink.hashes[i - 1] ? 1 : 0;
+  const std::uint64_t startup_timeouts = at_first_image ? at_first_image->timeouts : st.timeouts;
+  int failures = 0;
+  auto expect = [&](bool ok, const std::string& what) {
+    if (!ok) {
+      ++failures;
+      std::printf("hil_seek_hal: FAIL %s\n", what.c_str());
+    }
+  };
+  expect(sink.hashes.size() == frames,
+         "images delivered: got " + std::to_string(sink.hashes.size()) + ", want " + std::to_string(frames) +
+             " (none for 15 s)");
+  expect(st.dropped == 0 && source.counters().counter_jumps == 0,
+         std::to_string(st.dropped) + " images dropped, " + std::to_string(source.counters().counter_jumps) +
+             " frame counter jumps");
+  expect(st.duplicates == 0 && repeated == 0,
+         std::to_string(st.duplicates) + " duplicate frame ids, " + std::to_string(repeated) + " repeated images");
+  expect(st.short_transfers == 0 && st.corrupt_transfers == 0,
+         std::to_string(st.short_transfers) + " short, " + std::to_string(st.corrupt_transfers) + " corrupt transfers");
+  expect(st.disconnects == 0, std::to_string(st.disconnects) + " disconnects");
+  expect(st.timeouts == startup_timeouts,
+         std::to_string(st.timeouts - startup_timeouts) + " timeouts after the first image");
+  expect(source.dead_pixels() < model.width * model.height / 100,
+         "dead-pixel map marks " + std::to_string(source.dead_pixels()) + " pixels (>= 1 %)");
+  std::printf("hil_seek_hal: %s: real Seek %s, %zu images in %.1f s (%.1f/s); shutter frames %llu, dead pixels %u, "
+              "start-up timeouts %llu\n",
+              failures == 0 ? "PASS" : "FAIL", model.name, sink.hashes.size(), seconds,
+              static_cast<double>(sink.hashes.size()) / seconds,
+              static_cast<unsigned long long>(source.counters().shutter_frames), source.dead_pixels(),
+              static_cast<unsigned long long>(startup_timeouts));
+  return failures == 0 ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string send_log, done;
-  std::uint64_t min_frames = 1, want_shutters = 0, want_dead = 0;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  std::uint64_t min_frames = 1, want_shutters = 0, want_dead = 0, real_frames = 0;
+  for (int i = 1; i < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--send-log") send_log = argv[i + 1];
+    if (a == "--real") {
+      real_frames = std::max<std::uint64_t>(real_frames, 1);
+      --i;  // no value
+      continue;
+    }
+    if (i + 1 >= argc) {
+      std::printf("hil_seek_hal: FAIL option %s needs a value\n", a.c_str());
+      return 2;
+    }
+    if (a == "--frames") real_frames = std::stoull(argv[i + 1]);
+    else if (a == "--send-log") send_log = argv[i + 1];
     else if (a == "--done") done = argv[i + 1];
     else if (a == "--min-frames") min_frames = std::stoull(argv[i + 1]);
     else if (a == "--shutters") want_shutters = std::stoull(argv[i + 1]);
@@ -71,6 +138,10 @@ int main(int argc, char** argv) {
       std::printf("hil_seek_hal: FAIL unknown option %s\n", a.c_str());
       return 2;
     }
+  }
+  if (real_frames == 0 && (send_log.empty() || done.empty())) {
+    std::printf("hil_seek_hal: FAIL give --send-log and --done (emulator) or --real --frames N (camera)\n");
+    return 2;
   }
   try {
     std::unique_ptr<hal::LibusbTransport> transport;
@@ -86,8 +157,12 @@ int main(int argc, char** argv) {
     }
     hal::SeekSourceConfig config;
     config.transfer_timeout_ms = 500;
-    hal::SeekSource source(*transport, hal::kSeekCompact, config);
+    const hal::SeekModel& model = transport->opened().product_id == hal::kSeekCompactPro.product_id
+                                      ? hal::kSeekCompactPro
+                                      : hal::kSeekCompact;
+    hal::SeekSource source(*transport, model, config);
     HashingSink sink;
+    if (real_frames > 0) return stream_real_camera(source, sink, model, real_frames);
     const auto start = Clock::now();
     std::optional<bolo::hil::Expectation> expected;
     auto last_progress = Clock::now();
@@ -131,6 +206,14 @@ int main(int argc, char** argv) {
     const std::uint64_t unplugs = expected->injected[static_cast<std::size_t>(bolo::hil::Fault::disconnect)];
     expect(st.disconnects == unplugs, "disconnects counted " + std::to_string(st.disconnects) + ", injected " +
                                           std::to_string(unplugs));
+    // Duplicates are delivered and counted; a copy whose twin was lost to an unplug is not one.
+    const std::uint64_t dups = expected->injected[static_cast<std::size_t>(bolo::hil::Fault::duplicate)];
+    expect(st.duplicates <= dups && st.duplicates + unplugs >= dups,
+           "duplicates counted " + std::to_string(st.duplicates) + ", injected " + std::to_string(dups));
+    const std::uint64_t jumps = expected->injected[static_cast<std::size_t>(bolo::hil::Fault::frame_id_jump)];
+    expect(source.counters().counter_jumps >= jumps, "frame counter jumps counted " +
+                                                         std::to_string(source.counters().counter_jumps) +
+                                                         " < injected " + std::to_string(jumps));
     if (want_shutters > 0)
       expect(source.counters().shutter_frames == want_shutters,
              "shutter frames: got " + std::to_string(source.counters().shutter_frames) + ", want " +
@@ -140,13 +223,15 @@ int main(int argc, char** argv) {
                                                     ", want " + std::to_string(want_dead));
     std::printf("hil_seek_hal: %s: SeekSource delivered %zu images in %.1f s (%.0f/s), %llu after FFC; shutter "
                 "frames %llu, dead pixels %u; emulator broke %llu; counted timeouts %llu short %llu corrupt %llu "
-                "disconnects %llu\n",
+                "disconnects %llu duplicates %llu counter jumps %llu (dropped %llu)\n",
                 failures == 0 ? "PASS" : "FAIL", sink.hashes.size(), seconds,
                 static_cast<double>(sink.hashes.size()) / seconds, static_cast<unsigned long long>(sink.after_ffc),
                 static_cast<unsigned long long>(source.counters().shutter_frames), source.dead_pixels(),
                 static_cast<unsigned long long>(broken), static_cast<unsigned long long>(st.timeouts),
                 static_cast<unsigned long long>(st.short_transfers), static_cast<unsigned long long>(st.corrupt_transfers),
-                static_cast<unsigned long long>(st.disconnects));
+                static_cast<unsigned long long>(st.disconnects), static_cast<unsigned long long>(st.duplicates),
+                static_cast<unsigned long long>(source.counters().counter_jumps),
+                static_cast<unsigned long long>(st.dropped));
     return failures == 0 ? 0 : 1;
   } catch (const std::exception& e) {
     std::printf("hil_seek_hal: FAIL %s\n", e.what());

@@ -90,6 +90,41 @@ TEST_CASE("every photometric mode runs on a ghosting sequence", "[vo][cli]") {
   }
 }
 
+TEST_CASE("--hfov stands in for a missing camera.json", "[vo][cli]") {
+  const fs::path& seq = sequence("drive", "0.0002");
+  TempDir tmp;
+  const fs::path nocam = tmp / "nocam";
+  fs::create_directories(nocam);
+  for (const char* f : {"recording.json", "frames.npy", "frames.csv"}) fs::copy_file(seq / f, nocam / f);
+  // The simulator's 160x120 camera: a centred pinhole of 50 degrees (fx = 80 / tan 25 deg).
+  const CliResult with_json = run_bolo({"odometry", seq.string(), "--out", (tmp / "json").string()});
+  const CliResult with_fov = run_bolo({"odometry", nocam.string(), "--out", (tmp / "fov").string(), "--hfov", "50"});
+  INFO(with_json.err << with_fov.err);
+  REQUIRE(with_json.code == 0);
+  REQUIRE(with_fov.code == 0);
+  const auto a = odo::read_tum(tmp / "json" / "trajectory.tum");
+  const auto b = odo::read_tum(tmp / "fov" / "trajectory.tum");
+  REQUIRE(a.size() == b.size());
+  REQUIRE(a.size() >= 20);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    CHECK(a[i].t == b[i].t);
+    CHECK((a[i].T_wc.t - b[i].T_wc.t).norm() < 1e-3);
+  }
+  // A different field of view is a different camera: the scale-free path still comes out, but
+  // not the same one.
+  const CliResult wide = run_bolo({"odometry", nocam.string(), "--out", (tmp / "wide").string(), "--hfov", "70"});
+  REQUIRE(wide.code == 0);
+  const auto c = odo::read_tum(tmp / "wide" / "trajectory.tum");
+  double differs = 0;
+  for (std::size_t i = 0; i < std::min(a.size(), c.size()); ++i)
+    differs = std::max(differs, (a[i].T_wc.t - c[i].T_wc.t).norm());
+  CHECK(differs > 1e-3);
+  CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "x").string(), "--hfov", "180"})
+            .find("--hfov: must be within 1..179 degrees") != std::string::npos);
+  CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "y").string()}).find("or give --hfov DEG") !=
+        std::string::npos);
+}
+
 TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothing behind", "[vo][cli][refusal]") {
   const fs::path& seq = sequence("drive", "0.0002");
   TempDir tmp;

@@ -6,11 +6,21 @@
 # irq_sim.c (CONFIG_IRQ_SIM, also off) is built into the same module; its one call of the
 # unexported irq_to_desc() becomes generic_handle_irq(), which runs the same handler.
 #
-#   gpio-sim.sh [x86_64]     (arm64 needs the arm64 headers and a cross build: not done yet)
+# For aarch64 the module is cross-built: the arm64 headers package with the host's (amd64)
+# linux-kbuild tools and aarch64-linux-gnu-gcc, the compiler family Debian's arm64 kernel uses.
+#
+#   gpio-sim.sh [x86_64|aarch64]
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 arch="${1:-x86_64}"
-[ "$arch" = x86_64 ] || { echo "gpio-sim: only x86_64 is built so far" >&2; exit 2; }
+case "$arch" in
+  x86_64) make_args=() ;;
+  aarch64)
+    command -v aarch64-linux-gnu-gcc >/dev/null ||
+      { echo "gpio-sim: aarch64-linux-gnu-gcc is missing (scripts/deps.sh installs it)" >&2; exit 2; }
+    make_args=(ARCH=arm64 CROSS_COMPILE=aarch64-linux-gnu-) ;;
+  *) echo "gpio-sim: unknown architecture '$arch' (x86_64 or aarch64)" >&2; exit 2 ;;
+esac
 cache="${BOLO_HIL_CACHE:-$HOME/.cache/bolo-hil}"
 # shellcheck source=kernel-cache.sh
 source "$here/kernel-cache.sh"
@@ -28,7 +38,10 @@ series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"  # 6.1
 root="$cache/$arch/kbuild-$kver"
 rm -rf "$root" "$out"
 mkdir -p "$root" "$out"
-for p in "linux-headers-$kver" "linux-headers-$abi-common" "linux-kbuild-$series" "linux-source-$series"; do
+headers_package="linux-headers-$kver"
+[ "$arch" = x86_64 ] || headers_package="$headers_package:$flavour"   # foreign: linux-headers-…-arm64:arm64
+# linux-kbuild is the host's (amd64): its fixdep/modpost run here, whatever the target.
+for p in "$headers_package" "linux-headers-$abi-common" "linux-kbuild-$series" "linux-source-$series"; do
   hil_fetch_deb "$p" "$root" "$cache" >&2
 done
 headers="$root/usr/src/linux-headers-$kver"
@@ -45,7 +58,7 @@ grep -q 'handle_simple_irq(irq_to_desc(irqnum));' "$out/irq_sim.c" ||
   { echo "gpio-sim: irq_sim.c changed upstream; check the irq_to_desc replacement" >&2; exit 1; }
 sed -i 's/handle_simple_irq(irq_to_desc(irqnum));/generic_handle_irq(irqnum);/' "$out/irq_sim.c"
 printf 'obj-m := gpio-sim.o\ngpio-sim-y := gpio-sim-main.o irq_sim.o\n' >"$out/Kbuild"
-make -s -C "$headers" M="$out" modules >&2
+make -s -C "$headers" M="$out" "${make_args[@]}" modules >&2
 echo "$kver" >"$out/kver"
 rm -rf "$root"  # the unpacked headers/kbuild (~300 MB); the .debs stay in the cache
 echo "$out/gpio-sim.ko"

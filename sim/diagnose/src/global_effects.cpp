@@ -239,9 +239,14 @@ class FpaDrift final : public Candidate {
 // the training frames; held out, the repeats it predicts must be there.
 class DuplicateFit final : public FittedEffect {
  public:
-  DuplicateFit(const DiagnoseData& d, const std::vector<float>& r, int period, int phase, std::vector<int> seen)
-      : d_(d), r_(r), period_(period), phase_(phase), seen_(std::move(seen)) {}
-  bool acts_on(int n) const override { return n > 0 && (period_ > 0 ? n % period_ == phase_ : std::binary_search(seen_.begin(), seen_.end(), n)); }
+  DuplicateFit(const DiagnoseData& d, const std::vector<float>& r, int period, int phase, std::vector<int> repeats)
+      : d_(d), r_(r), period_(period), phase_(phase), repeats_(std::move(repeats)) {}
+  // The period where the training blocks show one; and every frame the bit-identity test flags,
+  // held-out ones included: that test is a fixed rule read off each frame (as a stuck pixel's
+  // value is), not a parameter fitted to them, and noise never passes it.
+  bool acts_on(int n) const override {
+    return n > 0 && ((period_ > 0 && n % period_ == phase_) || std::binary_search(repeats_.begin(), repeats_.end(), n));
+  }
   void predict(int n, std::span<float> out) const override {
     std::fill(out.begin(), out.end(), 0.0f);
     if (!acts_on(n)) return;
@@ -250,17 +255,17 @@ class DuplicateFit final : public FittedEffect {
     for (std::size_t p = 0; p < out.size(); ++p) out[p] = r[p] - (y[p] - yp[p]);
   }
   nlohmann::json params() const override {
-    return {{"every", period_}, {"frames", seen_}};
+    return {{"every", period_}, {"frames", repeats_}};
   }
   std::string simulator_effect() const override {
     return period_ > 0 ? "frame_duplication:every=" + std::to_string(period_) : "";
   }
   Where where() const override {
     Where w;
-    for (int n : seen_) w.frames.push_back({n - 1, n});
+    for (int n : repeats_) w.frames.push_back({n - 1, n});
     w.row1 = d_.shape.height - 1;
     w.col1 = d_.shape.width - 1;
-    w.summary = std::to_string(seen_.size()) + " frame(s) identical to their predecessor" +
+    w.summary = std::to_string(repeats_.size()) + " frame(s) identical to their predecessor" +
                 (period_ > 0 ? ", every " + std::to_string(period_) + " frames" : "");
     return w;
   }
@@ -269,7 +274,7 @@ class DuplicateFit final : public FittedEffect {
   const DiagnoseData& d_;
   const std::vector<float>& r_;
   int period_, phase_;
-  std::vector<int> seen_;
+  std::vector<int> repeats_;
 };
 
 class FrameDuplication final : public Candidate {
@@ -293,7 +298,7 @@ class FrameDuplication final : public Candidate {
     std::vector<int> seen;
     for (int n : repeats_)
       if (train[n]) seen.push_back(n);
-    if (seen.empty()) return nullptr;
+    if (repeats_.empty()) return nullptr;
     // The most common gap between repeats, if it explains all of them, is the period.
     int period = 0, phase = 0;
     if (seen.size() >= 2) {
@@ -307,7 +312,7 @@ class FrameDuplication final : public Candidate {
       }
       if (g > 1) { period = g; phase = seen[0] % g; }
     }
-    return std::make_unique<DuplicateFit>(*data_, *residual_, period, phase, seen);
+    return std::make_unique<DuplicateFit>(*data_, *residual_, period, phase, repeats_);
   }
 
  private:

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -58,6 +59,14 @@ PixelSums pixel_sums(const DiagnoseData& d, const std::vector<float>& r, const s
   return s;
 }
 
+// Per pixel: the square of the mean level (sums taken against the baseline), NaN without data.
+std::vector<double> squared_levels(const PixelSums& s) {
+  std::vector<double> q(s.n.size(), NAN);
+  for (std::size_t p = 0; p < s.n.size() && !s.x.empty(); ++p)
+    if (s.n[p] > 0) q[p] = (s.x[p] / s.n[p]) * (s.x[p] / s.n[p]);
+  return q;
+}
+
 // Shrinks `values` (estimates with noise variances `noise_var`) by one common factor.
 double shrink(std::vector<double>& values, const std::vector<double>& noise_var) {
   double var = 0, nv = 0;
@@ -70,10 +79,171 @@ double shrink(std::vector<double>& values, const std::vector<double>& noise_var)
   return factor;
 }
 
+// The static pattern r_p (centred time-averaged residual, noise variance v_p) as a zero-mean
+// field whose variance is a part independent of the level (offset FPN: a) plus a part growing
+// with the square of the pixel's level q_p = ybar_p^2 (gain FPN, y (1 + g): g ybar, b = var g).
+// One static frame cannot tell g ybar from an offset pixel by pixel, but their spread over
+// pixels of different level can: the three variance models are compared by likelihood.
+struct LevelSplit {
+  double offset_var = 0, gain_var = 0;  // a, b of the chosen model
+  bool has_offset = true, has_gain = false;
+  // Pixel p's share of the pattern that is gain: b q / (a + b q + v).
+  double gain_share(double q, double v) const {
+    const double total = offset_var + gain_var * q + v;
+    return has_gain && total > 0 ? gain_var * q / total : 0.0;
+  }
+  double offset_share(double q, double v) const {
+    const double total = offset_var + gain_var * q + v;
+    return has_offset && total > 0 ? offset_var / total : 0.0;
+  }
+};
+
+LevelSplit split_by_level(const std::vector<double>& r, const std::vector<double>& v, const std::vector<double>& q) {
+  std::vector<std::size_t> use;
+  double r2 = 0, qm = 0;
+  for (std::size_t p = 0; p < r.size(); ++p)
+    if (std::isfinite(v[p]) && std::isfinite(q[p]) && q[p] > 0) {
+      use.push_back(p);
+      r2 += r[p] * r[p];
+      qm += q[p];
+    }
+  LevelSplit out;
+  if (use.size() < 16 || !(r2 > 0) || !(qm > 0)) return out;
+  r2 /= double(use.size());
+  qm /= double(use.size());
+  // The likelihood needs per pixel only (r^2, q, v): pixels sorted by level and pooled into at
+  // most 1024 bins of neighbouring levels (exact up to 1024 pixels; the search below evaluates
+  // it a few thousand times).
+  std::sort(use.begin(), use.end(), [&](std::size_t x, std::size_t y) { return q[x] < q[y]; });
+  struct Bin {
+    double count = 0, r2 = 0, q = 0, v = 0;
+  };
+  std::vector<Bin> bins;
+  const std::size_t per_bin = (use.size() + 1023) / 1024;
+  for (std::size_t i = 0; i < use.size(); i += per_bin) {
+    Bin b;
+    for (std::size_t k = i; k < std::min(use.size(), i + per_bin); ++k) {
+      const std::size_t p = use[k];
+      b.count += 1, b.r2 += r[p] * r[p], b.q += q[p], b.v += v[p];
+    }
+    b.q /= b.count, b.v /= b.count;
+    bins.push_back(b);
+  }
+  const auto ll = [&](double a, double b) {
+    double sum = 0;
+    for (const Bin& bin : bins) {
+      const double var = a + b * bin.q + bin.v;
+      if (!(var > 0)) return -std::numeric_limits<double>::infinity();
+      sum -= 0.5 * (bin.count * std::log(var) + bin.r2 / var);
+    }
+    return sum;
+  };
+  // Golden-section search for the maximum of f on [0, hi].
+  const auto argmax = [](const auto& f, double hi) {
+    const double g = 0.5 * (std::sqrt(5.0) - 1);
+    double lo = 0, x1 = hi - g * hi, x2 = g * hi, f1 = f(x1), f2 = f(x2);
+    for (int i = 0; i < 40; ++i) {
+      if (f1 < f2) { lo = x1; x1 = x2; f1 = f2; x2 = lo + g * (hi - lo); f2 = f(x2); }
+      else { hi = x2; x2 = x1; f2 = f1; x1 = hi - g * (hi - lo); f1 = f(x1); }
+    }
+    return 0.5 * (lo + hi);
+  };
+  const double a_hi = 4 * r2, b_hi = 4 * r2 / qm;
+  const double a_only = argmax([&](double a) { return ll(a, 0); }, a_hi);
+  const double b_only = argmax([&](double b) { return ll(0, b); }, b_hi);
+  // Both: a and b trade off along a ridge, so search the offset's fraction t of the pattern's
+  // variance (a = t S, b q_mean = (1 - t) S) and, for each t, the scale S.
+  const auto best_scale = [&](double t) { return argmax([&](double sc) { return ll(t * sc, (1 - t) * sc / qm); }, a_hi); };
+  const double t = argmax([&](double x) {
+    const double sc = best_scale(x);
+    return ll(x * sc, (1 - x) * sc / qm);
+  }, 1.0);
+  const double scale = best_scale(t);
+  const double a = t * scale, b = (1 - t) * scale / qm;
+  const double ll_offset = ll(a_only, 0), ll_gain = ll(0, b_only), ll_both = std::max(ll(a, b), std::max(ll_offset, ll_gain));
+  // Offset FPN is the default reading of a static pattern: the gain part must pay its BIC price
+  // and a margin (a pattern on a scene of one level stays an offset pattern). Once it has, the
+  // offset part stays unless it is plainly absent: a one-sided likelihood-ratio test at ~0.7 %
+  // (a pure gain pattern fits a ~ 0 and gains nothing from it).
+  const double price = 0.5 * std::log(double(use.size())) + 2.0;
+  const bool gain_needed = ll_both - ll_offset > price;
+  const bool offset_needed = ll_both - ll_gain > 3.0;
+  if (gain_needed && offset_needed) {
+    out.offset_var = a, out.gain_var = b, out.has_offset = true, out.has_gain = true;
+  } else if (gain_needed) {
+    out.gain_var = b_only, out.has_offset = false, out.has_gain = true;
+  } else {
+    out.offset_var = a_only;
+  }
+  return out;
+}
+
 double rms(const std::vector<double>& v) {
   double s = 0;
   for (double x : v) s += x * x;
   return v.empty() ? 0.0 : std::sqrt(s / double(v.size()));
+}
+
+// The time-averaged residual (training frames) and its column and row medians, centred, with
+// whether they stand out as stripes.
+struct TimeAveraged {
+  int width = 0;
+  std::vector<double> mean, noise, col, row;
+  double typical_noise = 0;
+  bool stripes_in_columns = false, stripes_in_rows = false;
+  // The per-pixel pattern: the mean less the stripes (column and row medians that are no
+  // stripes belong to the pixel pattern itself), centred.
+  std::vector<double> pixel_pattern() const {
+    std::vector<double> rest(mean.size());
+    const std::size_t W = std::size_t(width);
+    for (std::size_t p = 0; p < mean.size(); ++p)
+      rest[p] = mean[p] - (stripes_in_columns ? col[p % W] : 0.0) - (stripes_in_rows ? row[p / W] : 0.0);
+    const double m = std::accumulate(rest.begin(), rest.end(), 0.0) / double(rest.size());
+    for (double& v : rest) v -= m;
+    return rest;
+  }
+};
+
+TimeAveraged time_averaged(const DiagnoseData& d, const PixelSums& s) {
+  const int H = d.shape.height, W = d.shape.width;
+  const std::size_t P = d.shape.pixels();
+  TimeAveraged a;
+  a.width = W;
+  a.mean.assign(P, 0.0);
+  a.noise.assign(P, INFINITY);
+  for (std::size_t p = 0; p < P; ++p)
+    if (s.n[p] > 0) { a.mean[p] = s.r[p] / s.n[p]; a.noise[p] = s.residual_var / s.n[p]; }
+  // Columns and rows: medians, robust to the odd dead pixel.
+  a.col.assign(W, 0.0);
+  a.row.assign(H, 0.0);
+  std::vector<double> tmp;
+  a.typical_noise = s.residual_var / std::max(1.0, median_of(s.n));
+  for (int c = 0; c < W; ++c) {
+    tmp.clear();
+    for (int rr = 0; rr < H; ++rr) tmp.push_back(a.mean[rr * W + c]);
+    a.col[c] = median_in_place(tmp);
+  }
+  for (int rr = 0; rr < H; ++rr) {
+    tmp.assign(a.mean.begin() + rr * W, a.mean.begin() + (rr + 1) * W);
+    a.row[rr] = median_in_place(tmp);
+  }
+  auto centre = [](std::vector<double>& v) {
+    const double m = std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+    for (double& x : v) x -= m;
+  };
+  centre(a.col);
+  centre(a.row);
+  // Stripes must stand out from what a pixel pattern's own column and row medians are: a
+  // random per-pixel map of spread s has column medians of spread ~1.25 s / sqrt(rows).
+  double pixel_spread = 0;
+  for (std::size_t p = 0; p < P; ++p) {
+    const double v = a.mean[p] - a.col[p % W] - a.row[p / W];
+    pixel_spread += v * v;
+  }
+  pixel_spread = std::sqrt(pixel_spread / double(P));
+  a.stripes_in_columns = rms(a.col) >= 2.0 * pixel_spread / std::sqrt(double(H));
+  a.stripes_in_rows = rms(a.row) >= 2.0 * pixel_spread / std::sqrt(double(W));
+  return a;
 }
 
 class StaticMapFit final : public FittedEffect {
@@ -117,31 +287,10 @@ class StaticMap final : public Candidate {
     if (!d.has_scene) return nullptr;
     const int H = d.shape.height, W = d.shape.width;
     const std::size_t P = d.shape.pixels();
-    const PixelSums s = pixel_sums(d, *residual_, train, nullptr);
-    std::vector<double> mean(P, 0.0), noise(P, INFINITY);
-    for (std::size_t p = 0; p < P; ++p)
-      if (s.n[p] > 0) { mean[p] = s.r[p] / s.n[p]; noise[p] = s.residual_var / s.n[p]; }
-    // Columns and rows: medians, robust to the odd dead pixel.
-    std::vector<double> col(W), row(H), noise_col(W), noise_row(H);
-    std::vector<double> tmp;
-    const double typical_noise = s.residual_var / std::max(1.0, median_of(s.n));
-    for (int c = 0; c < W; ++c) {
-      tmp.clear();
-      for (int rr = 0; rr < H; ++rr) tmp.push_back(mean[rr * W + c]);
-      col[c] = median_in_place(tmp);
-      noise_col[c] = 1.57 * typical_noise / H;
-    }
-    for (int rr = 0; rr < H; ++rr) {
-      tmp.assign(mean.begin() + rr * W, mean.begin() + (rr + 1) * W);
-      row[rr] = median_in_place(tmp);
-      noise_row[rr] = 1.57 * typical_noise / W;
-    }
-    auto centre = [](std::vector<double>& v) {
-      const double m = std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
-      for (double& x : v) x -= m;
-    };
-    centre(col);
-    centre(row);
+    const PixelSums s = pixel_sums(d, *residual_, train, part_ == StaticPart::offset ? &d.baseline : nullptr);
+    TimeAveraged avg = time_averaged(d, s);
+    std::vector<double>&mean = avg.mean, &noise = avg.noise, &col = avg.col, &row = avg.row;
+    std::vector<double> noise_col(W, 1.57 * avg.typical_noise / H), noise_row(H, 1.57 * avg.typical_noise / W);
     // The radial field of the simulator's shading, (x_n^2 + y_n^2)/2 with x_n, y_n in [-1, 1].
     std::vector<double> field(P);
     double fm = 0;
@@ -159,16 +308,7 @@ class StaticMap final : public Candidate {
       fr += f * rest;
     }
     const double amplitude = ff > 0 ? fr / ff : 0.0;
-    // Stripes must stand out from what a pixel pattern's own column and row medians are: a
-    // random per-pixel map of spread s has column medians of spread ~1.25 s / sqrt(rows).
-    double pixel_spread = 0;
-    for (std::size_t p = 0; p < P; ++p) {
-      const double v = mean[p] - col[p % W] - row[p / W];
-      pixel_spread += v * v;
-    }
-    pixel_spread = std::sqrt(pixel_spread / double(P));
-    const bool stripes_in_columns = rms(col) >= 2.0 * pixel_spread / std::sqrt(double(H));
-    const bool stripes_in_rows = rms(row) >= 2.0 * pixel_spread / std::sqrt(double(W));
+    const bool stripes_in_columns = avg.stripes_in_columns, stripes_in_rows = avg.stripes_in_rows;
     if (part_ == StaticPart::column && !stripes_in_columns) return nullptr;
     if (part_ == StaticPart::row && !stripes_in_rows) return nullptr;
     std::vector<float> map(P, 0.0f);
@@ -207,18 +347,22 @@ class StaticMap final : public Candidate {
         // What column and row stripes leave (they are effects of their own). The radial shading
         // field splits into a column and a row part, so shading competes with both and wins
         // with its single parameter when the pattern is radial.
-        std::vector<double> rest(P), noise_rest(P);
-        for (std::size_t p = 0; p < P; ++p) {
-          // Column and row medians that are no stripes belong to the pixel pattern itself.
-          rest[p] = mean[p] - (stripes_in_columns ? col[p % W] : 0.0) - (stripes_in_rows ? row[p / W] : 0.0);
-          noise_rest[p] = noise[p];
-        }
-        const double m = std::accumulate(rest.begin(), rest.end(), 0.0) / double(P);
-        for (double& v : rest) v -= m;
-        shrink(rest, noise_rest);
+        std::vector<double> rest = avg.pixel_pattern(), noise_rest = noise;
+        // A pattern whose spread follows the level is gain_fpn's (its static part); where both
+        // are there, this takes the offset's share of each pixel.
+        const std::vector<double> level2 = squared_levels(s);
+        const LevelSplit split = split_by_level(rest, noise_rest, level2);
+        if (!split.has_offset) return nullptr;
+        if (split.has_gain)
+          for (std::size_t p = 0; p < P; ++p) rest[p] *= split.offset_share(level2[p], noise_rest[p]);
+        else
+          shrink(rest, noise_rest);
         for (std::size_t p = 0; p < P; ++p) map[p] = float(rest[p]);
-        params = {{"sigma", rms(rest)}};
-        sim = "offset_fpn:sigma=" + number(rms(rest));
+        // Beside a gain pattern the map holds each pixel's expected offset share (shrunk); the
+        // spread is the variance component's.
+        const double sigma = split.has_gain ? std::sqrt(split.offset_var) : rms(rest);
+        params = {{"sigma", sigma}};
+        sim = "offset_fpn:sigma=" + number(sigma);
         where = whole(d, "static pixel-to-pixel pattern in the time-averaged residual");
         break;
       }
@@ -281,20 +425,28 @@ class SlopeMap final : public Candidate {
     if (!d.has_scene || x_->empty()) return nullptr;
     const std::size_t P = d.shape.pixels();
     PixelSums s = pixel_sums(d, *residual_, train, x_.get());
-    std::vector<double> slope(P, 0.0), noise(P, INFINITY), intercept(P, 0.0), noise_i(P, INFINITY);
+    std::vector<double> slope(P, 0.0), noise(P, INFINITY), intercept(P, 0.0);
     std::vector<float> centre(P, 0.0f);
-    // gain_fpn: y (1 + g) = y + g ybar + g (y - ybar). The static part g ybar cannot be told from
-    // an offset pattern, so it is left to offset_fpn; gain_fpn claims only the slope on the
-    // level's change. tau_spread acts only through the transient.
-    if (!tau_)
+    // gain_fpn: y (1 + g) = y + g ybar + g (y - ybar): the slope on the level's change, and the
+    // static part g ybar, which pixel by pixel looks like an offset; it is claimed only when the
+    // static pattern's spread follows the level (split_by_level; otherwise it is offset_fpn's).
+    // tau_spread acts only through the transient.
+    LevelSplit split;
+    if (!tau_) {
+      // The same pixel pattern as offset_fpn's (stripes are effects of their own).
+      const TimeAveraged avg = time_averaged(d, s);
+      const std::vector<double> rest = avg.pixel_pattern(), &noise_rest = avg.noise;
+      const std::vector<double> level2 = squared_levels(s);
+      split = split_by_level(rest, noise_rest, level2);
+      for (std::size_t p = 0; p < P; ++p) intercept[p] = rest[p] * split.gain_share(level2[p], noise_rest[p]);
       for (std::size_t p = 0; p < P; ++p) {
         if (s.n[p] < 2) continue;
         const double xm = s.x[p] / s.n[p], rm = s.r[p] / s.n[p];
         centre[p] = float(xm);
         s.xr[p] -= s.n[p] * xm * rm;
         s.xx[p] = std::max(0.0, s.xx[p] - s.n[p] * xm * xm);
-        (void)rm;
       }
+    }
     double xx_total = 0;
     for (std::size_t p = 0; p < P; ++p) {
       xx_total += s.xx[p];
@@ -306,13 +458,9 @@ class SlopeMap final : public Candidate {
     for (std::size_t p = 0; p < P; ++p)
       if (s.xx[p] < 1e-3 * typical) { slope[p] = 0; noise[p] = INFINITY; }
     shrink(slope, noise);
-    if (!tau_) {
-      const double m = std::accumulate(intercept.begin(), intercept.end(), 0.0) / double(P);
-      for (double& v : intercept) v -= m;
-      shrink(intercept, noise_i);
-    }
     std::vector<float> map(slope.begin(), slope.end()), icpt(intercept.begin(), intercept.end());
-    const double sigma = rms(slope);
+    // The static part's spread measures g directly where it is claimed; the slopes are noisier.
+    const double sigma = split.has_gain ? std::sqrt(split.gain_var) : rms(slope);
     nlohmann::json params = {{"sigma", sigma}};
     std::string sim = (tau_ ? "tau_spread:sigma=" : "gain_fpn:sigma=") + number(sigma);
     Where where = whole(d, tau_ ? "per-pixel residual proportional to the input change (each pixel its own tau)"

@@ -22,9 +22,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// An ideal pinhole centred on the image (pixel centres at integer coordinates, as camera.json's).
+vo::Camera camera_from_hfov(double hfov_deg, std::uint32_t width, std::uint32_t height) {
+  const double f = 0.5 * width / std::tan(0.5 * hfov_deg * 3.14159265358979323846 / 180.0);
+  vo::Camera c;
+  c.fx = c.fy = static_cast<float>(f);
+  c.cx = 0.5f * static_cast<float>(width - 1);
+  c.cy = 0.5f * static_cast<float>(height - 1);
+  return c;
+}
+
 vo::Camera read_camera(const rec::Recording& recording) {
   const fs::path file = recording.dir() / "camera.json";
-  if (!recording.camera()) throw Error(file.string() + ": missing (the VO needs the camera intrinsics)");
+  if (!recording.camera())
+    throw Error(file.string() + ": missing (the VO needs the camera intrinsics: add it, or give --hfov DEG)");
   const nlohmann::json& j = *recording.camera();
   const auto number = [&](const char* key, bool required) -> double {
     if (!j.contains(key)) {
@@ -90,7 +101,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   const std::uint32_t w = recording.width(), h = recording.height();
   vo::VoConfig config;
   config.width = w, config.height = h;
-  config.camera = read_camera(recording);
+  config.camera = options.hfov_deg ? camera_from_hfov(*options.hfov_deg, w, h) : read_camera(recording);
   config.photometric = options.photometric;
   config.tau_init_s = static_cast<float>(options.tau_init_s);
   config.window_ba = options.window_ba;

@@ -3,24 +3,35 @@
 # through the project's SeekSource: 1) images without faults, shutter cycles every 100 images:
 # none lost, every image bit-exact, every shutter frame an FFC event, the start-up frame's 5
 # dead pixels found; 2) 1 % of each fault kind, stalls and unplug/replug included; 3) ~9
-# unplug/replug cycles in a row.
-# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 10000 on x86-64, 1000 in the arm64 VM) sets the clean
+# unplug/replug cycles in a row; 4) the real-camera check (no send log): passes a clean stream,
+# fails one with frame-id jumps and duplicates.
+# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 10000 on both architectures) sets the clean
 # run's length; the fault run streams a quarter of it.
 # device: usb:seek
-# real: echo "usb:seek on a real camera: not written yet (docs/hil.md)"; exit 77
-frames="${BOLO_HIL_SEEK_FRAMES:-1000}"
+# real: hil_seek_hal --real --frames "${BOLO_HIL_SEEK_FRAMES:-10000}"
+frames="${BOLO_HIL_SEEK_FRAMES:-10000}"
 fault_frames=$((frames / 4))
 failed=0
 
-run() {  # name, emulator arguments, host arguments
+run() {  # name, emulator arguments, host arguments (default: against the emulator's send log)
   name="$1"
+  host_args="${3:-}"
+  case "$host_args" in
+    --real*) ;;
+    *) host_args="--send-log /tmp/$name.log --done /tmp/$name.done $host_args" ;;
+  esac
   echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
   ./seek_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" \
     --done "/tmp/$name.done" --finished "/tmp/$name.finished" $2 &
   emulator=$!
-  ./hil_seek_hal --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 || failed=1
+  if [ "${4:-}" = must-fail ]; then
+    ! ./hil_seek_hal $host_args || { echo "HIL-STEP $name: the host check passed a faulty stream"; failed=1; }
+  else
+    ./hil_seek_hal $host_args || failed=1
+  fi
   touch "/tmp/$name.finished"
-  wait $emulator || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+  # A host check that is meant to fail may stop before the emulator has sent everything.
+  wait $emulator || [ "${4:-}" = must-fail ] || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
   echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
 }
 
@@ -33,4 +44,10 @@ run seek_faults "--frames $fault_frames --shutter-period 100 --fault-rate 0.01 -
 # image delivered bit-exactly, every unplug counted once.
 run seek_replug "--frames 300 --shutter-period 100 --fault-rate 0.03 --seed 5 --faults disconnect" \
   "--min-frames 270"
+# The real-camera check (BOLO_HIL_DEVICE=usb:seek) against the emulator without faults, so that
+# mode is exercised here too: it must pass on a clean stream without a send log.
+run seek_as_camera "--frames 300 --shutter-period 100" "--real --frames 300"
+# ...and it must fail one with frame-id jumps and duplicates (images lost or repeated).
+run seek_as_faulty_camera "--frames 300 --shutter-period 100 --fault-rate 0.03 --seed 7 \
+  --faults frame_id_jump,duplicate" "--real --frames 280" must-fail
 exit $failed

@@ -44,7 +44,14 @@ struct SeekCounters {
   std::uint64_t calibration_frames = 0;  // other non-image frames consumed
   std::uint64_t startup_frames = 0;
   std::uint64_t start_failures = 0;      // start-up sequences that did not complete
+  // The frame counter moved by other than +1 (a duplicate aside): frames lost on the way (a gap of
+  // up to kSeekPlausibleGap also adds to SourceStats::dropped) or a counter surprise.
+  std::uint64_t counter_jumps = 0;
 };
+
+// Counter gaps up to this many frames are counted as dropped frames (8 s of a Compact's stream);
+// a larger jump is a counter surprise, not that many losses.
+inline constexpr std::uint16_t kSeekPlausibleGap = 64;
 
 class SeekSource final : public FrameSource {
  public:
@@ -67,6 +74,7 @@ class SeekSource final : public FrameSource {
   TransferStatus start();
   Read read_frame(std::int64_t& arrival_ns);
   StreamStatus device_gone();
+  bool follow_counter(const SeekFrameInfo& info);
 
   VendorUsbTransport& transport_;
   SeekSourceConfig config_;
@@ -76,6 +84,8 @@ class SeekSource final : public FrameSource {
   bool connected_ = true;
   bool ffc_pending_ = false;
   std::uint64_t sequence_ = 0;
+  bool have_counter_ = false;  // since the (re)start
+  std::uint16_t previous_counter_ = 0;
   std::uint8_t firmware_[4] = {};
   std::uint8_t chip_id_[12] = {};
   SeekCounters counters_;

@@ -20,6 +20,9 @@ struct OdometryOptions {
   vo::Photometric photometric = vo::Photometric::none;
   double tau_init_s = 0.010;
   bool estimate_tau = true;  // false: tau_init_s is the known tau
+  // Intrinsics from a horizontal field of view (pinhole, centred, square pixels) instead of
+  // camera.json.
+  std::optional<double> hfov_deg;
   bool window_ba = true;
   bool overwrite = false;
   std::optional<std::uint64_t> max_frames;
