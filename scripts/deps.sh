@@ -8,7 +8,7 @@ packages=(
   libusb-1.0-0-dev libgpiod-dev libbenchmark-dev
   g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user
   clang libclang-rt-14-dev llvm clang-tidy cppcheck
-  qemu-system-x86 qemu-system-arm busybox-static kmod cpio  # HIL VMs (docs/hil.md)
+  qemu-system-x86 qemu-system-arm busybox-static kmod cpio patch  # HIL VMs (docs/hil.md; patch: uvc-gadget.sh)
 )
 
 # The arm64 HIL VM's kernel and libraries are fetched as arm64 packages (apt-get download).

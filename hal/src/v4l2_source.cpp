@@ -174,6 +174,23 @@ struct V4l2Source::Device {
   }
 };
 
+bool SequenceGaps::add(std::uint32_t sequence) {
+  if (!have_) {
+    have_ = true;
+    highest_ = sequence;
+    return true;
+  }
+  const auto step = static_cast<std::int32_t>(sequence - highest_);
+  if (step > 0) {
+    missing_ += static_cast<std::uint32_t>(step - 1);
+    highest_ = sequence;
+    return true;
+  }
+  ++late_;
+  if (missing_ > 0) --missing_;
+  return false;
+}
+
 V4l2Source::V4l2Source(const V4l2Config& config) : config_(config), device_(std::make_unique<Device>()) {
   const std::string why = device_->open(config_, negotiated_);
   if (!why.empty()) throw std::runtime_error(config_.path + ": " + why);
@@ -196,7 +213,7 @@ StreamStatus V4l2Source::lost_device() {
     ++stats_.disconnects;
     device_->close();
     sequence_offset_ = last_sequence_ + 2;  // a gap: the driver starts again at 0
-    have_sequence_ = false;
+    gaps_.restart();
     have_ffc_stamp_ = false;
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(config_.reconnect_timeout_ms);
@@ -248,11 +265,10 @@ StreamStatus V4l2Source::stream_frame(fw::LineSink& sink) {
     ~Requeue() { xioctl(d.fd, VIDIOC_QBUF, &b); }
   } requeue{*device_, buf};
 
-  // Every number the driver skipped is a frame that never arrived.
-  if (have_sequence_ && buf.sequence != last_driver_sequence_ + 1)
-    stats_.dropped += static_cast<std::uint32_t>(buf.sequence - last_driver_sequence_ - 1);
-  have_sequence_ = true;
-  last_driver_sequence_ = buf.sequence;
+  // Every number the driver skipped is a frame that never arrived (unless it comes late).
+  const std::uint64_t missing_before = gaps_.missing();
+  gaps_.add(buf.sequence);
+  stats_.dropped = stats_.dropped - missing_before + gaps_.missing();
   last_sequence_ = sequence_offset_ + buf.sequence;
 
   if (buf.flags & V4L2_BUF_FLAG_ERROR) {

@@ -108,3 +108,37 @@ TEST_CASE("v4l2: the Y16 size asked for among what the driver offers", "[hal][v4
   CHECK(choose_y16_size(Sizes{{16384, 8640}, {3840, 2160}}, {}) == Size{3840, 2160});  // none fits: smallest
   CHECK_FALSE(choose_y16_size(Sizes{}, {}).has_value());
 }
+
+TEST_CASE("v4l2: sequence gaps count frames never delivered; late frames are taken back", "[hal][v4l2]") {
+  SequenceGaps in_order;
+  for (std::uint32_t s : {7u, 8u, 9u}) CHECK(in_order.add(s));
+  CHECK(in_order.missing() == 0);
+  CHECK(in_order.out_of_order() == 0);
+
+  SequenceGaps gap;  // 11 and 12 never come
+  for (std::uint32_t s : {9u, 10u, 13u, 14u}) CHECK(gap.add(s));
+  CHECK(gap.missing() == 2);
+
+  // uvcvideo completed 129 after 130 (seen in the HIL VM): nothing is missing in the end, and
+  // the swap does not wrap into ~4e9 "drops" as a plain difference would.
+  SequenceGaps swapped;
+  CHECK(swapped.add(128));
+  CHECK(swapped.add(130));
+  CHECK(swapped.missing() == 1);
+  CHECK_FALSE(swapped.add(129));
+  CHECK(swapped.add(131));
+  CHECK(swapped.missing() == 0);
+  CHECK(swapped.out_of_order() == 1);
+
+  SequenceGaps wrap;  // the 32-bit counter wrapping is a step of 1
+  CHECK(wrap.add(0xFFFFFFFFu));
+  CHECK(wrap.add(0));
+  CHECK(wrap.missing() == 0);
+
+  SequenceGaps reopened;  // a reopened device starts at 0 again: no gap, nothing late
+  CHECK(reopened.add(500));
+  reopened.restart();
+  CHECK(reopened.add(0));
+  CHECK(reopened.missing() == 0);
+  CHECK(reopened.out_of_order() == 0);
+}

@@ -56,15 +56,28 @@ fi
 # at ~110-180 images/s with the transport's queued reads; docs/hil.md has the times).
 export BOLO_HIL_FRAMES="${BOLO_HIL_FRAMES:-10000}"
 export BOLO_HIL_SEEK_FRAMES="${BOLO_HIL_SEEK_FRAMES:-10000}"
+# PureThermal (UVC): 10000 frames on x86-64 (~360-610 frames/s), 1000 in the arm64 VM (~200/s;
+# the suites' time budget).
+if [ -z "${BOLO_HIL_UVC_FRAMES:-}" ]; then
+  export BOLO_HIL_UVC_FRAMES=10000
+  [ "$arch" = aarch64 ] && export BOLO_HIL_UVC_FRAMES=1000
+fi
 # gpio-sim for the VM's kernel (cross-built for aarch64), built once and cached; without it GPIO
 # scenarios skip.
 "$repo/toolchain/vm/gpio-sim.sh" "$arch" >/dev/null ||
   echo "run-hil-test: gpio-sim build for $arch failed; GPIO steps will skip" >&2
+# usb_f_uvc with bulk streaming, built once and cached (cross-built for aarch64); without it
+# the UVC scenario skips (Debian's module streams isochronous only).
+if grep -q "usb_f_uvc bulk build" "$scenario"; then
+  "$repo/toolchain/vm/uvc-gadget.sh" "$arch" >/dev/null || echo "run-hil-test: uvc-gadget build failed; the UVC scenario will skip" >&2
+fi
 args=(--arch "$arch" --scenario "$scenario")
 [ -n "$capture" ] && args+=(--file "$capture")
 # The recording made from the same capture, for `bolo capture` to reproduce in the VM.
 recording="$shared/real/flirone-lepton-telemetry"
 [ -d "$recording" ] && args+=(--file "$recording")
+# A Lepton 3 recording for the PureThermal emulator to stream (uvc.sh; simulated frames without).
+grep -q "lepton3-possum" "$scenario" && [ -d "$shared/real/lepton3-possum" ] && args+=(--file "$shared/real/lepton3-possum")
 [ -n "$sysroot" ] && args+=(--sysroot "$sysroot")
 for f in "${files[@]}"; do args+=(--file "$f"); done
 exec "$repo/toolchain/vm/hil-vm.sh" "${args[@]}"

@@ -12,9 +12,9 @@ targets=(flirone_emulator hil_flirone seek_emulator)
 # Listed once: `ninja ... | grep -q` under pipefail fails at random (grep's early exit kills
 # ninja with SIGPIPE), which once dropped hil_flirone_hal from a CI build.
 available=$(ninja -C "$dir" -t targets all)
-# The HAL's USB sources (where libusb was found) and its GPIO test (where libgpiod was; the VM gets
-# a cross-built gpio-sim module, toolchain/vm/gpio-sim.sh).
-for optional in hil_flirone_hal hil_seek_hal hil_gpio; do
+# The HAL's USB sources (where libusb was found), the UVC emulator and its V4L2 host side, and its
+# GPIO test (where libgpiod was; the VM gets a cross-built gpio-sim module, toolchain/vm/gpio-sim.sh).
+for optional in hil_flirone_hal hil_seek_hal hil_gpio uvc_emulator hil_uvc_hal; do
   grep -q "^$optional:" <<<"$available" && targets+=("$optional")
 done
 cmake --build "$dir" -j "$(nproc)" --target "${targets[@]}"

@@ -74,6 +74,11 @@ for m in "${order[@]}"; do
   cp "$moddir/$m" "$root/lib/modules/"
   echo "$(basename "$m")" >>"$root/etc/modules"
 done
+# usb_f_uvc with bulk streaming (toolchain/vm/uvc-gadget.sh), where built, replaces Debian's
+# (isochronous only); it has the same dependencies, packed above.
+if [ -f "$cache/$arch/uvc-gadget/usb_f_uvc.ko" ]; then
+  cp "$cache/$arch/uvc-gadget/usb_f_uvc.ko" "$root/lib/modules/usb_f_uvc.ko"
+fi
 if [ -n "$extra_gpio_sim" ]; then
   cp "$extra_gpio_sim" "$root/lib/modules/"
   echo gpio-sim.ko >>"$root/etc/modules"

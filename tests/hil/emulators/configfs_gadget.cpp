@@ -78,13 +78,19 @@ ConfigfsGadget::ConfigfsGadget(std::string name, const GadgetIdentity& identity)
   write_attribute(config + "/MaxPower", "500");
 }
 
-std::string ConfigfsGadget::add_function(const std::string& type, const std::string& instance) {
+void make_link(const std::string& target, const std::string& link) {
+  if (::symlink(target.c_str(), link.c_str()) != 0 && errno != EEXIST)
+    throw std::runtime_error(link + " -> " + target + ": " + std::strerror(errno));
+}
+
+std::string ConfigfsGadget::add_function(const std::string& type, const std::string& instance,
+                                         const std::function<void(const std::string&)>& prepare) {
   const std::string function = root_ + "/functions/" + type + "." + instance;
   make_dir(function);
   created_.push_back(function);
+  if (prepare) prepare(function);
   const std::string link = root_ + "/configs/c.1/" + type + "." + instance;
-  if (::symlink(function.c_str(), link.c_str()) != 0 && errno != EEXIST)
-    throw std::runtime_error(link + ": " + std::strerror(errno));
+  make_link(function, link);
   links_.push_back(link);
   return function;
 }

@@ -4,6 +4,7 @@
 // replug as the host sees it).
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,9 @@ class ConfigfsGadget {
   ConfigfsGadget& operator=(const ConfigfsGadget&) = delete;
 
   // Creates functions/<type>.<instance> and links it into the configuration; returns its folder.
-  std::string add_function(const std::string& type, const std::string& instance);
+  // `prepare` runs on the folder before the link (UVC needs its descriptor tree by then).
+  std::string add_function(const std::string& type, const std::string& instance,
+                           const std::function<void(const std::string&)>& prepare = {});
   std::string root() const { return root_; }
 
   // Binds to the first UDC in /sys/class/udc (or BOLO_HIL_UDC), i.e. plugs the device in.
@@ -49,5 +52,7 @@ class ConfigfsGadget {
 // Writes `value` to a configfs/sysfs attribute; throws naming the file.
 void write_attribute(const std::string& path, const std::string& value);
 void make_dir(const std::string& path);
+// A configfs symbolic link `link` -> `target`; throws naming the link.
+void make_link(const std::string& target, const std::string& link);
 
 }  // namespace bolo::hil

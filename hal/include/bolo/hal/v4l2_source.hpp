@@ -37,6 +37,25 @@ struct V4l2Negotiated {
   std::uint32_t frame_period_ns = 0;
 };
 
+// A driver's frame sequence numbers -> the frames it numbered but never delivered. A number at
+// or behind the highest seen arrives out of order: uvcvideo completes buffers from copy work that
+// runs in parallel (an unbound workqueue), so two frames can swap under load. Such a frame was
+// counted missing when the higher number came and is taken back (a repeated number is taken for
+// such a frame too: the sequence alone cannot tell them apart).
+class SequenceGaps {
+ public:
+  // False for a number at or behind the highest seen.
+  bool add(std::uint32_t sequence);
+  void restart() { have_ = false; }  // a reopened device numbers from 0 again
+  std::uint64_t missing() const { return missing_; }
+  std::uint64_t out_of_order() const { return late_; }
+
+ private:
+  bool have_ = false;
+  std::uint32_t highest_ = 0;
+  std::uint64_t missing_ = 0, late_ = 0;
+};
+
 class V4l2Source final : public FrameSource {
  public:
   explicit V4l2Source(const V4l2Config& config);
@@ -46,6 +65,8 @@ class V4l2Source final : public FrameSource {
   SourceStats stats() const override { return stats_; }
   const V4l2Negotiated& negotiated() const { return negotiated_; }
   const LeptonTelemetry& last_telemetry() const { return telemetry_; }
+  // Frames the driver handed over behind a higher sequence number (see SequenceGaps).
+  std::uint64_t out_of_order() const { return gaps_.out_of_order(); }
 
   struct Device;
 
@@ -56,8 +77,7 @@ class V4l2Source final : public FrameSource {
   std::unique_ptr<Device> device_;
   V4l2Negotiated negotiated_;
   std::vector<std::uint16_t> line_;
-  bool have_sequence_ = false;
-  std::uint32_t last_driver_sequence_ = 0;
+  SequenceGaps gaps_;
   std::uint64_t sequence_offset_ = 0;  // keeps sequences increasing across a reopen
   std::uint64_t last_sequence_ = 0;
   bool have_ffc_stamp_ = false;

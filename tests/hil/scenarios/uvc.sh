@@ -1,0 +1,89 @@
+#!/bin/sh
+# HIL scenario, run inside the VM: the PureThermal emulator (UVC Y16, 160x120 and 160x122 with
+# Lepton telemetry rows) on the configfs UVC gadget function (usb_f_uvc bulk build of
+# toolchain/vm/uvc-gadget.sh), frames of the lepton3-possum recording (simulated ones without
+# ../shared); the host side through the real uvcvideo driver and the project's V4l2Source:
+# 1) 160x122 without faults, FFC every 100 frames: none lost, every image and telemetry counter
+# bit-exact, every FFC seen; 2) 160x120 (no telemetry rows); 3) 1 % faults, drawn among short frame,
+# duplicate, silence; 4) unplug/replug (2 % of 300 frames); 5) where the CLI is built and the
+# recording is there: `bolo capture --device v4l2:/dev/videoN` of the recording played once must
+# hold exactly its pixels.
+# BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 10000 on x86-64, 1000 in the arm64 VM) sets the clean run's length; the fault
+# run streams a quarter of it.
+# device: usb:purethermal
+# real: echo "a real PureThermal: use BOLO_HIL_DEVICE=v4l2:/dev/videoN (vivid.sh: bolo capture)"; exit 77
+if [ ! -e /sys/module/usb_f_uvc/parameters/bulk_payload ]; then
+  echo "Debian's isochronous-only usb_f_uvc is loaded, not the bulk build (toolchain/vm/uvc-gadget.sh failed or was not run)" >/tmp/skip-reason
+  exit 77
+fi
+frames="${BOLO_HIL_UVC_FRAMES:-1000}"
+fault_frames=$((frames / 4))
+recording=""
+if [ -d ./lepton3-possum ]; then
+  recording="--recording ./lepton3-possum"
+else
+  echo "uvc: no lepton3-possum recording (../shared/data absent): simulated frames"
+fi
+failed=0
+
+run() {  # name, emulator arguments, host arguments
+  name="$1"
+  echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
+  # --credit/--progress: the emulator stays at most 8 frames ahead of what the host program has
+  # delivered (it has 16 buffers), so uvcvideo always has a buffer: a lost frame is the stack's.
+  ./uvc_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" \
+    --done "/tmp/$name.done" --finished "/tmp/$name.finished" --credit "/tmp/$name.progress:8" $recording $2 &
+  emulator=$!
+  ./hil_uvc_hal --send-log "/tmp/$name.log" --done "/tmp/$name.done" --progress "/tmp/$name.progress" \
+    --buffers 16 $3 || failed=1
+  touch "/tmp/$name.finished"
+  wait $emulator || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+  echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+}
+
+run uvc_clean "--frames $frames --ffc-period 100" "--size 160x122 --min-frames $frames --ffc-period 100"
+run uvc_plain "--frames 300" "--size 160x120 --min-frames 300"
+run uvc_faults "--frames $fault_frames --ffc-period 100 --fault-rate 0.01 --seed 3 \
+  --faults short_transfer,duplicate,timeout" "--size 160x122 --min-frames $((fault_frames * 9 / 10)) --ffc-period 100"
+run uvc_replug "--frames 300 --fault-rate 0.02 --seed 5 --faults disconnect" \
+  "--size 160x122 --min-frames 250 --lost-per-unplug 4"
+# The host's uvcvideo capture node of the emulated camera (not the gadget's output node, not
+# uvcvideo's metadata node).
+host_node() {
+  for d in /sys/class/video4linux/video*; do
+    grep -q PureThermal "$d/name" 2>/dev/null || continue
+    [ -e "$d/function_name" ] && continue
+    [ "$(cat "$d/index")" = 0 ] && { echo "/dev/$(basename "$d")"; return 0; }
+  done
+  return 1
+}
+
+if [ -x ./bolo ] && [ -n "$recording" ]; then
+  name=uvc_capture
+  echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
+  # 160 frames = the recording once; 30 frames/s: bolo capture keeps up without a credit.
+  ./uvc_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" --done "/tmp/$name.done" \
+    --finished "/tmp/$name.finished" $recording --frames 160 --fps 30 &
+  emulator=$!
+  node=""
+  for i in $(seq 100); do node="$(host_node)" && break; sleep 0.1; done
+  if [ -z "$node" ]; then
+    echo "HIL-STEP $name: no uvcvideo node of the emulator"; failed=1
+  elif ./bolo capture --device "v4l2:$node" --out /tmp/uvc-rec --frames 160 --no-progress; then
+    # The pixels (the .npy header's padding may differ): the last 160x120x160x2 bytes.
+    tail -c 6144000 /tmp/uvc-rec/frames.npy >/tmp/uvc-rec.pixels
+    tail -c 6144000 lepton3-possum/frames.npy >/tmp/possum.pixels
+    if cmp /tmp/uvc-rec.pixels /tmp/possum.pixels; then
+      echo "HIL-STEP $name: 160 frames through bolo capture, pixels identical to real/lepton3-possum"
+    else
+      echo "HIL-STEP $name: bolo capture's frames differ from the recording"; failed=1
+    fi
+    cat /tmp/uvc-rec/capture.json
+  else
+    echo "HIL-STEP $name: bolo capture failed"; failed=1
+  fi
+  touch "/tmp/$name.finished"
+  wait $emulator
+  echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+fi
+exit $failed

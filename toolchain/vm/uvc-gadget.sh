@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Builds usb_f_uvc.ko (the configfs UVC gadget function, "uvc") for the HIL VM's kernel out of
+# tree, with bulk streaming instead of isochronous: dummy_hcd carries no isochronous transfers,
+# and Debian's module declares its streaming endpoint isochronous only. Cached in
+# $BOLO_HIL_CACHE/<arch>/uvc-gadget/usb_f_uvc.ko; hil-vm.sh packs it in place of Debian's.
+# Sources: drivers/usb/gadget/function/{f_uvc,uvc_*}.[ch], u_uvc.h from Debian's linux-source-6.1,
+# changed by uvc-gadget-bulk.patch (one alternate setting with a bulk IN endpoint, 512-byte
+# packets at high speed, one USB request per payload of `bulk_payload` bytes), built against the
+# matching linux-headers/kbuild packages unpacked into the cache (apt-get download, nothing
+# installed). The patch must apply exactly: upstream changes fail the build loudly.
+#
+# For aarch64 the module is cross-built: the arm64 headers package with the host's (amd64)
+# linux-kbuild tools and Debian's aarch64-linux-gnu-gcc (the same GCC 12 the kernel was built with).
+#
+#   uvc-gadget.sh [x86_64|aarch64]
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+arch="${1:-x86_64}"
+case "$arch" in
+  x86_64) make_args=() ;;
+  aarch64)
+    command -v aarch64-linux-gnu-gcc >/dev/null ||
+      { echo "uvc-gadget: no aarch64-linux-gnu-gcc (scripts/deps.sh installs the cross compilers)" >&2; exit 2; }
+    make_args=(ARCH=arm64 CROSS_COMPILE=aarch64-linux-gnu-) ;;
+  *) echo "uvc-gadget: unknown arch $arch" >&2; exit 2 ;;
+esac
+cache="${BOLO_HIL_CACHE:-$HOME/.cache/bolo-hil}"
+# shellcheck source=kernel-cache.sh
+source "$here/kernel-cache.sh"
+kernel_dir="$(hil_kernel_dir "$arch" "$cache")"
+kver="$(cat "$kernel_dir/version")"  # e.g. 6.1.0-56-amd64
+patch_file="$here/uvc-gadget-bulk.patch"
+out="$cache/$arch/uvc-gadget"
+stamp="$kver $(sha256sum "$patch_file" | cut -c1-16)"
+if [ -f "$out/usb_f_uvc.ko" ] && [ "$(cat "$out/stamp" 2>/dev/null)" = "$stamp" ]; then
+  echo "$out/usb_f_uvc.ko"
+  exit 0
+fi
+
+flavour="${kver##*-}"        # amd64
+abi="${kver%-"$flavour"}"    # 6.1.0-56
+series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"  # 6.1
+root="$cache/$arch/kbuild-uvc-$kver"
+rm -rf "$root" "$out"
+mkdir -p "$root" "$out"
+flavour_headers="linux-headers-$kver"
+[ "$arch" = x86_64 ] || flavour_headers="$flavour_headers:$(hil_debarch "$arch")"
+for p in "$flavour_headers" "linux-headers-$abi-common" "linux-kbuild-$series" "linux-source-$series"; do
+  hil_fetch_deb "$p" "$root" "$cache" >&2
+done
+headers="$root/usr/src/linux-headers-$kver"
+# The flavour's Makefile includes the common tree by absolute path.
+sed -i "s|^include /usr/src/|include $root/usr/src/|" "$headers/Makefile"
+
+tarball="$root/usr/src/linux-source-$series.tar.xz"
+src="linux-source-$series/drivers/usb/gadget/function"
+files=(f_uvc.c f_uvc.h u_uvc.h uvc.h uvc_configfs.c uvc_configfs.h uvc_queue.c uvc_queue.h
+       uvc_v4l2.c uvc_v4l2.h uvc_video.c uvc_video.h)
+tar -xJf "$tarball" -C "$out" --strip-components=5 "${files[@]/#/$src/}"
+rm -f "$tarball"  # 140 MB; the .deb stays in the cache
+# Nothing outside these files is included by relative path (checked here, not assumed).
+if grep -h '^#include "' "$out"/*.[ch] | grep -v -E '"(f_uvc|u_uvc|uvc|uvc_configfs|uvc_queue|uvc_v4l2|uvc_video)\.h"'; then
+  echo "uvc-gadget: the sources include a local header that is not extracted (above)" >&2
+  exit 1
+fi
+(cd "$out" && patch -p1 --forward --fuzz=0 --no-backup-if-mismatch -r - <"$patch_file" >&2) ||
+  { echo "uvc-gadget: $patch_file does not apply to $kver's sources (upstream changed): check it by hand" >&2; exit 1; }
+printf 'obj-m := usb_f_uvc.o\nusb_f_uvc-y := f_uvc.o uvc_queue.o uvc_v4l2.o uvc_video.o uvc_configfs.o\n' >"$out/Kbuild"
+make -s -C "$headers" M="$out" "${make_args[@]}" modules >&2
+modinfo -F parm "$out/usb_f_uvc.ko" | grep -q '^bulk_payload:' ||
+  { echo "uvc-gadget: the built module has no bulk_payload parameter" >&2; exit 1; }
+echo "$stamp" >"$out/stamp"
+rm -rf "$root"  # the unpacked headers/kbuild (~300 MB); the .debs stay in the cache
+echo "$out/usb_f_uvc.ko"
