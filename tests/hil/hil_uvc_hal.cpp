@@ -8,6 +8,11 @@
 //
 //   hil_uvc_hal --send-log FILE --done FILE [--size 160x122|160x120] [--min-frames N]
 //               [--buffers N] [--ffc-period N] [--lost-per-unplug N] [--progress FILE]
+//   hil_uvc_hal --real [--device /dev/videoN] --frames N [--size ...] [--buffers N] [--progress FILE]
+//
+// --real: a camera without a send log (BOLO_HIL_DEVICE=v4l2:/dev/videoN): N frames, none dropped,
+// corrupt or short, no disconnect, no timeout once streaming, no image twice in a row (a sensor's
+// noise never repeats), and with telemetry rows every frame counter new.
 //
 // --progress: the count of frames delivered so far, rewritten after each frame, for the
 // emulator's --credit (it stays a bounded number of frames ahead of this program).
@@ -75,6 +80,62 @@ std::string find_uvc_node() {
   }
 }
 
+// The --real check; see the top of the file.
+int stream_real_camera(hal::V4l2Source& source, HashingSink& sink, bool telemetry, std::uint64_t frames,
+                       int progress_fd) {
+  const auto start = Clock::now();
+  auto last_progress = start;
+  std::optional<std::uint64_t> timeouts_at_first;
+  while (sink.frames.size() < frames) {
+    const std::size_t before = sink.frames.size();
+    source.stream_frame(sink);
+    if (sink.frames.size() == before) {
+      if (Clock::now() - last_progress > std::chrono::seconds(15)) break;
+      continue;
+    }
+    sink.frames.back().counter = source.last_telemetry().frame_counter;
+    if (!timeouts_at_first) timeouts_at_first = source.stats().timeouts;
+    last_progress = Clock::now();
+    if (progress_fd >= 0) {
+      const std::string text = std::to_string(sink.frames.size()) + "\n";
+      if (::pwrite(progress_fd, text.data(), text.size(), 0) < 0) throw std::runtime_error("--progress: write failed");
+    }
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const std::vector<Received>& got = sink.frames;
+  std::uint64_t repeated = 0, reused_counters = 0;
+  for (std::size_t i = 1; i < got.size(); ++i) repeated += got[i].image_hash == got[i - 1].image_hash ? 1 : 0;
+  if (telemetry) {
+    std::vector<std::uint32_t> counters;
+    for (const Received& r : got) counters.push_back(r.counter);
+    std::sort(counters.begin(), counters.end());
+    reused_counters = static_cast<std::uint64_t>(counters.end() - std::unique(counters.begin(), counters.end()));
+  }
+  const hal::SourceStats st = source.stats();
+  const std::uint64_t startup_timeouts = timeouts_at_first.value_or(st.timeouts);
+  int failures = 0;
+  auto expect = [&](bool ok, const std::string& what) {
+    if (!ok) {
+      ++failures;
+      std::printf("hil_uvc_hal: FAIL %s\n", what.c_str());
+    }
+  };
+  expect(got.size() == frames, "frames delivered: got " + std::to_string(got.size()) + ", want " +
+                                   std::to_string(frames) + " (none for 15 s)");
+  expect(st.dropped == 0, std::to_string(st.dropped) + " frames dropped (skipped sequence numbers)");
+  expect(st.corrupt_transfers == 0 && st.short_transfers == 0,
+         std::to_string(st.corrupt_transfers) + " corrupt, " + std::to_string(st.short_transfers) + " short frames");
+  expect(st.disconnects == 0, std::to_string(st.disconnects) + " disconnects");
+  expect(st.timeouts == startup_timeouts, std::to_string(st.timeouts - startup_timeouts) + " timeouts while streaming");
+  expect(repeated == 0 && reused_counters == 0, std::to_string(repeated) + " images repeated, " +
+                                                    std::to_string(reused_counters) + " frame counters reused");
+  std::printf("hil_uvc_hal: %s: real V4L2 camera, %zu frames in %.1f s (%.1f/s); out of order %llu, start-up "
+              "timeouts %llu\n",
+              failures == 0 ? "PASS" : "FAIL", got.size(), seconds, static_cast<double>(got.size()) / seconds,
+              static_cast<unsigned long long>(source.out_of_order()), static_cast<unsigned long long>(startup_timeouts));
+  return failures == 0 ? 0 : 1;
+}
+
 }  // namespace
 
 // A whole non-negative number, or nothing (the caller names the option).
@@ -89,22 +150,30 @@ std::optional<std::uint64_t> number(const std::string& text) {
 }
 
 int main(int argc, char** argv) {
-  std::string send_log, done, progress, size = "160x122";
-  std::uint64_t min_frames = 1, ffc_period = 0, lost_per_unplug = 0;
+  std::string send_log, done, progress, size = "160x122", device;
+  std::uint64_t min_frames = 1, ffc_period = 0, lost_per_unplug = 0, real_frames = 0;
+  bool real = false;
   std::uint32_t buffers = 4;
   for (int i = 1; i < argc; i += 2) {
     const std::string a = argv[i];
+    if (a == "--real") {
+      real = true;
+      --i;  // no value
+      continue;
+    }
     if (i + 1 >= argc) {
       std::printf("hil_uvc_hal: FAIL %s needs a value\n", a.c_str());
       return 2;
     }
     const std::string v = argv[i + 1];
     std::uint64_t* numeric = a == "--min-frames" ? &min_frames : a == "--ffc-period" ? &ffc_period
-                             : a == "--lost-per-unplug" ? &lost_per_unplug : nullptr;
+                             : a == "--lost-per-unplug" ? &lost_per_unplug
+                             : a == "--frames" ? &real_frames : nullptr;
     if (a == "--send-log") send_log = v;
     else if (a == "--done") done = v;
     else if (a == "--size") size = v;
     else if (a == "--progress") progress = v;
+    else if (a == "--device") device = v;
     else if (numeric != nullptr || a == "--buffers") {
       const auto n = number(v);
       if (!n) {
@@ -118,8 +187,8 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (send_log.empty() || done.empty()) {
-    std::printf("hil_uvc_hal: FAIL --send-log and --done are required\n");
+  if (real ? real_frames == 0 : (send_log.empty() || done.empty())) {
+    std::printf("hil_uvc_hal: FAIL give --send-log and --done (emulator) or --real --frames N (camera)\n");
     return 2;
   }
   if (size != "160x122" && size != "160x120") {
@@ -129,7 +198,7 @@ int main(int argc, char** argv) {
   const bool telemetry = size == "160x122";
   try {
     hal::V4l2Config config;
-    config.path = find_uvc_node();
+    config.path = device.empty() ? find_uvc_node() : device;
     config.width = 160;
     config.height = 120;
     config.telemetry = telemetry ? hal::TelemetryRows::on : hal::TelemetryRows::off;
@@ -141,6 +210,7 @@ int main(int argc, char** argv) {
     HashingSink sink;
     const int progress_fd = progress.empty() ? -1 : ::open(progress.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (!progress.empty() && progress_fd < 0) throw std::runtime_error(progress + ": cannot create");
+    if (real) return stream_real_camera(source, sink, telemetry, real_frames, progress_fd);
     const auto start = Clock::now();
     std::optional<bolo::hil::Expectation> expected;
     auto last_progress = Clock::now();

@@ -7,16 +7,17 @@
 # bit-exact, every FFC seen; 2) 160x120 (no telemetry rows); 3) 1 % faults, drawn among short frame,
 # duplicate, silence; 4) unplug/replug (2 % of 300 frames); 5) where the CLI is built and the
 # recording is there: `bolo capture --device v4l2:/dev/videoN` of the recording played once must
-# hold exactly its pixels.
-# BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 10000 on x86-64, 1000 in the arm64 VM) sets the clean run's length; the fault
+# hold exactly its pixels; 6) the real-camera check (`hil_uvc_hal --real`, no send log): passes a
+# clean stream, fails one with short frames.
+# BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 10000 on both architectures) sets the clean run's length; the fault
 # run streams a quarter of it.
-# device: usb:purethermal
-# real: echo "a real PureThermal: use BOLO_HIL_DEVICE=v4l2:/dev/videoN (vivid.sh: bolo capture)"; exit 77
+# device: v4l2
+# real: hil_uvc_hal --real --device "${BOLO_HIL_DEVICE#v4l2:}" --size "${BOLO_HIL_UVC_SIZE:-160x120}" --frames "${BOLO_HIL_UVC_FRAMES:-10000}"
 if [ ! -e /sys/module/usb_f_uvc/parameters/bulk_payload ]; then
   echo "Debian's isochronous-only usb_f_uvc is loaded, not the bulk build (toolchain/vm/uvc-gadget.sh failed or was not run)" >/tmp/skip-reason
   exit 77
 fi
-frames="${BOLO_HIL_UVC_FRAMES:-1000}"
+frames="${BOLO_HIL_UVC_FRAMES:-10000}"
 fault_frames=$((frames / 4))
 recording=""
 if [ -d ./lepton3-possum ]; then
@@ -26,18 +27,28 @@ else
 fi
 failed=0
 
-run() {  # name, emulator arguments, host arguments
+run() {  # name, emulator arguments, host arguments[, must-fail]
   name="$1"
+  host_args="$3"
+  case "$host_args" in
+    --real*) ;;
+    *) host_args="--send-log /tmp/$name.log --done /tmp/$name.done $host_args" ;;
+  esac
   echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
   # --credit/--progress: the emulator stays at most 8 frames ahead of what the host program has
   # delivered (it has 16 buffers), so uvcvideo always has a buffer: a lost frame is the stack's.
   ./uvc_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" \
     --done "/tmp/$name.done" --finished "/tmp/$name.finished" --credit "/tmp/$name.progress:8" $recording $2 &
   emulator=$!
-  ./hil_uvc_hal --send-log "/tmp/$name.log" --done "/tmp/$name.done" --progress "/tmp/$name.progress" \
-    --buffers 16 $3 || failed=1
+  if [ "${4:-}" = must-fail ]; then
+    ! ./hil_uvc_hal --progress "/tmp/$name.progress" --buffers 16 $host_args ||
+      { echo "HIL-STEP $name: the host check passed a faulty stream"; failed=1; }
+  else
+    ./hil_uvc_hal --progress "/tmp/$name.progress" --buffers 16 $host_args || failed=1
+  fi
   touch "/tmp/$name.finished"
-  wait $emulator || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+  # A host check that is meant to fail may stop before the emulator has sent everything.
+  wait $emulator || [ "${4:-}" = must-fail ] || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
   echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
 }
 
@@ -47,6 +58,11 @@ run uvc_faults "--frames $fault_frames --ffc-period 100 --fault-rate 0.01 --seed
   --faults short_transfer,duplicate,timeout" "--size 160x122 --min-frames $((fault_frames * 9 / 10)) --ffc-period 100"
 run uvc_replug "--frames 300 --fault-rate 0.02 --seed 5 --faults disconnect" \
   "--size 160x122 --min-frames 250 --lost-per-unplug 4"
+# The real-camera check (BOLO_HIL_DEVICE=v4l2:/dev/videoN) against the emulator: a clean stream
+# passes, one with short frames (uvcvideo drops them: sequence gaps) must fail.
+run uvc_as_camera "--frames 300 --ffc-period 100" "--real --frames 300 --size 160x122"
+run uvc_as_faulty_camera "--frames 300 --ffc-period 100 --fault-rate 0.03 --seed 7 --faults short_transfer" \
+  "--real --frames 280 --size 160x122" must-fail
 # The host's uvcvideo capture node of the emulated camera (not the gadget's output node, not
 # uvcvideo's metadata node).
 host_node() {
