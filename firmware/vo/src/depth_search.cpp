@@ -123,7 +123,7 @@ void search_immature_points(State& s) {
       for (int it = 0; it < 3; ++it) {
         float H = 0, g = 0;
         for (std::uint32_t j = 0; j < kPattern; ++j) {
-          const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u0 + ex * sb + kPatternX[j], v0 + ey * sb + kPatternY[j]);
+          const Sample c = bilinear_with_gradient(s.frame_texels[0], u0 + ex * sb + kPatternX[j], v0 + ey * sb + kPatternY[j]);
           const float r = c.value - (gain * refv[j] + offset);
           const float J = c.gx * ex + c.gy * ey;
           const float w = huber_weight(r, hub);

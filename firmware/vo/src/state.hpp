@@ -79,6 +79,7 @@ struct State {
   std::uint32_t kf_created = 0;
 
   Pyramid frame;                    // tracking image of the current frame
+  TexelImage frame_texels[8];       // the same, value and gradients interleaved (tracker, depth search)
   std::span<float> raw, raw_prev, raw_prev2;  // raw counts of this and the two previous frames
   bool have_prev = false;
   std::span<std::uint8_t> occupied;
@@ -120,6 +121,9 @@ struct State {
 // Lays the whole state out over an arena (odometry.cpp); nullptr when it does not fit.
 class Arena;
 State* lay_out(const VoConfig& config, Arena& arena);
+
+// After the frame's level 0 is filled: its pyramid, gradients and texels (odometry.cpp).
+void build_frame_images(State& s);
 
 // Parts (one file each).
 struct TrackResult {

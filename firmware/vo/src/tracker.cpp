@@ -41,6 +41,7 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
                        float cutoff, bool with_jacobians, bool mark_inliers, bool select_view = false) {
   Accumulated acc;
   const Level& cur = s.frame.level[level];
+  const TexelImage& texels = s.frame_texels[level];
   const Scaled k = camera_at(s.cfg.camera, level);
   const Scaled k0 = camera_at(s.cfg.camera, 0);
   const float scale = 1.0f / static_cast<float>(1u << level);
@@ -79,7 +80,7 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
     float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
     float energy = 0;
     for (std::uint32_t j = 0; j < kPattern; ++j) {
-      const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u + kPatternX[j], v + kPatternY[j]);
+      const Sample c = bilinear_with_gradient(texels, u + kPatternX[j], v + kPatternY[j]);
       r[j] = c.value - (gain * (p.refv[j] - hb) + fb);
       const float hw = huber_weight(r[j], hub);
       w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
