@@ -337,16 +337,19 @@ FrameResult Odometry::process(const FrameInput& in) {
   const std::uint32_t screen_level = s.frame.levels > 2 ? s.frame.levels - 2 : 0;
   constexpr std::size_t kGuesses = sizeof(guesses) / sizeof(guesses[0]);
   std::size_t order[kGuesses] = {0, 1, 2, 3};
+  TrackResult screened[kGuesses];
   if (screen_level > 0) {
     double energy[kGuesses];
     for (std::size_t g = 0; g < kGuesses; ++g) {
-      const TrackResult r = track_frame(s, guesses[g], s.a, s.b, free_offset, screen_level);
-      energy[g] = r.ok ? r.mean_energy : 1e30;
+      screened[g] = track_frame(s, guesses[g], s.a, s.b, free_offset, screen_level);
+      energy[g] = screened[g].ok ? screened[g].mean_energy : 1e30;
     }
     std::sort(order, order + kGuesses, [&](std::size_t x, std::size_t y) { return energy[x] < energy[y]; });
   }
   for (const std::size_t g : order) {
-    TrackResult r = track_frame(s, guesses[g], s.a, s.b, free_offset);
+    // A screened guess continues below the screening level (its coarse levels are not repeated).
+    TrackResult r = track_frame(s, guesses[g], s.a, s.b, free_offset, 0,
+                                screen_level > 0 && screened[g].ok ? &screened[g] : nullptr);
     if (r.ok && step_translation_flow(s, r.T_cw * s.T_cw.inverse()) > kMaxStepFlow * (c.width + c.height)) r.ok = false;
     if (!have || (r.ok && !best.ok) || (r.ok == best.ok && r.rms < best.rms)) best = r, have = true;
     if (best.ok && screen_level > 0) break;

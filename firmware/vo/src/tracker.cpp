@@ -174,14 +174,19 @@ void build_tracking_reference(State& s) {
   }
 }
 
-TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset, std::uint32_t last_level) {
+TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset, std::uint32_t last_level,
+                        const TrackResult* resume) {
   TrackResult out;
   if (s.ref_dirty) build_tracking_reference(s);
   Se3 T = guess;
   const bool affine = s.cfg.photometric == Photometric::affine;
   const std::uint32_t iterations[kMaxLevels] = {8, 8, 10, 10, 10, 10};
   const float hub = s.cfg.huber_counts;
-  const std::uint32_t levels = std::min(s.frame.levels, kMaxLevels);
+  std::uint32_t levels = std::min(s.frame.levels, kMaxLevels);
+  if (resume != nullptr && resume->level > last_level && resume->level < levels) {
+    T = resume->T_cw, a = resume->a, b = resume->b;
+    levels = resume->level;
+  }
   for (std::uint32_t l = levels; l-- > last_level;) {
     const int level = static_cast<int>(l);
     // Coarse levels start far from the optimum: a looser outlier cut.
@@ -236,6 +241,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
     }
   }
   out.T_cw = T, out.a = a, out.b = b;
+  out.level = last_level;
   const bool finite = T.R.allFinite() && T.t.allFinite() && std::isfinite(a) && std::isfinite(b);
   if (last_level > 0) {
     out.ok = finite;

@@ -56,11 +56,18 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
       if (p.status != PointStatus::active) continue;
       float* row = s.ba_hxr.data() + std::size_t{point_index} * kBaStride;
       s.ba_index[point_index++] = hs << 16 | i;
-      if (with_jacobians)
+      // An energy-only pass leaves the rows alone: after a refused step they still hold the
+      // restored parameters' system.
+      if (with_jacobians) {
         for (std::uint32_t q = 0; q < n; ++q) row[3 + q] = 0;
-      row[0] = row[1] = 0;
+        row[0] = row[1] = 0;
+      }
       const Eigen::Vector3d nv((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0);
       const Eigen::Vector3d Xh = nv / p.idepth;
+      // The host's pattern: the same for every target.
+      float refv[kPattern];
+      for (std::uint32_t j = 0; j < kPattern; ++j)
+        refv[j] = bilinear(host.pyramid.level[0].value, p.u + kPatternX[j], p.v + kPatternY[j]);
       std::uint32_t observed = 0, bad = 0;
       for (std::uint32_t ts = 0; ts < kMaxKeyframes; ++ts) {
         const Keyframe& target = s.kf[ts];
@@ -75,11 +82,10 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         if (!inside(tl.value, u, v, 3.0f)) continue;
         ++observed;
         const double e = std::exp(target.a - host.a);
-        float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], refv[kPattern];
+        float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
         float energy = 0;
         for (std::uint32_t j = 0; j < kPattern; ++j) {
           const Sample c = bilinear_with_gradient(tl.value, tl.gx, tl.gy, u + kPatternX[j], v + kPatternY[j]);
-          refv[j] = bilinear(host.pyramid.level[0].value, p.u + kPatternX[j], p.v + kPatternY[j]);
           r[j] = static_cast<float>(c.value - (e * (refv[j] - host.b) + target.b));
           const float hw = huber_weight(r[j], hub);
           w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
@@ -155,11 +161,12 @@ void window_bundle_adjustment(State& s) {
       const float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
       const double hrr = row[0] * (1 + lambda) + 1e-6;
       if (row[0] <= 0) continue;
+      // The lower triangle only: LDLT reads nothing else.
       for (int q = 0; q < n; ++q) {
         const double cq = row[3 + q] / hrr;
         if (cq == 0) continue;
         b[q] -= cq * row[1];
-        for (int r = 0; r < n; ++r) Hs(q, r) -= cq * row[3 + r];
+        for (int r = 0; r <= q; ++r) Hs(q, r) -= cq * row[3 + r];
       }
     }
     for (int q = 0; q < n; ++q) Hs(q, q) += lambda * H(q, q) + 1e-6;
@@ -203,7 +210,7 @@ void window_bundle_adjustment(State& s) {
       for (std::uint32_t pi = 0; pi < points; ++pi)
         s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff].idepth = s.ba_hxr[std::size_t{pi} * kBaStride + 2];
       lambda *= 10;
-      cur = accumulate(s, win, true, false);
+      // The system of the restored parameters is still in ba_H, ba_b and the rows.
     }
   }
   accumulate(s, win, false, true);  // points that fit most keyframes badly leave the map
