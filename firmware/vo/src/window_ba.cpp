@@ -109,28 +109,37 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         dH << -M.R, M.R * skew(Xh);
         const Eigen::Matrix<double, 2, 6> Jt = P * dT, Jh = P * dH;
         const Eigen::Vector2d Jr = P * (M.R * (-nv / (static_cast<double>(p.idepth) * p.idepth)));
+        // Each pattern pixel's Jacobian row is J_j = K z_j with z_j = (gx, gy, ref - b_host, 1) and K
+        // (16 x 4) the same for the whole pattern (host block: Jh^T, e, e; target block: Jt^T,
+        // -e, -1), so the pattern adds K Z K^T with Z = sum w z z^T: one 4x4 sum a pixel and one
+        // 16x16 product a block instead of four 8x8 outer products a pixel.
+        Eigen::Matrix4d Z = Eigen::Matrix4d::Zero();
+        Eigen::Vector4d zr = Eigen::Vector4d::Zero();
         for (std::uint32_t j = 0; j < kPattern; ++j) {
-          const Eigen::RowVector2d g(gx[j], gy[j]);
-          Eigen::Matrix<double, 16, 1> J;  // host block (8), target block (8)
-          J.head<6>() = (g * Jh).transpose();
-          J[6] = e * (refv[j] - host.b);
-          J[7] = e;
-          J.segment<6>(8) = (g * Jt).transpose();
-          J[14] = -e * (refv[j] - host.b);
-          J[15] = -1;
-          const double jd = g * Jr;
+          const Eigen::Vector4d z(gx[j], gy[j], refv[j] - host.b, 1.0);
           const double wj = w[j];
-          const int off[2] = {8 * hi, 8 * ti};
-          for (int A = 0; A < 2; ++A) {
-            for (int B = 0; B < 2; ++B)
-              s.ba_H.block<8, 8>(off[A], off[B]).noalias() +=
-                  wj * J.segment<8>(Eigen::Index{8} * A) * J.segment<8>(Eigen::Index{8} * B).transpose();
-            s.ba_b.segment<8>(off[A]) += wj * r[j] * J.segment<8>(Eigen::Index{8} * A);
-            for (int q = 0; q < 8; ++q) row[3 + off[A] + q] += static_cast<float>(wj * J[8 * A + q] * jd);
-          }
-          row[0] += static_cast<float>(wj * jd * jd);
-          row[1] += static_cast<float>(wj * jd * r[j]);
+          Z.noalias() += (wj * z) * z.transpose();
+          zr += (wj * r[j]) * z;
         }
+        Eigen::Matrix<double, 16, 4> K = Eigen::Matrix<double, 16, 4>::Zero();
+        K.block<6, 2>(0, 0) = Jh.transpose();
+        K(6, 2) = e, K(7, 3) = e;
+        K.block<6, 2>(8, 0) = Jt.transpose();
+        K(14, 2) = -e, K(15, 3) = -1;
+        const Eigen::Matrix<double, 16, 4> KZ = K * Z;
+        const Eigen::Matrix<double, 16, 16> L = KZ * K.transpose();
+        const Eigen::Matrix<double, 16, 1> bl = K * zr;
+        const Eigen::Vector4d jr4(Jr[0], Jr[1], 0.0, 0.0);
+        const Eigen::Matrix<double, 16, 1> coupling = KZ * jr4;  // sum w J (g . Jr)
+        const int off[2] = {8 * hi, 8 * ti};
+        for (int A = 0; A < 2; ++A) {
+          for (int B = 0; B < 2; ++B)
+            s.ba_H.block<8, 8>(off[A], off[B]) += L.block<8, 8>(Eigen::Index{8} * A, Eigen::Index{8} * B);
+          s.ba_b.segment<8>(off[A]) += bl.segment<8>(Eigen::Index{8} * A);
+          for (int q = 0; q < 8; ++q) row[3 + off[A] + q] += static_cast<float>(coupling[8 * A + q]);
+        }
+        row[0] += static_cast<float>(jr4.dot(Z * jr4));
+        row[1] += static_cast<float>(jr4.dot(zr));
       }
       if (drop_outliers && observed > 0 && bad * 2 > observed) p.status = PointStatus::empty;
     }
