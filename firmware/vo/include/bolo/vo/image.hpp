@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <span>
 
+#include <Eigen/Core>
+
 namespace bolo::vo {
 
 struct Image {
@@ -51,7 +53,7 @@ inline Sample bilinear_with_gradient(const Image& img, const Image& gx, const Im
 // One level's value and gradients interleaved per pixel: a bilinear sample of all three reads
 // two adjacent 32-byte pairs instead of six scattered ones (the tracker samples the current frame
 // this way; the pad keeps a texel 16 bytes).
-struct Texel {
+struct alignas(16) Texel {
   float value, gx, gy, pad;
 };
 struct TexelImage {
@@ -59,19 +61,20 @@ struct TexelImage {
   std::uint32_t width = 0, height = 0;
 };
 
-// bilinear_with_gradient() on the interleaved texels: the same arithmetic, the same results.
+// bilinear_with_gradient() on the interleaved texels, the three channels at once (one 4-float
+// vector a texel; SSE on x86-64, NEON on the boards): per channel the same arithmetic, the same
+// results. The texels are 16-byte aligned (the arena's alignment, 16-byte texels).
 inline Sample bilinear_with_gradient(const TexelImage& img, float x, float y) {
   const auto xi = static_cast<std::uint32_t>(x), yi = static_cast<std::uint32_t>(y);
   const float fx = x - static_cast<float>(xi), fy = y - static_cast<float>(yi);
   const Texel* p = img.data + std::size_t{yi} * img.width + xi;
   const Texel* q = p + img.width;
-  const auto at = [&](float a, float b, float c, float d) {
-    const float top = a + fx * (b - a);
-    const float bottom = c + fx * (d - c);
-    return top + fy * (bottom - top);
-  };
-  return {at(p[0].value, p[1].value, q[0].value, q[1].value), at(p[0].gx, p[1].gx, q[0].gx, q[1].gx),
-          at(p[0].gy, p[1].gy, q[0].gy, q[1].gy)};
+  using V = Eigen::Map<const Eigen::Array4f, Eigen::Aligned16>;
+  const Eigen::Array4f a = V(&p[0].value), b = V(&p[1].value), c = V(&q[0].value), d = V(&q[1].value);
+  const Eigen::Array4f top = a + fx * (b - a);
+  const Eigen::Array4f bottom = c + fx * (d - c);
+  const Eigen::Array4f r = top + fy * (bottom - top);
+  return {r[0], r[1], r[2]};
 }
 
 // Per level: intensity, x gradient, y gradient.
