@@ -46,6 +46,15 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
     s.ba_H.setZero();
     s.ba_b.setZero();
   }
+  // Relative poses and brightness gains of every (host, target) pair, once per pass.
+  Se3 pair_M[kMaxKeyframes][kMaxKeyframes];
+  double pair_e[kMaxKeyframes][kMaxKeyframes];
+  for (std::uint32_t hs = 0; hs < kMaxKeyframes; ++hs)
+    for (std::uint32_t ts = 0; ts < kMaxKeyframes; ++ts)
+      if (s.kf[hs].used && s.kf[ts].used && ts != hs) {
+        pair_M[hs][ts] = s.kf[ts].T_cw * s.kf[hs].T_cw.inverse();
+        pair_e[hs][ts] = std::exp(s.kf[ts].a - s.kf[hs].a);
+      }
   std::uint32_t point_index = 0;
   for (std::uint32_t hs = 0; hs < kMaxKeyframes; ++hs) {
     Keyframe& host = s.kf[hs];
@@ -73,7 +82,7 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         const Keyframe& target = s.kf[ts];
         if (!target.used || ts == hs) continue;
         const int ti = win.index[ts];
-        const Se3 M = target.T_cw * host.T_cw.inverse();
+        const Se3& M = pair_M[hs][ts];
         const Eigen::Vector3d X = M * Xh;
         if (X.z() <= 1e-4) continue;
         const double x = X.x() / X.z(), y = X.y() / X.z();
@@ -81,7 +90,7 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         const Level& tl = target.pyramid.level[0];
         if (!inside(tl.value, u, v, 3.0f)) continue;
         ++observed;
-        const double e = std::exp(target.a - host.a);
+        const double e = pair_e[hs][ts];
         float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
         float energy = 0;
         for (std::uint32_t j = 0; j < kPattern; ++j) {
