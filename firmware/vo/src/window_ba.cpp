@@ -65,8 +65,7 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
       if (p.status != PointStatus::active) continue;
       float* row = s.ba_hxr.data() + std::size_t{point_index} * kBaStride;
       s.ba_index[point_index++] = hs << 16 | i;
-      // An energy-only pass leaves the rows alone: after a refused step they still hold the
-      // restored parameters' system.
+      // An energy-only pass leaves the rows alone.
       if (with_jacobians) {
         for (std::uint32_t q = 0; q < n; ++q) row[3 + q] = 0;
         row[0] = row[1] = 0;
@@ -218,17 +217,22 @@ void window_bundle_adjustment(State& s) {
       const double d = -(row[1] + coupling) / (row[0] * (1 + lambda) + 1e-6);
       p.idepth = static_cast<float>(std::max(1e-3, std::min(100.0, p.idepth + d)));
     }
-    const Totals next = accumulate(s, win, false, false);
+    // The trial pass builds the next system as it goes (a step is usually taken); after the last
+    // iteration no system is needed, so that trial only sums the energy.
+    const bool last = it + 1 == kIterations;
+    const Totals next = accumulate(s, win, !last, false);
     if (next.energy < cur.energy) {
       lambda = std::max(lambda * 0.5, 1e-6);
-      cur = accumulate(s, win, true, false);
+      cur = next;
     } else {
       for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
         if (s.kf[slot].used) s.kf[slot].T_cw = saved_pose[slot], s.kf[slot].a = saved_a[slot], s.kf[slot].b = saved_b[slot];
       for (std::uint32_t pi = 0; pi < points; ++pi)
         s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff].idepth = s.ba_hxr[std::size_t{pi} * kBaStride + 2];
       lambda *= 10;
-      // The system of the restored parameters is still in ba_H, ba_b and the rows.
+      // The refused trial overwrote the system: rebuild it at the restored parameters (an
+      // energy-only trial leaves it alone).
+      if (!last) cur = accumulate(s, win, true, false);
     }
   }
   accumulate(s, win, false, true);  // points that fit most keyframes badly leave the map
