@@ -26,14 +26,23 @@ Pyramid make_pyramid(std::span<float> storage, std::uint32_t width, std::uint32_
 
 static void gradients(Level& lv) {
   const std::uint32_t w = lv.value.width, h = lv.value.height;
+  const float* v = lv.value.data;
   for (std::uint32_t y = 0; y < h; ++y) {
     const std::uint32_t ym = y ? y - 1 : 0, yp = y + 1 < h ? y + 1 : y;
-    for (std::uint32_t x = 0; x < w; ++x) {
-      const std::uint32_t xm = x ? x - 1 : 0, xp = x + 1 < w ? x + 1 : x;
-      const std::size_t i = std::size_t{y} * w + x;
-      lv.gx.data[i] = 0.5f * (lv.value.at(xp, y) - lv.value.at(xm, y));
-      lv.gy.data[i] = 0.5f * (lv.value.at(x, yp) - lv.value.at(x, ym));
+    const float* row = v + std::size_t{y} * w;
+    const float* up = v + std::size_t{ym} * w;
+    const float* down = v + std::size_t{yp} * w;
+    float* gx = lv.gx.data + std::size_t{y} * w;
+    float* gy = lv.gy.data + std::size_t{y} * w;
+    // Central differences, clamped at the borders (the first and last column below).
+    for (std::uint32_t x = 0; x < w; ++x) gy[x] = 0.5f * (down[x] - up[x]);
+    if (w < 2) {
+      if (w == 1) gx[0] = 0.0f;
+      continue;
     }
+    gx[0] = 0.5f * (row[1] - row[0]);
+    for (std::uint32_t x = 1; x + 1 < w; ++x) gx[x] = 0.5f * (row[x + 1] - row[x - 1]);
+    gx[w - 1] = 0.5f * (row[w - 1] - row[w - 2]);
   }
 }
 
