@@ -117,27 +117,16 @@ InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, bool with_jac
     const float du[6] = {k.fx * iz, 0, -k.fx * x * iz, -k.fx * x * y, k.fx * (1 + x * x), -k.fx * y};
     const float dv[6] = {0, k.fy * iz, -k.fy * y * iz, -k.fy * (1 + y * y), k.fy * x * y, k.fy * x};
     const float dud = k.fx * (t.x() - x * t.z()) / X.z(), dvd = k.fy * (t.y() - y * t.z()) / X.z();
-    // Each pattern pixel's pose row is J_j = D^T g_j (D = [du; dv], g_j its gradient) and its
-    // inverse-depth entry Jd_j = g_j . e (e = (dud, dvd)): the point adds D^T S D with S the
-    // weighted 2x2 gradient sums of its pattern (as the tracker does), not one rank-1 update a pixel.
-    double sxx = 0, sxy = 0, syy = 0, srx = 0, sry = 0;
     for (std::uint32_t j = 0; j < kPattern; ++j) {
-      const double wx = static_cast<double>(w[j]) * gx[j], wy = static_cast<double>(w[j]) * gy[j];
-      sxx += wx * gx[j], sxy += wx * gy[j], syy += wy * gy[j];
-      srx += wx * r[j], sry += wy * r[j];
+      Vec6 J;
+      for (int q = 0; q < 6; ++q) J[q] = gx[j] * du[q] + gy[j] * dv[q];
+      const double Jd = gx[j] * dud + gy[j] * dvd;
+      sys.H.selfadjointView<Eigen::Upper>().rankUpdate(J, w[j]);
+      sys.g += J * (w[j] * r[j]);
+      for (int q = 0; q < 6; ++q) row[q] += static_cast<float>(J[q] * w[j] * Jd);
+      row[6] += static_cast<float>(w[j] * Jd * Jd);
+      row[7] += static_cast<float>(w[j] * Jd * r[j]);
     }
-    Eigen::Matrix<double, 2, 6> D;
-    for (int q = 0; q < 6; ++q) D(0, q) = du[q], D(1, q) = dv[q];
-    Eigen::Matrix2d S;
-    S << sxx, sxy, sxy, syy;
-    const Eigen::Vector2d e(dud, dvd), sr(srx, sry);
-    const Eigen::Matrix<double, 2, 6> SD = S * D;
-    sys.H.noalias() += D.transpose() * SD;
-    sys.g.noalias() += D.transpose() * sr;
-    const Eigen::Matrix<double, 6, 1> coupling = SD.transpose() * e;  // sum w J Jd
-    for (int q = 0; q < 6; ++q) row[q] += static_cast<float>(coupling[q]);
-    row[6] += static_cast<float>(e.dot(S * e));
-    row[7] += static_cast<float>(e.dot(sr));
   }
   sys.H = sys.H.selfadjointView<Eigen::Upper>();
   return sys;
