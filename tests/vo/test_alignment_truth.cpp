@@ -34,7 +34,7 @@ struct Fixture {
   void load(double t) {
     const auto f = seq.frame(t);
     for (std::size_t i = 0; i < f.size(); ++i) s->frame.level[0].value.data[i] = f[i], s->raw[i] = f[i];
-    vo::build_pyramid(s->frame);
+    vo::build_frame_images(*s);
     s->t_s = t;
   }
   // A keyframe at time t with points at their true depth (active) or unknown (immature).

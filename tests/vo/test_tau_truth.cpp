@@ -72,7 +72,7 @@ double estimate_after_2s(unsigned supersample, double tau, double tau_start) {
     if (k % 12 == 0) {
       // A new keyframe every 12 frames, its points at their true depth.
       for (std::size_t i = 0; i < n; ++i) s->frame.level[0].value.data[i] = s->raw[i];
-      vo::build_pyramid(s->frame);
+      vo::build_frame_images(*s);
       const std::uint32_t slot = vo::new_keyframe_slot(*s);
       vo::make_keyframe(*s, slot, true);
       vo::Keyframe& kf = s->kf[slot];

@@ -36,13 +36,33 @@ float idepth_at(const Projection& pr, const Scaled& k, float u, float v, bool us
   return std::fabs(den) < 1e-9f ? -1.0f : (pr.A.y() - y * pr.A.z()) / den;
 }
 
+// The pattern's energy at (u, v): bilinear() and huber_weight() four pattern pixels at a time
+// (lane by lane the same arithmetic), the terms summed in pattern order. `stop`: the second half
+// is skipped once the sum reaches it (the terms are >= 0 and such a float sum never decreases, so
+// the full energy would be >= stop too).
 float pattern_energy(const Level& cur, const float* ref, float gain, float offset, float u, float v,
-                     float hub) {
+                     float hub, float stop = 3.4e38f) {
   float e = 0;
-  for (std::uint32_t j = 0; j < kPattern; ++j) {
-    const float r = bilinear(cur.value, u + kPatternX[j], v + kPatternY[j]) - (gain * ref[j] + offset);
-    const float hw = huber_weight(r, hub);
-    e += hw * r * r * (2.0f - hw);
+  const std::size_t w = cur.value.width;
+  for (std::uint32_t h = 0; h < kPattern && !(e >= stop); h += 4) {
+    const Eigen::Array4f x = u + Eigen::Map<const Eigen::Array4f>(kPatternX + h);
+    const Eigen::Array4f y = v + Eigen::Map<const Eigen::Array4f>(kPatternY + h);
+    alignas(16) float c00[4], c01[4], c10[4], c11[4], fx[4], fy[4];
+    for (int j = 0; j < 4; ++j) {
+      const auto xi = static_cast<std::uint32_t>(x[j]), yi = static_cast<std::uint32_t>(y[j]);
+      fx[j] = x[j] - static_cast<float>(xi), fy[j] = y[j] - static_cast<float>(yi);
+      const float* p = cur.value.data + std::size_t{yi} * w + xi;
+      c00[j] = p[0], c01[j] = p[1], c10[j] = p[w], c11[j] = p[w + 1];
+    }
+    using A = Eigen::Map<const Eigen::Array4f, Eigen::Aligned16>;
+    const Eigen::Array4f top = A(c00) + A(fx) * (A(c01) - A(c00));
+    const Eigen::Array4f bottom = A(c10) + A(fx) * (A(c11) - A(c10));
+    const Eigen::Array4f value = top + A(fy) * (bottom - top);
+    const Eigen::Array4f r = value - (gain * Eigen::Map<const Eigen::Array4f>(ref + h) + offset);
+    const Eigen::Array4f ra = r.abs();
+    const Eigen::Array4f hw = (ra <= hub).select(Eigen::Array4f::Ones(), hub / ra);
+    const Eigen::Array4f terms = hw * r * r * (2.0f - hw);
+    for (int j = 0; j < 4; ++j) e += terms[j];
   }
   return e;
 }
@@ -109,7 +129,8 @@ void search_immature_points(State& s) {
         const float sq = static_cast<float>(q);
         const float uq = u0 + ex * sq, vq = v0 + ey * sq;
         if (!inside(cur.value, uq, vq, 3.0f)) continue;
-        const float e = pattern_energy(cur, refv, gain, offset, uq, vq, hub);
+        // An energy at or above `second` (>= best) changes neither: its sum may stop there.
+        const float e = pattern_energy(cur, refv, gain, offset, uq, vq, hub, second);
         if (e < best) {
           if (best_s >= 0 && std::fabs(sq - best_s) > 2.0f) second = best;
           best = e, best_s = sq;
@@ -123,7 +144,7 @@ void search_immature_points(State& s) {
       for (int it = 0; it < 3; ++it) {
         float H = 0, g = 0;
         for (std::uint32_t j = 0; j < kPattern; ++j) {
-          const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u0 + ex * sb + kPatternX[j], v0 + ey * sb + kPatternY[j]);
+          const Sample c = bilinear_with_gradient(s.frame_texels[0], u0 + ex * sb + kPatternX[j], v0 + ey * sb + kPatternY[j]);
           const float r = c.value - (gain * refv[j] + offset);
           const float J = c.gx * ex + c.gy * ey;
           const float w = huber_weight(r, hub);

@@ -2,29 +2,6 @@
 
 namespace bolo::vo {
 
-float bilinear(const Image& img, float x, float y) {
-  const auto xi = static_cast<std::uint32_t>(x), yi = static_cast<std::uint32_t>(y);
-  const float fx = x - static_cast<float>(xi), fy = y - static_cast<float>(yi);
-  const float* p = img.data + std::size_t{yi} * img.width + xi;
-  const float top = p[0] + fx * (p[1] - p[0]);
-  const float bottom = p[img.width] + fx * (p[img.width + 1] - p[img.width]);
-  return top + fy * (bottom - top);
-}
-
-Sample bilinear_with_gradient(const Image& img, const Image& gx, const Image& gy, float x, float y) {
-  // bilinear() on the three planes with the weights and offsets computed once (same arithmetic,
-  // same results).
-  const auto xi = static_cast<std::uint32_t>(x), yi = static_cast<std::uint32_t>(y);
-  const float fx = x - static_cast<float>(xi), fy = y - static_cast<float>(yi);
-  const std::size_t o = std::size_t{yi} * img.width + xi, w = img.width;
-  const auto at = [&](const float* p) {
-    const float top = p[o] + fx * (p[o + 1] - p[o]);
-    const float bottom = p[o + w] + fx * (p[o + w + 1] - p[o + w]);
-    return top + fy * (bottom - top);
-  };
-  return {at(img.data), at(gx.data), at(gy.data)};
-}
-
 std::size_t pyramid_floats(std::uint32_t width, std::uint32_t height, std::uint32_t levels) {
   std::size_t total = 0;
   for (std::uint32_t l = 0; l < levels; ++l) total += 3 * std::size_t{width >> l} * (height >> l);
@@ -49,14 +26,23 @@ Pyramid make_pyramid(std::span<float> storage, std::uint32_t width, std::uint32_
 
 static void gradients(Level& lv) {
   const std::uint32_t w = lv.value.width, h = lv.value.height;
+  const float* v = lv.value.data;
   for (std::uint32_t y = 0; y < h; ++y) {
     const std::uint32_t ym = y ? y - 1 : 0, yp = y + 1 < h ? y + 1 : y;
-    for (std::uint32_t x = 0; x < w; ++x) {
-      const std::uint32_t xm = x ? x - 1 : 0, xp = x + 1 < w ? x + 1 : x;
-      const std::size_t i = std::size_t{y} * w + x;
-      lv.gx.data[i] = 0.5f * (lv.value.at(xp, y) - lv.value.at(xm, y));
-      lv.gy.data[i] = 0.5f * (lv.value.at(x, yp) - lv.value.at(x, ym));
+    const float* row = v + std::size_t{y} * w;
+    const float* up = v + std::size_t{ym} * w;
+    const float* down = v + std::size_t{yp} * w;
+    float* gx = lv.gx.data + std::size_t{y} * w;
+    float* gy = lv.gy.data + std::size_t{y} * w;
+    // Central differences, clamped at the borders (the first and last column below).
+    for (std::uint32_t x = 0; x < w; ++x) gy[x] = 0.5f * (down[x] - up[x]);
+    if (w < 2) {
+      if (w == 1) gx[0] = 0.0f;
+      continue;
     }
+    gx[0] = 0.5f * (row[1] - row[0]);
+    for (std::uint32_t x = 1; x + 1 < w; ++x) gx[x] = 0.5f * (row[x + 1] - row[x - 1]);
+    gx[w - 1] = 0.5f * (row[w - 1] - row[w - 2]);
   }
 }
 
@@ -71,6 +57,31 @@ void build_pyramid(Pyramid& p) {
                      src.at(2 * x + 1, 2 * y + 1));
   }
   for (std::uint32_t l = 0; l < p.levels; ++l) gradients(p.level[l]);
+}
+
+std::size_t texel_count(std::uint32_t width, std::uint32_t height, std::uint32_t levels) {
+  std::size_t total = 0;
+  for (std::uint32_t l = 0; l < levels; ++l) total += std::size_t{width >> l} * (height >> l);
+  return total;
+}
+
+void make_texels(std::span<Texel> storage, std::uint32_t width, std::uint32_t height, std::uint32_t levels,
+                 TexelImage* out) {
+  std::size_t offset = 0;
+  for (std::uint32_t l = 0; l < levels; ++l) {
+    const std::uint32_t w = width >> l, h = height >> l;
+    out[l] = {storage.data() + offset, w, h};
+    offset += std::size_t{w} * h;
+  }
+}
+
+void fill_texels(const Pyramid& p, TexelImage* texels) {
+  for (std::uint32_t l = 0; l < p.levels; ++l) {
+    const Level& lv = p.level[l];
+    const std::size_t n = std::size_t{lv.value.width} * lv.value.height;
+    Texel* t = texels[l].data;
+    for (std::size_t i = 0; i < n; ++i) t[i] = {lv.value.data[i], lv.gx.data[i], lv.gy.data[i], 0.0f};
+  }
 }
 
 }  // namespace bolo::vo

@@ -99,7 +99,7 @@ InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, bool with_jac
     float energy = 0;
     float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
     for (std::uint32_t j = 0; j < kPattern; ++j) {
-      const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u + kPatternX[j], v + kPatternY[j]);
+      const Sample c = bilinear_with_gradient(s.frame_texels[level], u + kPatternX[j], v + kPatternY[j]);
       r[j] = c.value - bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
       const float hw = huber_weight(r[j], hub);
       w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);

@@ -42,6 +42,8 @@ State* lay_out(const VoConfig& config, Arena& arena) {
   const std::size_t ppk = c.points_per_keyframe;
   auto frame = arena.take<float>(pyr);
   if (!frame.empty()) s.frame = make_pyramid(frame, c.width, c.height, c.levels);
+  auto texels = arena.take<Texel>(texel_count(c.width, c.height, c.levels));
+  if (!texels.empty()) make_texels(texels, c.width, c.height, c.levels, s.frame_texels);
   s.raw = arena.take<float>(plane(c));
   s.raw_prev = arena.take<float>(plane(c));
   s.raw_prev2 = arena.take<float>(plane(c));
@@ -205,6 +207,11 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
   }
 }
 
+void build_frame_images(State& s) {
+  build_pyramid(s.frame);
+  fill_texels(s.frame, s.frame_texels);
+}
+
 std::size_t Odometry::arena_bytes(const VoConfig& config) {
   // The sum of lay_out()'s pieces, each with its alignment slack.
   const VoConfig c = resolved(config);
@@ -212,6 +219,7 @@ std::size_t Odometry::arena_bytes(const VoConfig& config) {
   const std::size_t pyr = pyramid_floats(c.width, c.height, c.levels) * sizeof(float) + 16;
   const std::size_t ppk = c.points_per_keyframe;
   bytes += pyr * (1 + c.max_keyframes);
+  bytes += texel_count(c.width, c.height, c.levels) * sizeof(Texel) + 16;
   bytes += 4 * (plane(c) * sizeof(float) + 16) + plane(c) + 16;
   bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + std::size_t{64} * 2 + 16;
   bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
@@ -285,7 +293,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   } else {
     std::memcpy(level0, s.raw.data(), plane(c) * sizeof(float));
   }
-  build_pyramid(s.frame);
+  build_frame_images(s);
   out.tau = s.tau;
 
   if (!s.initialised) {
@@ -329,16 +337,19 @@ FrameResult Odometry::process(const FrameInput& in) {
   const std::uint32_t screen_level = s.frame.levels > 2 ? s.frame.levels - 2 : 0;
   constexpr std::size_t kGuesses = sizeof(guesses) / sizeof(guesses[0]);
   std::size_t order[kGuesses] = {0, 1, 2, 3};
+  TrackResult screened[kGuesses];
   if (screen_level > 0) {
     double energy[kGuesses];
     for (std::size_t g = 0; g < kGuesses; ++g) {
-      const TrackResult r = track_frame(s, guesses[g], s.a, s.b, free_offset, screen_level);
-      energy[g] = r.ok ? r.mean_energy : 1e30;
+      screened[g] = track_frame(s, guesses[g], s.a, s.b, free_offset, screen_level);
+      energy[g] = screened[g].ok ? screened[g].mean_energy : 1e30;
     }
     std::sort(order, order + kGuesses, [&](std::size_t x, std::size_t y) { return energy[x] < energy[y]; });
   }
   for (const std::size_t g : order) {
-    TrackResult r = track_frame(s, guesses[g], s.a, s.b, free_offset);
+    // A screened guess continues below the screening level (its coarse levels are not repeated).
+    TrackResult r = track_frame(s, guesses[g], s.a, s.b, free_offset, 0,
+                                screen_level > 0 && screened[g].ok ? &screened[g] : nullptr);
     if (r.ok && step_translation_flow(s, r.T_cw * s.T_cw.inverse()) > kMaxStepFlow * (c.width + c.height)) r.ok = false;
     if (!have || (r.ok && !best.ok) || (r.ok == best.ok && r.rms < best.rms)) best = r, have = true;
     if (best.ok && screen_level > 0) break;

@@ -79,6 +79,7 @@ struct State {
   std::uint32_t kf_created = 0;
 
   Pyramid frame;                    // tracking image of the current frame
+  TexelImage frame_texels[8];       // the same, value and gradients interleaved (tracker, depth search)
   std::span<float> raw, raw_prev, raw_prev2;  // raw counts of this and the two previous frames
   bool have_prev = false;
   std::span<std::uint8_t> occupied;
@@ -121,6 +122,9 @@ struct State {
 class Arena;
 State* lay_out(const VoConfig& config, Arena& arena);
 
+// After the frame's level 0 is filled: its pyramid, gradients and texels (odometry.cpp).
+void build_frame_images(State& s);
+
 // Parts (one file each).
 struct TrackResult {
   Se3 T_cw;
@@ -128,12 +132,15 @@ struct TrackResult {
   float rms = 0;
   double mean_energy = 0;  // robust energy per point of the last level's point set
   std::uint32_t visible = 0, inliers = 0;
+  std::uint32_t level = 0;  // the last level tracked
   bool ok = false;
 };
 // Coarse to fine down to `last_level` (0: the full tracking; above 0: a quick look at a guess,
-// mean_energy and the pose at that level only, ok = finite).
+// mean_energy and the pose at that level only, ok = finite). `resume`: the result of an earlier
+// call with the same guess, a, b and free_offset that stopped at resume->level; the levels down
+// to it are not repeated (the tracking continues from its pose: the same result as a full call).
 TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset,
-                        std::uint32_t last_level = 0);
+                        std::uint32_t last_level = 0, const TrackResult* resume = nullptr);
 // Rebuilds the tracking reference (s.ref) from the window's active points.
 void build_tracking_reference(State& s);
 // Returns true once the map is initialised from the first keyframe and the current frame.

@@ -41,6 +41,7 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
                        float cutoff, bool with_jacobians, bool mark_inliers, bool select_view = false) {
   Accumulated acc;
   const Level& cur = s.frame.level[level];
+  const TexelImage& texels = s.frame_texels[level];
   const Scaled k = camera_at(s.cfg.camera, level);
   const Scaled k0 = camera_at(s.cfg.camera, 0);
   const float scale = 1.0f / static_cast<float>(1u << level);
@@ -76,16 +77,26 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
     ++acc.visible;
     if (select_view)
       for (std::uint32_t j = 0; j < kPattern; ++j) p.refv[j] = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
-    float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
-    float energy = 0;
+    alignas(16) float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], value[kPattern], terms[kPattern];
     for (std::uint32_t j = 0; j < kPattern; ++j) {
-      const Sample c = bilinear_with_gradient(cur.value, cur.gx, cur.gy, u + kPatternX[j], v + kPatternY[j]);
-      r[j] = c.value - (gain * (p.refv[j] - hb) + fb);
-      const float hw = huber_weight(r[j], hub);
-      w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
-      gx[j] = c.gx, gy[j] = c.gy;
-      energy += hw * r[j] * r[j] * (2.0f - hw);
+      const Sample c = bilinear_with_gradient(texels, u + kPatternX[j], v + kPatternY[j]);
+      value[j] = c.value, gx[j] = c.gx, gy[j] = c.gy;
     }
+    // Residuals, Huber and gradient weights four pattern pixels at a time (the arithmetic of
+    // huber_weight() and of the scalar expressions, lane by lane).
+    for (std::uint32_t h = 0; h < kPattern; h += 4) {
+      using A = Eigen::Map<Eigen::Array4f, Eigen::Aligned16>;
+      const Eigen::Array4f refv = Eigen::Map<const Eigen::Array4f>(p.refv + h);
+      const Eigen::Array4f rr = A(value + h) - (gain * (refv - hb) + fb);
+      const Eigen::Array4f ra = rr.abs();
+      const Eigen::Array4f hw = (ra <= hub).select(Eigen::Array4f::Ones(), hub / ra);
+      const Eigen::Array4f gxh = A(gx + h), gyh = A(gy + h);
+      A(r + h) = rr;
+      A(w + h) = hw * c2 / (c2 + gxh * gxh + gyh * gyh);
+      A(terms + h) = hw * rr * rr * (2.0f - hw);
+    }
+    float energy = 0;
+    for (std::uint32_t j = 0; j < kPattern; ++j) energy += terms[j];
     if (mark_inliers) {
       Point& source = s.kf[p.source >> 16].points[p.source & 0xffffu];
       source.energy = energy;
@@ -173,14 +184,19 @@ void build_tracking_reference(State& s) {
   }
 }
 
-TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset, std::uint32_t last_level) {
+TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset, std::uint32_t last_level,
+                        const TrackResult* resume) {
   TrackResult out;
   if (s.ref_dirty) build_tracking_reference(s);
   Se3 T = guess;
   const bool affine = s.cfg.photometric == Photometric::affine;
   const std::uint32_t iterations[kMaxLevels] = {8, 8, 10, 10, 10, 10};
   const float hub = s.cfg.huber_counts;
-  const std::uint32_t levels = std::min(s.frame.levels, kMaxLevels);
+  std::uint32_t levels = std::min(s.frame.levels, kMaxLevels);
+  if (resume != nullptr && resume->level > last_level && resume->level < levels) {
+    T = resume->T_cw, a = resume->a, b = resume->b;
+    levels = resume->level;
+  }
   for (std::uint32_t l = levels; l-- > last_level;) {
     const int level = static_cast<int>(l);
     // Coarse levels start far from the optimum: a looser outlier cut.
@@ -235,6 +251,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
     }
   }
   out.T_cw = T, out.a = a, out.b = b;
+  out.level = last_level;
   const bool finite = T.R.allFinite() && T.t.allFinite() && std::isfinite(a) && std::isfinite(b);
   if (last_level > 0) {
     out.ok = finite;

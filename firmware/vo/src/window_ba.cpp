@@ -46,6 +46,15 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
     s.ba_H.setZero();
     s.ba_b.setZero();
   }
+  // Relative poses and brightness gains of every (host, target) pair, once per pass.
+  Se3 pair_M[kMaxKeyframes][kMaxKeyframes];
+  double pair_e[kMaxKeyframes][kMaxKeyframes];
+  for (std::uint32_t hs = 0; hs < kMaxKeyframes; ++hs)
+    for (std::uint32_t ts = 0; ts < kMaxKeyframes; ++ts)
+      if (s.kf[hs].used && s.kf[ts].used && ts != hs) {
+        pair_M[hs][ts] = s.kf[ts].T_cw * s.kf[hs].T_cw.inverse();
+        pair_e[hs][ts] = std::exp(s.kf[ts].a - s.kf[hs].a);
+      }
   std::uint32_t point_index = 0;
   for (std::uint32_t hs = 0; hs < kMaxKeyframes; ++hs) {
     Keyframe& host = s.kf[hs];
@@ -56,17 +65,23 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
       if (p.status != PointStatus::active) continue;
       float* row = s.ba_hxr.data() + std::size_t{point_index} * kBaStride;
       s.ba_index[point_index++] = hs << 16 | i;
-      if (with_jacobians)
+      // An energy-only pass leaves the rows alone.
+      if (with_jacobians) {
         for (std::uint32_t q = 0; q < n; ++q) row[3 + q] = 0;
-      row[0] = row[1] = 0;
+        row[0] = row[1] = 0;
+      }
       const Eigen::Vector3d nv((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0);
       const Eigen::Vector3d Xh = nv / p.idepth;
+      // The host's pattern: the same for every target.
+      float refv[kPattern];
+      for (std::uint32_t j = 0; j < kPattern; ++j)
+        refv[j] = bilinear(host.pyramid.level[0].value, p.u + kPatternX[j], p.v + kPatternY[j]);
       std::uint32_t observed = 0, bad = 0;
       for (std::uint32_t ts = 0; ts < kMaxKeyframes; ++ts) {
         const Keyframe& target = s.kf[ts];
         if (!target.used || ts == hs) continue;
         const int ti = win.index[ts];
-        const Se3 M = target.T_cw * host.T_cw.inverse();
+        const Se3& M = pair_M[hs][ts];
         const Eigen::Vector3d X = M * Xh;
         if (X.z() <= 1e-4) continue;
         const double x = X.x() / X.z(), y = X.y() / X.z();
@@ -74,12 +89,11 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         const Level& tl = target.pyramid.level[0];
         if (!inside(tl.value, u, v, 3.0f)) continue;
         ++observed;
-        const double e = std::exp(target.a - host.a);
-        float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], refv[kPattern];
+        const double e = pair_e[hs][ts];
+        float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
         float energy = 0;
         for (std::uint32_t j = 0; j < kPattern; ++j) {
           const Sample c = bilinear_with_gradient(tl.value, tl.gx, tl.gy, u + kPatternX[j], v + kPatternY[j]);
-          refv[j] = bilinear(host.pyramid.level[0].value, p.u + kPatternX[j], p.v + kPatternY[j]);
           r[j] = static_cast<float>(c.value - (e * (refv[j] - host.b) + target.b));
           const float hw = huber_weight(r[j], hub);
           w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
@@ -103,28 +117,37 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         dH << -M.R, M.R * skew(Xh);
         const Eigen::Matrix<double, 2, 6> Jt = P * dT, Jh = P * dH;
         const Eigen::Vector2d Jr = P * (M.R * (-nv / (static_cast<double>(p.idepth) * p.idepth)));
+        // Each pattern pixel's Jacobian row is J_j = K z_j with z_j = (gx, gy, ref - b_host, 1) and K
+        // (16 x 4) the same for the whole pattern (host block: Jh^T, e, e; target block: Jt^T,
+        // -e, -1), so the pattern adds K Z K^T with Z = sum w z z^T: one 4x4 sum a pixel and one
+        // 16x16 product a block instead of four 8x8 outer products a pixel.
+        Eigen::Matrix4d Z = Eigen::Matrix4d::Zero();
+        Eigen::Vector4d zr = Eigen::Vector4d::Zero();
         for (std::uint32_t j = 0; j < kPattern; ++j) {
-          const Eigen::RowVector2d g(gx[j], gy[j]);
-          Eigen::Matrix<double, 16, 1> J;  // host block (8), target block (8)
-          J.head<6>() = (g * Jh).transpose();
-          J[6] = e * (refv[j] - host.b);
-          J[7] = e;
-          J.segment<6>(8) = (g * Jt).transpose();
-          J[14] = -e * (refv[j] - host.b);
-          J[15] = -1;
-          const double jd = g * Jr;
+          const Eigen::Vector4d z(gx[j], gy[j], refv[j] - host.b, 1.0);
           const double wj = w[j];
-          const int off[2] = {8 * hi, 8 * ti};
-          for (int A = 0; A < 2; ++A) {
-            for (int B = 0; B < 2; ++B)
-              s.ba_H.block<8, 8>(off[A], off[B]).noalias() +=
-                  wj * J.segment<8>(Eigen::Index{8} * A) * J.segment<8>(Eigen::Index{8} * B).transpose();
-            s.ba_b.segment<8>(off[A]) += wj * r[j] * J.segment<8>(Eigen::Index{8} * A);
-            for (int q = 0; q < 8; ++q) row[3 + off[A] + q] += static_cast<float>(wj * J[8 * A + q] * jd);
-          }
-          row[0] += static_cast<float>(wj * jd * jd);
-          row[1] += static_cast<float>(wj * jd * r[j]);
+          Z.noalias() += (wj * z) * z.transpose();
+          zr += (wj * r[j]) * z;
         }
+        Eigen::Matrix<double, 16, 4> K = Eigen::Matrix<double, 16, 4>::Zero();
+        K.block<6, 2>(0, 0) = Jh.transpose();
+        K(6, 2) = e, K(7, 3) = e;
+        K.block<6, 2>(8, 0) = Jt.transpose();
+        K(14, 2) = -e, K(15, 3) = -1;
+        const Eigen::Matrix<double, 16, 4> KZ = K * Z;
+        const Eigen::Matrix<double, 16, 16> L = KZ * K.transpose();
+        const Eigen::Matrix<double, 16, 1> bl = K * zr;
+        const Eigen::Vector4d jr4(Jr[0], Jr[1], 0.0, 0.0);
+        const Eigen::Matrix<double, 16, 1> coupling = KZ * jr4;  // sum w J (g . Jr)
+        const int off[2] = {8 * hi, 8 * ti};
+        for (int A = 0; A < 2; ++A) {
+          for (int B = 0; B < 2; ++B)
+            s.ba_H.block<8, 8>(off[A], off[B]) += L.block<8, 8>(Eigen::Index{8} * A, Eigen::Index{8} * B);
+          s.ba_b.segment<8>(off[A]) += bl.segment<8>(Eigen::Index{8} * A);
+          for (int q = 0; q < 8; ++q) row[3 + off[A] + q] += static_cast<float>(coupling[8 * A + q]);
+        }
+        row[0] += static_cast<float>(jr4.dot(Z * jr4));
+        row[1] += static_cast<float>(jr4.dot(zr));
       }
       if (drop_outliers && observed > 0 && bad * 2 > observed) p.status = PointStatus::empty;
     }
@@ -155,11 +178,12 @@ void window_bundle_adjustment(State& s) {
       const float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
       const double hrr = row[0] * (1 + lambda) + 1e-6;
       if (row[0] <= 0) continue;
+      // The lower triangle only: LDLT reads nothing else.
       for (int q = 0; q < n; ++q) {
         const double cq = row[3 + q] / hrr;
         if (cq == 0) continue;
         b[q] -= cq * row[1];
-        for (int r = 0; r < n; ++r) Hs(q, r) -= cq * row[3 + r];
+        for (int r = 0; r <= q; ++r) Hs(q, r) -= cq * row[3 + r];
       }
     }
     for (int q = 0; q < n; ++q) Hs(q, q) += lambda * H(q, q) + 1e-6;
@@ -193,17 +217,22 @@ void window_bundle_adjustment(State& s) {
       const double d = -(row[1] + coupling) / (row[0] * (1 + lambda) + 1e-6);
       p.idepth = static_cast<float>(std::max(1e-3, std::min(100.0, p.idepth + d)));
     }
-    const Totals next = accumulate(s, win, false, false);
+    // The trial pass builds the next system as it goes (a step is usually taken); after the last
+    // iteration no system is needed, so that trial only sums the energy.
+    const bool last = it + 1 == kIterations;
+    const Totals next = accumulate(s, win, !last, false);
     if (next.energy < cur.energy) {
       lambda = std::max(lambda * 0.5, 1e-6);
-      cur = accumulate(s, win, true, false);
+      cur = next;
     } else {
       for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
         if (s.kf[slot].used) s.kf[slot].T_cw = saved_pose[slot], s.kf[slot].a = saved_a[slot], s.kf[slot].b = saved_b[slot];
       for (std::uint32_t pi = 0; pi < points; ++pi)
         s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff].idepth = s.ba_hxr[std::size_t{pi} * kBaStride + 2];
       lambda *= 10;
-      cur = accumulate(s, win, true, false);
+      // The refused trial overwrote the system: rebuild it at the restored parameters (an
+      // energy-only trial leaves it alone).
+      if (!last) cur = accumulate(s, win, true, false);
     }
   }
   accumulate(s, win, false, true);  // points that fit most keyframes badly leave the map

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <span>
 
+#include <Eigen/Core>
+
 namespace bolo::vo {
 
 struct Image {
@@ -25,9 +27,55 @@ inline bool inside(const Image& img, float x, float y, float margin) {
 }
 
 // Bilinear value; the caller keeps (x, y) inside with a margin of at least 1.
-float bilinear(const Image& img, float x, float y);
-// Bilinear value and gradient (from the gradient images gx, gy of the same size).
-Sample bilinear_with_gradient(const Image& img, const Image& gx, const Image& gy, float x, float y);
+inline float bilinear(const Image& img, float x, float y) {
+  const auto xi = static_cast<std::uint32_t>(x), yi = static_cast<std::uint32_t>(y);
+  const float fx = x - static_cast<float>(xi), fy = y - static_cast<float>(yi);
+  const float* p = img.data + std::size_t{yi} * img.width + xi;
+  const float top = p[0] + fx * (p[1] - p[0]);
+  const float bottom = p[img.width] + fx * (p[img.width + 1] - p[img.width]);
+  return top + fy * (bottom - top);
+}
+
+// Bilinear value and gradient (from the gradient images gx, gy of the same size): bilinear() on
+// the three planes with the weights and offsets computed once (same arithmetic, same results).
+inline Sample bilinear_with_gradient(const Image& img, const Image& gx, const Image& gy, float x, float y) {
+  const auto xi = static_cast<std::uint32_t>(x), yi = static_cast<std::uint32_t>(y);
+  const float fx = x - static_cast<float>(xi), fy = y - static_cast<float>(yi);
+  const std::size_t o = std::size_t{yi} * img.width + xi, w = img.width;
+  const auto at = [&](const float* p) {
+    const float top = p[o] + fx * (p[o + 1] - p[o]);
+    const float bottom = p[o + w] + fx * (p[o + w + 1] - p[o + w]);
+    return top + fy * (bottom - top);
+  };
+  return {at(img.data), at(gx.data), at(gy.data)};
+}
+
+// One level's value and gradients interleaved per pixel: a bilinear sample of all three reads
+// two adjacent 32-byte pairs instead of six scattered ones (the tracker samples the current frame
+// this way; the pad keeps a texel 16 bytes).
+struct alignas(16) Texel {
+  float value, gx, gy, pad;
+};
+struct TexelImage {
+  Texel* data = nullptr;
+  std::uint32_t width = 0, height = 0;
+};
+
+// bilinear_with_gradient() on the interleaved texels, the three channels at once (one 4-float
+// vector a texel; SSE on x86-64, NEON on the boards): per channel the same arithmetic, the same
+// results. The texels are 16-byte aligned (the arena's alignment, 16-byte texels).
+inline Sample bilinear_with_gradient(const TexelImage& img, float x, float y) {
+  const auto xi = static_cast<std::uint32_t>(x), yi = static_cast<std::uint32_t>(y);
+  const float fx = x - static_cast<float>(xi), fy = y - static_cast<float>(yi);
+  const Texel* p = img.data + std::size_t{yi} * img.width + xi;
+  const Texel* q = p + img.width;
+  using V = Eigen::Map<const Eigen::Array4f, Eigen::Aligned16>;
+  const Eigen::Array4f a = V(&p[0].value), b = V(&p[1].value), c = V(&q[0].value), d = V(&q[1].value);
+  const Eigen::Array4f top = a + fx * (b - a);
+  const Eigen::Array4f bottom = c + fx * (d - c);
+  const Eigen::Array4f r = top + fy * (bottom - top);
+  return {r[0], r[1], r[2]};
+}
 
 // Per level: intensity, x gradient, y gradient.
 struct Level {
@@ -46,5 +94,12 @@ Pyramid make_pyramid(std::span<float> storage, std::uint32_t width, std::uint32_
                      std::uint32_t levels);
 // Fill level 0's value plane first, then call this: downsamples and computes all gradients.
 void build_pyramid(Pyramid& pyramid);
+
+// Texels of every level of a pyramid (`levels` images over `storage`, texel_count long).
+std::size_t texel_count(std::uint32_t width, std::uint32_t height, std::uint32_t levels);
+void make_texels(std::span<Texel> storage, std::uint32_t width, std::uint32_t height, std::uint32_t levels,
+                 TexelImage* out);
+// Interleaves a built pyramid's planes into its texel images.
+void fill_texels(const Pyramid& pyramid, TexelImage* texels);
 
 }  // namespace bolo::vo
