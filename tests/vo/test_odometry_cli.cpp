@@ -90,7 +90,7 @@ TEST_CASE("every photometric mode runs on a ghosting sequence", "[vo][cli]") {
   }
 }
 
-TEST_CASE("--hfov stands in for a missing camera.json", "[vo][cli]") {
+TEST_CASE("odometry: --hfov stands in for a missing camera.json", "[vo][cli]") {
   const fs::path& seq = sequence("drive", "0.0002");
   TempDir tmp;
   const fs::path nocam = tmp / "nocam";
