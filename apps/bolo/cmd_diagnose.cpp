@@ -118,6 +118,7 @@ Command add_diagnose_command(CLI::App& parent) {
   app->add_option("--folds", o->folds, "Held-out folds (blocks of frames dealt in turn)")->capture_default_str();
   app->add_option("--min-delta-bic", o->min_delta_bic, "Held-out Delta BIC a finding needs")->capture_default_str();
   app->add_flag("--overwrite", o->overwrite, "Replace DIR if it exists");
+  app->add_flag("--no-progress", [o](std::int64_t) { o->progress = false; }, "Never draw the progress bar");
   return {app, [o](std::ostream& out) { return run_diagnose(*o, out); }};
 }
 

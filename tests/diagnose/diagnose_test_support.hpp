@@ -38,7 +38,7 @@ inline fs::path simulate(const TempDir& tmp, const std::string& name, const std:
 }
 
 inline nlohmann::json diagnose(const fs::path& rec, const fs::path& out) {
-  const CliResult r = run_bolo({"diagnose", rec.string(), "--out", out.string()});
+  const CliResult r = run_bolo({"diagnose", rec.string(), "--out", out.string(), "--no-progress"});
   INFO(r.err);
   REQUIRE(r.code == 0);
   const std::string text = read_text(out / "diagnosis.json");
