@@ -6,24 +6,16 @@
 # irq_sim.c (CONFIG_IRQ_SIM, also off) is built into the same module; its one call of the
 # unexported irq_to_desc() becomes generic_handle_irq(), which runs the same handler.
 #
-# For aarch64 the module is cross-built: the arm64 headers package with the host's (amd64)
-# linux-kbuild tools and aarch64-linux-gnu-gcc, the compiler family Debian's arm64 kernel uses.
+# For aarch64 the module is cross-built (kernel-cache.sh: hil_module_make_args).
 #
 #   gpio-sim.sh [x86_64|aarch64]
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 arch="${1:-x86_64}"
-case "$arch" in
-  x86_64) make_args=() ;;
-  aarch64)
-    command -v aarch64-linux-gnu-gcc >/dev/null ||
-      { echo "gpio-sim: aarch64-linux-gnu-gcc is missing (scripts/deps.sh installs it)" >&2; exit 2; }
-    make_args=(ARCH=arm64 CROSS_COMPILE=aarch64-linux-gnu-) ;;
-  *) echo "gpio-sim: unknown architecture '$arch' (x86_64 or aarch64)" >&2; exit 2 ;;
-esac
 cache="${BOLO_HIL_CACHE:-$HOME/.cache/bolo-hil}"
 # shellcheck source=kernel-cache.sh
 source "$here/kernel-cache.sh"
+hil_module_make_args "$arch" || exit 2
 kernel_dir="$(hil_kernel_dir "$arch" "$cache")"
 kver="$(cat "$kernel_dir/version")"  # e.g. 6.1.0-56-amd64
 out="$cache/$arch/gpio-sim"
@@ -32,21 +24,11 @@ if [ -f "$out/gpio-sim.ko" ] && [ "$(cat "$out/kver" 2>/dev/null)" = "$kver" ]; 
   exit 0
 fi
 
-flavour="${kver##*-}"        # amd64
-abi="${kver%-"$flavour"}"    # 6.1.0-56
 series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"  # 6.1
 root="$cache/$arch/kbuild-$kver"
 rm -rf "$root" "$out"
 mkdir -p "$root" "$out"
-headers_package="linux-headers-$kver"
-[ "$arch" = x86_64 ] || headers_package="$headers_package:$flavour"   # foreign: linux-headers-…-arm64:arm64
-# linux-kbuild is the host's (amd64): its fixdep/modpost run here, whatever the target.
-for p in "$headers_package" "linux-headers-$abi-common" "linux-kbuild-$series" "linux-source-$series"; do
-  hil_fetch_deb "$p" "$root" "$cache" >&2
-done
-headers="$root/usr/src/linux-headers-$kver"
-# The flavour's Makefile includes the common tree by absolute path.
-sed -i "s|^include /usr/src/|include $root/usr/src/|" "$headers/Makefile"
+headers="$(hil_kbuild_tree "$arch" "$cache" "$kver" "$root")"
 
 tarball="$root/usr/src/linux-source-$series.tar.xz"
 tar -xJf "$tarball" -C "$out" --strip-components=3 --wildcards \
@@ -58,7 +40,7 @@ grep -q 'handle_simple_irq(irq_to_desc(irqnum));' "$out/irq_sim.c" ||
   { echo "gpio-sim: irq_sim.c changed upstream; check the irq_to_desc replacement" >&2; exit 1; }
 sed -i 's/handle_simple_irq(irq_to_desc(irqnum));/generic_handle_irq(irqnum);/' "$out/irq_sim.c"
 printf 'obj-m := gpio-sim.o\ngpio-sim-y := gpio-sim-main.o irq_sim.o\n' >"$out/Kbuild"
-make -s -C "$headers" M="$out" "${make_args[@]}" modules >&2
+make -s -C "$headers" M="$out" "${HIL_MAKE_ARGS[@]}" modules >&2
 echo "$kver" >"$out/kver"
 rm -rf "$root"  # the unpacked headers/kbuild (~300 MB); the .debs stay in the cache
 echo "$out/gpio-sim.ko"

@@ -111,3 +111,37 @@ hil_copy_libraries() {
     done
   done
 }
+
+# For out-of-tree modules of the VM's kernel (gpio-sim.sh, uvc-gadget.sh): sets HIL_MAKE_ARGS to
+# what kbuild needs for ARCH (for aarch64 a cross build: the arm64 headers with the host's amd64
+# kbuild tools and Debian's aarch64-linux-gnu-gcc, the GCC 12 the kernel was built with).
+hil_module_make_args() {
+  case "$1" in
+    x86_64) HIL_MAKE_ARGS=() ;;
+    aarch64)
+      command -v aarch64-linux-gnu-gcc >/dev/null ||
+        { echo "hil-vm: no aarch64-linux-gnu-gcc (scripts/deps.sh installs the cross compilers)" >&2; return 2; }
+      HIL_MAKE_ARGS=(ARCH=arm64 CROSS_COMPILE=aarch64-linux-gnu-) ;;
+    *) echo "hil-vm: unknown architecture '$1' (x86_64 or aarch64)" >&2; return 2 ;;
+  esac
+}
+
+# Unpacks the kbuild tree for kernel KVER of ARCH into ROOT (the flavour's headers, the common
+# headers, the host's linux-kbuild and linux-source, fetched with apt-get download, nothing
+# installed) and prints the headers folder to build against. linux-source's tarball is left in
+# ROOT/usr/src for the caller to take its files from.
+hil_kbuild_tree() {
+  local arch="$1" cache="$2" kver="$3" root="$4"
+  local flavour="${kver##*-}"                                # amd64
+  local abi="${kver%-"$flavour"}"                            # 6.1.0-56
+  local series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"   # 6.1
+  local flavour_headers="linux-headers-$kver" p
+  [ "$arch" = x86_64 ] || flavour_headers="$flavour_headers:$(hil_debarch "$arch")"
+  for p in "$flavour_headers" "linux-headers-$abi-common" "linux-kbuild-$series" "linux-source-$series"; do
+    hil_fetch_deb "$p" "$root" "$cache" >&2 || return 1
+  done
+  local headers="$root/usr/src/linux-headers-$kver"
+  # The flavour's Makefile includes the common tree by absolute path.
+  sed -i "s|^include /usr/src/|include $root/usr/src/|" "$headers/Makefile"
+  echo "$headers"
+}

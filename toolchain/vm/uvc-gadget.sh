@@ -9,24 +9,16 @@
 # matching linux-headers/kbuild packages unpacked into the cache (apt-get download, nothing
 # installed). The patch must apply exactly: upstream changes fail the build loudly.
 #
-# For aarch64 the module is cross-built: the arm64 headers package with the host's (amd64)
-# linux-kbuild tools and Debian's aarch64-linux-gnu-gcc (the same GCC 12 the kernel was built with).
+# For aarch64 the module is cross-built (kernel-cache.sh: hil_module_make_args).
 #
 #   uvc-gadget.sh [x86_64|aarch64]
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 arch="${1:-x86_64}"
-case "$arch" in
-  x86_64) make_args=() ;;
-  aarch64)
-    command -v aarch64-linux-gnu-gcc >/dev/null ||
-      { echo "uvc-gadget: no aarch64-linux-gnu-gcc (scripts/deps.sh installs the cross compilers)" >&2; exit 2; }
-    make_args=(ARCH=arm64 CROSS_COMPILE=aarch64-linux-gnu-) ;;
-  *) echo "uvc-gadget: unknown arch $arch" >&2; exit 2 ;;
-esac
 cache="${BOLO_HIL_CACHE:-$HOME/.cache/bolo-hil}"
 # shellcheck source=kernel-cache.sh
 source "$here/kernel-cache.sh"
+hil_module_make_args "$arch" || exit 2
 kernel_dir="$(hil_kernel_dir "$arch" "$cache")"
 kver="$(cat "$kernel_dir/version")"  # e.g. 6.1.0-56-amd64
 patch_file="$here/uvc-gadget-bulk.patch"
@@ -37,20 +29,11 @@ if [ -f "$out/usb_f_uvc.ko" ] && [ "$(cat "$out/stamp" 2>/dev/null)" = "$stamp" 
   exit 0
 fi
 
-flavour="${kver##*-}"        # amd64
-abi="${kver%-"$flavour"}"    # 6.1.0-56
 series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"  # 6.1
 root="$cache/$arch/kbuild-uvc-$kver"
 rm -rf "$root" "$out"
 mkdir -p "$root" "$out"
-flavour_headers="linux-headers-$kver"
-[ "$arch" = x86_64 ] || flavour_headers="$flavour_headers:$(hil_debarch "$arch")"
-for p in "$flavour_headers" "linux-headers-$abi-common" "linux-kbuild-$series" "linux-source-$series"; do
-  hil_fetch_deb "$p" "$root" "$cache" >&2
-done
-headers="$root/usr/src/linux-headers-$kver"
-# The flavour's Makefile includes the common tree by absolute path.
-sed -i "s|^include /usr/src/|include $root/usr/src/|" "$headers/Makefile"
+headers="$(hil_kbuild_tree "$arch" "$cache" "$kver" "$root")"
 
 tarball="$root/usr/src/linux-source-$series.tar.xz"
 src="linux-source-$series/drivers/usb/gadget/function"
@@ -66,7 +49,7 @@ fi
 (cd "$out" && patch -p1 --forward --fuzz=0 --no-backup-if-mismatch -r - <"$patch_file" >&2) ||
   { echo "uvc-gadget: $patch_file does not apply to $kver's sources (upstream changed): check it by hand" >&2; exit 1; }
 printf 'obj-m := usb_f_uvc.o\nusb_f_uvc-y := f_uvc.o uvc_queue.o uvc_v4l2.o uvc_video.o uvc_configfs.o\n' >"$out/Kbuild"
-make -s -C "$headers" M="$out" "${make_args[@]}" modules >&2
+make -s -C "$headers" M="$out" "${HIL_MAKE_ARGS[@]}" modules >&2
 modinfo -F parm "$out/usb_f_uvc.ko" | grep -q '^bulk_payload:' ||
   { echo "uvc-gadget: the built module has no bulk_payload parameter" >&2; exit 1; }
 echo "$stamp" >"$out/stamp"
