@@ -21,6 +21,7 @@
 #include "bolo/hal/flirone_source.hpp"
 #include "bolo/hal/usb_libusb.hpp"
 #include "send_log.hpp"
+#include "emulators/fnv1a.hpp"
 
 namespace {
 
@@ -36,16 +37,13 @@ bool exists(const std::string& path) {
 class HashingSink final : public fw::LineSink {
  public:
   void begin_frame(const fw::FrameHeader& header) override {
-    hash_ = 0xcbf29ce484222325ULL;
+    hash_ = hil::kFnvOffset;
     rows_ = 0;
     width_ok_ = header.width == 80 && header.height == 60;
   }
   void push_line(std::uint32_t row, fw::LineView line) override {
     if (row != rows_ || line.size() != 80) width_ok_ = false;
-    for (fw::Pixel p : line) {
-      hash_ = (hash_ ^ (p & 0xFF)) * 0x100000001b3ULL;
-      hash_ = (hash_ ^ (p >> 8)) * 0x100000001b3ULL;
-    }
+    hash_ = hil::fnv1a_add_pixels_le(hash_, line);
     ++rows_;
   }
   void end_frame() override {

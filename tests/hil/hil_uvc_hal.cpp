@@ -32,6 +32,7 @@
 
 #include "bolo/hal/v4l2_source.hpp"
 #include "send_log.hpp"
+#include "emulators/fnv1a.hpp"
 
 namespace {
 
@@ -53,14 +54,11 @@ struct Received {
 class HashingSink final : public fw::LineSink {
  public:
   void begin_frame(const fw::FrameHeader& header) override {
-    hash_ = 0xcbf29ce484222325ULL;
+    hash_ = hil::kFnvOffset;
     ffc_ = header.ffc == fw::FfcState::completed;
   }
   void push_line(std::uint32_t, fw::LineView line) override {
-    for (fw::Pixel p : line) {
-      hash_ = (hash_ ^ (p & 0xFF)) * 0x100000001b3ULL;
-      hash_ = (hash_ ^ (p >> 8)) * 0x100000001b3ULL;
-    }
+    hash_ = hil::fnv1a_add_pixels_le(hash_, line);
   }
   void end_frame() override { frames.push_back({hash_, 0, ffc_}); }
   std::vector<Received> frames;

@@ -1,4 +1,5 @@
 #include "flirone_frames.hpp"
+#include "fnv1a.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -101,18 +102,12 @@ void set_packet_row(Bytes& f, std::size_t index, std::uint16_t row) {
   put_le16(f, at, static_cast<std::uint16_t>((le16(f, at) & 0xF000) | (row & 0x0FFF)));
 }
 
-std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (std::uint8_t b : bytes) h = (h ^ b) * 0x100000001b3ULL;
-  return h;
-}
+std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) { return hil::fnv1a_add(hil::kFnvOffset, bytes.data(), bytes.size()); }
 
 std::uint64_t image_hash(std::span<const std::uint8_t> frame) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (std::size_t row = 0; row < kImageRows; ++row) {
-    const std::size_t at = kHeaderBytes + row * kPacketBytes + 4;
-    for (std::size_t i = 0; i < kWidth * 2; ++i) h = (h ^ frame[at + i]) * 0x100000001b3ULL;
-  }
+  std::uint64_t h = hil::kFnvOffset;
+  for (std::size_t row = 0; row < kImageRows; ++row)
+    h = hil::fnv1a_add(h, frame.data() + kHeaderBytes + row * kPacketBytes + 4, kWidth * 2);
   return h;
 }
 

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "bolo/hal/recording_player.hpp"
+#include "fnv1a.hpp"
 
 namespace bolo::hil::uvc {
 
@@ -85,10 +86,6 @@ Bytes FrameFeed::frame(std::uint64_t index, FrameSize size, const Telemetry& t) 
   return out;
 }
 
-std::uint64_t fnv1a(const std::uint8_t* data, std::size_t size) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (std::size_t i = 0; i < size; ++i) h = (h ^ data[i]) * 0x100000001b3ULL;
-  return h;
-}
+std::uint64_t fnv1a(const std::uint8_t* data, std::size_t size) { return hil::fnv1a_add(hil::kFnvOffset, data, size); }
 
 }  // namespace bolo::hil::uvc
