@@ -45,9 +45,10 @@ StreamStatus FlirOneSource::stream_frame(fw::LineSink& sink) {
       case TransferStatus::ok: break;
       case TransferStatus::end: return StreamStatus::end_of_stream;
       case TransferStatus::timeout:
+        // Counted, but what has arrived of a frame is kept: a device (or a loaded host) that
+        // pauses mid-frame and then goes on completes it; one that goes on with the next frame
+        // cuts it short, which the reassembler counts and drops when that frame's header comes.
         ++stats_.timeouts;
-        if (reassembler_.buffered() > 0) ++sequence_;
-        reassembler_.reset();
         return StreamStatus::fault;
       case TransferStatus::error:
         ++stats_.corrupt_transfers;

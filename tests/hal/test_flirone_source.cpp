@@ -103,6 +103,30 @@ TEST_CASE("flirone source: faults are counted, lost frames leave sequence gaps",
   CHECK(sink.header().fpa_temp_mc == 46850);
 }
 
+TEST_CASE("flirone source: a pause mid-frame is a counted timeout, not a lost frame", "[hal][flirone]") {
+  using S = hal::StreamStatus;
+  using T = hal::TransferStatus;
+  ScriptedTransport usb;
+  const auto whole = test::make_flirone_frame({.frame_counter = 3});
+  usb.frame(std::vector<std::uint8_t>(whole.begin(), whole.begin() + 5000));
+  usb.event(T::timeout);  // the device (or a loaded host) stalls, then goes on with the frame
+  usb.frame(std::vector<std::uint8_t>(whole.begin() + 5000, whole.end()));
+  // A pause after which the device starts the next frame: the first is cut short.
+  const auto cut = test::make_flirone_frame({.frame_counter = 6});
+  usb.frame(std::vector<std::uint8_t>(cut.begin(), cut.begin() + 5000));
+  usb.event(T::timeout);
+  usb.frame(test::make_flirone_frame({.frame_counter = 9}));
+  hal::FlirOneSource source(usb, {.clock = hal::FlirOneClock::host});
+  test::FrameCollector sink(80, 60);
+  std::vector<std::uint64_t> seq;
+  const auto statuses = run(source, sink, seq);
+  CHECK(statuses == std::vector<S>{S::fault, S::frame, S::fault, S::frame});
+  CHECK(seq == std::vector<std::uint64_t>{0, 2});  // the cut frame leaves its gap
+  CHECK(source.stats().timeouts == 2);
+  CHECK(source.stats().frames_delivered == 2);
+  CHECK(source.stats().short_transfers == 1);
+}
+
 TEST_CASE("flirone source: the first frame after a replug is not an FFC, a new FFC stamp is", "[hal][flirone]") {
   ScriptedTransport usb;
   usb.frame(test::make_flirone_frame({.frame_counter = 3, .last_ffc_ms = 1}));
