@@ -15,6 +15,7 @@
 #include "bolo/odometry/plot.hpp"
 #include "bolo/odometry/ply.hpp"
 #include "bolo/recording/recording.hpp"
+#include "bolo/sim/scene/camera.hpp"
 #include "bolo/vo/odometry.hpp"
 
 namespace bolo::odo {
@@ -22,13 +23,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// An ideal pinhole centred on the image (pixel centres at integer coordinates, as camera.json's).
+// The simulator's centred pinhole of that field of view (the camera `bolo simulate` renders with).
 vo::Camera camera_from_hfov(double hfov_deg, std::uint32_t width, std::uint32_t height) {
-  const double f = 0.5 * width / std::tan(0.5 * hfov_deg * 3.14159265358979323846 / 180.0);
+  const sim::scene::Camera pinhole(width, height, hfov_deg);
   vo::Camera c;
-  c.fx = c.fy = static_cast<float>(f);
-  c.cx = 0.5f * static_cast<float>(width - 1);
-  c.cy = 0.5f * static_cast<float>(height - 1);
+  c.fx = static_cast<float>(pinhole.fx);
+  c.fy = static_cast<float>(pinhole.fy);
+  c.cx = static_cast<float>(pinhole.cx);
+  c.cy = static_cast<float>(pinhole.cy);
   return c;
 }
 
