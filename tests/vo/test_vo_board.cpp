@@ -112,3 +112,30 @@ TEST_CASE("the VO tracks an analytic wall and the result is deterministic", "[vo
     }
   }
 }
+
+TEST_CASE("poses stay rigid motions over a long run", "[vo][board]") {
+  // The constant-velocity guess composes a pose with the inverse of the previous one; with the
+  // transpose standing in for the inverse, a rotation that is not quite orthonormal doubles its
+  // error every frame, until the poses shear the scene and no new map can be started.
+  vo::VoConfig c;
+  c.width = kW, c.height = kH, c.camera = camera();
+  std::vector<std::byte> arena(vo::Odometry::arena_bytes(c));
+  vo::Odometry odometry(c, arena);
+  REQUIRE(odometry.ok());
+  const int n = 150;
+  int posed = 0;
+  double worst = 0;
+  for (int i = 0; i < n; ++i) {
+    const std::vector<std::uint16_t> frame = render(i / 60.0);
+    vo::FrameInput in;
+    in.raw = frame;
+    in.t_s = i / 60.0, in.chain_broken = i == 0;
+    const vo::FrameResult r = odometry.process(in);
+    if (!r.has_pose) continue;
+    ++posed;
+    worst = std::max(worst, (r.T_wc.R * r.T_wc.R.transpose() - vo::Mat3::Identity()).norm());
+  }
+  INFO("posed " << posed << " of " << n << ", worst |R R^T - I| " << worst);
+  CHECK(posed >= n / 2);
+  CHECK(worst < 1e-9);
+}

@@ -235,8 +235,8 @@ bool initialise_step(State& s) {
     return false;
   }
   const Se3 previous = s.T_cw;
-  s.T_cw = M * host.T_cw;
-  s.motion = s.T_cw * previous.inverse();
+  s.T_cw = (M * host.T_cw).orthonormalised();
+  s.motion = (s.T_cw * previous.inverse()).orthonormalised();
   ++s.init_frames;
   const double flow = translation_flow(s, M);
   const double needed = kInitFlow * (s.cfg.width + s.cfg.height);

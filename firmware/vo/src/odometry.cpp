@@ -359,7 +359,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (!best.ok) {
     ++s.lost_frames;
     out.state = TrackingState::lost;
-    s.T_cw = s.motion * s.T_cw;  // coast on the motion model
+    s.T_cw = (s.motion * s.T_cw).orthonormalised();  // coast on the motion model
     if (!s.T_cw.R.allFinite() || !s.T_cw.t.allFinite()) s.T_cw = s.last_good, s.motion = Se3();
     if (s.lost_frames >= kLostFramesBeforeRestart) {
       // Restart the map here, anchored at the coasted pose.
@@ -373,9 +373,10 @@ FrameResult Odometry::process(const FrameInput& in) {
     return out;
   }
   s.lost_frames = 0;
-  s.last_good = best.T_cw;
-  s.motion = best.T_cw * s.T_cw.inverse();
-  s.T_cw = best.T_cw;
+  const Se3 pose = best.T_cw.orthonormalised();
+  s.last_good = pose;
+  s.motion = (pose * s.T_cw.inverse()).orthonormalised();
+  s.T_cw = pose;
   // A frame without its predecessor carries an unknown offset; keep the keyframes' brightness.
   if (!free_offset) s.a = best.a, s.b = best.b;
   out.state = TrackingState::tracking;

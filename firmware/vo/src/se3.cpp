@@ -59,6 +59,11 @@ Vec6 Se3::log() const {
   return xi;
 }
 
+Se3 Se3::orthonormalised() const {
+  const Eigen::Vector4d q = to_quaternion(R);
+  return {from_quaternion(q.x(), q.y(), q.z(), q.w()), t};
+}
+
 Eigen::Vector4d to_quaternion(const Mat3& R) {
   double x, y, z, w;
   const double tr = R.trace();

@@ -204,7 +204,7 @@ void window_bundle_adjustment(State& s) {
       if (!kf.used) continue;
       const int idx = win.index[slot];
       saved_pose[slot] = kf.T_cw, saved_a[slot] = kf.a, saved_b[slot] = kf.b;
-      kf.T_cw = Se3::exp(dx.segment<6>(Eigen::Index{8} * idx)) * kf.T_cw;
+      kf.T_cw = (Se3::exp(dx.segment<6>(Eigen::Index{8} * idx)) * kf.T_cw).orthonormalised();
       kf.a += dx[8 * idx + 6], kf.b += dx[8 * idx + 7];
     }
     for (std::uint32_t pi = 0; pi < points; ++pi) {

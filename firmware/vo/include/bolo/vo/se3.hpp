@@ -20,6 +20,10 @@ struct Se3 {
 
   static Se3 exp(const Vec6& xi);
   Vec6 log() const;
+  // The nearest rigid motion: R projected back onto the rotations. Rounding leaves R slightly
+  // off; a pose composed with its own predecessor's inverse (the motion model) doubles that every
+  // frame unless it is removed.
+  Se3 orthonormalised() const;
 };
 
 Mat3 skew(const Vec3& v);
