@@ -134,8 +134,9 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         K(6, 2) = e, K(7, 3) = e;
         K.block<6, 2>(8, 0) = Jt.transpose();
         K(14, 2) = -e, K(15, 3) = -1;
-        const Eigen::Matrix<double, 16, 4> KZ = K * Z;
-        const Eigen::Matrix<double, 16, 16> L = KZ * K.transpose();
+        // Coefficient-wise products: at these sizes Eigen's blocked GEMM costs more than it saves.
+        const Eigen::Matrix<double, 16, 4> KZ = K.lazyProduct(Z);
+        const Eigen::Matrix<double, 16, 16> L = KZ.lazyProduct(K.transpose());
         const Eigen::Matrix<double, 16, 1> bl = K * zr;
         const Eigen::Vector4d jr4(Jr[0], Jr[1], 0.0, 0.0);
         const Eigen::Matrix<double, 16, 1> coupling = KZ * jr4;  // sum w J (g . Jr)
