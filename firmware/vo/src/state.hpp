@@ -16,7 +16,9 @@
 
 namespace bolo::vo {
 
-enum class PointStatus : std::uint8_t { empty, immature, active };
+// `leaving`: inside the window BA only, an active point its last trial found to fit most keyframes
+// badly; it leaves the map if that trial is accepted.
+enum class PointStatus : std::uint8_t { empty, immature, active, leaving };
 
 struct Point {
   float u = 0, v = 0;  // host pixel, level 0

@@ -36,6 +36,7 @@ Window window_of(const State& s) {
   return w;
 }
 
+// drop_outliers: points that fit most of the keyframes they are seen in badly are marked `leaving`.
 Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_outliers) {
   Totals tot;
   const Scaled k = camera_at(s.cfg.camera, 0);
@@ -150,10 +151,17 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         row[0] += static_cast<float>(jr4.dot(Z * jr4));
         row[1] += static_cast<float>(jr4.dot(zr));
       }
-      if (drop_outliers && observed > 0 && bad * 2 > observed) p.status = PointStatus::empty;
+      if (drop_outliers && observed > 0 && bad * 2 > observed) p.status = PointStatus::leaving;
     }
   }
   return tot;
+}
+
+void set_status(State& s, PointStatus from, PointStatus to) {
+  for (Keyframe& kf : s.kf)
+    if (kf.used)
+      for (std::uint32_t i = 0; i < kf.count; ++i)
+        if (kf.points[i].status == from) kf.points[i].status = to;
 }
 
 }  // namespace
@@ -165,6 +173,7 @@ void window_bundle_adjustment(State& s) {
   const int total = static_cast<int>(kMaxBaParams);
   const bool affine = s.cfg.photometric == Photometric::affine;
   double lambda = 1e-3;
+  bool outliers_marked = false;
   Totals cur = accumulate(s, win, true, false);
   for (int it = 0; it < kIterations && cur.inliers > 0; ++it) {
     BaMatrix& H = s.ba_H;
@@ -219,9 +228,11 @@ void window_bundle_adjustment(State& s) {
       p.idepth = static_cast<float>(std::max(1e-3, std::min(100.0, p.idepth + d)));
     }
     // The trial pass builds the next system as it goes (a step is usually taken); after the last
-    // iteration no system is needed, so that trial only sums the energy.
+    // iteration no system is needed, so that trial only sums the energy and marks the outliers
+    // (when it is accepted, as it usually is, no pass of its own is needed for them).
     const bool last = it + 1 == kIterations;
-    const Totals next = accumulate(s, win, !last, false);
+    const Totals next = accumulate(s, win, !last, last);
+    if (last) outliers_marked = true;
     if (next.energy < cur.energy) {
       lambda = std::max(lambda * 0.5, 1e-6);
       cur = next;
@@ -231,12 +242,14 @@ void window_bundle_adjustment(State& s) {
       for (std::uint32_t pi = 0; pi < points; ++pi)
         s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff].idepth = s.ba_hxr[std::size_t{pi} * kBaStride + 2];
       lambda *= 10;
+      if (last) set_status(s, PointStatus::leaving, PointStatus::active), outliers_marked = false;
       // The refused trial overwrote the system: rebuild it at the restored parameters (an
       // energy-only trial leaves it alone).
       if (!last) cur = accumulate(s, win, true, false);
     }
   }
-  accumulate(s, win, false, true);  // points that fit most keyframes badly leave the map
+  if (!outliers_marked) accumulate(s, win, false, true);
+  set_status(s, PointStatus::leaving, PointStatus::empty);  // points that fit most keyframes badly leave the map
   s.ref_dirty = true;
   // The newest keyframe is the current frame: follow its refined pose.
   const Keyframe& newest = s.kf[s.order[s.kf_count - 1]];
