@@ -214,6 +214,8 @@ void V4l2BufferStream::reopened(const Y16Layout& layout) {
   sequence_offset_ = last_sequence_ + 2;  // a gap: the driver starts again at 0
   gaps_.restart();
   have_ffc_stamp_ = false;
+  counter_.restart();  // the camera may have restarted too
+  have_counted_sequence_ = false;
 }
 
 // Every number the driver skipped is a frame that never arrived (unless it comes late).
@@ -236,15 +238,33 @@ fw::FrameHeader V4l2BufferStream::header_of(const Buffer& buffer) const {
   return header;
 }
 
-// FFC: the core's "time at last FFC" changed since the previous frame.
-void V4l2BufferStream::read_telemetry(const Y16Frame& frame, fw::FrameHeader& header) {
-  if (!frame.telemetry(telemetry_)) return;
+// FFC: the core's "time at last FFC" changed since the previous frame. False without telemetry.
+bool V4l2BufferStream::read_telemetry(const Y16Frame& frame, fw::FrameHeader& header) {
+  if (!frame.telemetry(telemetry_)) return false;
   header.ffc = have_ffc_stamp_ && telemetry_.time_at_last_ffc_ms != last_ffc_ms_ ? fw::FfcState::completed
                                                                                   : fw::FfcState::none;
   have_ffc_stamp_ = true;
   last_ffc_ms_ = telemetry_.time_at_last_ffc_ms;
   header.fpa_temp_mc = centikelvin_to_mc(telemetry_.fpa_temp_ck);
   header.housing_temp_mc = centikelvin_to_mc(telemetry_.housing_temp_ck);
+  return true;
+}
+
+// A counter step over n frames while the driver's numbers advanced by s since the previous frame
+// with telemetry: s - 1 frames are the driver's to count (dropped, or handed over broken); the
+// other n - s never reached it, so the camera skipped them (or the wire lost them unnoticed).
+void V4l2BufferStream::follow_frame_counter(std::uint32_t sequence, SourceStats& stats) {
+  const LeptonFrameCounter::Step step = counter_.add(telemetry_.frame_counter);
+  const auto numbered = static_cast<std::int32_t>(sequence - counted_sequence_);
+  const bool newer = !have_counted_sequence_ || numbered > 0;
+  if (step == LeptonFrameCounter::Step::repeat) ++stats.duplicates;
+  if (step == LeptonFrameCounter::Step::forward && have_counted_sequence_ && numbered > 0 &&
+      counter_.advanced() > static_cast<std::uint32_t>(numbered))
+    skipped_in_camera_ += counter_.advanced() - static_cast<std::uint32_t>(numbered);
+  if (newer) {
+    have_counted_sequence_ = true;
+    counted_sequence_ = sequence;
+  }
 }
 
 void V4l2BufferStream::push_image(const Y16Frame& frame, const fw::FrameHeader& header, fw::LineSink& sink) {
@@ -269,7 +289,7 @@ StreamStatus V4l2BufferStream::deliver(const Buffer& buffer, fw::LineSink& sink,
   }
   const Y16Frame frame(buffer.bytes, layout_);
   fw::FrameHeader header = header_of(buffer);
-  read_telemetry(frame, header);
+  if (read_telemetry(frame, header)) follow_frame_counter(buffer.sequence, stats);
   push_image(frame, header, sink);
   ++stats.frames_delivered;
   return StreamStatus::frame;

@@ -192,3 +192,67 @@ TEST_CASE("v4l2 buffers: synthetic Y16 buffers become frames; gaps, FFC, refusal
   CHECK(st.frames_delivered == 4);
   CHECK(stream.out_of_order() == 0);
 }
+
+TEST_CASE("v4l2 buffers: the telemetry frame counter shows frames skipped in the camera and sent twice", "[hal][v4l2]") {
+  V4l2BufferStream stream(Y16Layout{160, 120, 2, 320});
+  SourceStats st;
+  bolo::test::FrameCollector sink(160, 120);
+  // (telemetry frame counter, the driver's sequence number) of each buffer, in the order dequeued.
+  auto stream_frames = [&](std::initializer_list<std::pair<std::uint32_t, std::uint32_t>> frames) {
+    for (auto [counter, sequence] : frames) {
+      const auto bytes = lepton_buffer(320, 100, counter);
+      REQUIRE(stream.deliver(filled(bytes, sequence), sink, st) == StreamStatus::frame);
+    }
+  };
+  stream_frames({{1001, 0}, {1002, 1}, {1004, 2}});  // 1003 never left the camera: no gap in the driver's numbers
+  CHECK(stream.skipped_in_camera() == 1);
+  CHECK(st.dropped == 0);
+  stream_frames({{1006, 4}});  // 1005 had the driver's number 3, which it dropped: not the camera's
+  CHECK(stream.skipped_in_camera() == 1);
+  CHECK(st.dropped == 1);
+  stream_frames({{1006, 5}});  // the camera sent 1006 twice: delivered, counted a duplicate
+  CHECK(st.duplicates == 1);
+  stream_frames({{1008, 7}, {1007, 6}, {1009, 8}});  // uvcvideo swapped two: nothing lost, nothing twice
+  CHECK(stream.out_of_order() == 1);
+  CHECK(st.dropped == 1);
+  CHECK(stream.skipped_in_camera() == 1);
+  CHECK(st.duplicates == 1);
+  stream_frames({{1012, 9}, {1013, 10}, {1012, 11}});  // 1010, 1011 skipped; 1012 again after 1013
+  CHECK(stream.skipped_in_camera() == 3);
+  CHECK(st.duplicates == 2);
+  stream_frames({{7, 12}, {8, 13}});  // the core counts from the start again: a jump, no losses
+  CHECK(stream.counter_jumps() == 1);
+  CHECK(stream.skipped_in_camera() == 3);
+  CHECK(st.duplicates == 2);
+  stream.reopened(Y16Layout{160, 120, 2, 320});  // a replugged camera counts anew
+  stream_frames({{500, 0}, {501, 1}});
+  CHECK(stream.skipped_in_camera() == 3);
+  CHECK(stream.counter_jumps() == 1);
+  CHECK(st.frames_delivered == 15);
+}
+
+TEST_CASE("v4l2 buffers: a camera exporting every third core frame steps its counter by 3", "[hal][v4l2]") {
+  V4l2BufferStream stream(Y16Layout{160, 120, 2, 320});
+  SourceStats st;
+  bolo::test::FrameCollector sink(160, 120);
+  std::uint32_t sequence = 0;
+  for (std::uint32_t counter : {30u, 33u, 36u, 42u, 42u, 45u}) {  // 39 skipped, 42 sent twice
+    const auto bytes = lepton_buffer(320, 100, counter);
+    REQUIRE(stream.deliver(filled(bytes, sequence++), sink, st) == StreamStatus::frame);
+  }
+  CHECK(stream.skipped_in_camera() == 1);
+  CHECK(st.duplicates == 1);
+  CHECK(stream.counter_jumps() == 0);
+}
+
+TEST_CASE("v4l2 buffers: without telemetry rows nothing is counted from them", "[hal][v4l2]") {
+  V4l2BufferStream stream(Y16Layout{160, 120, 0, 320});
+  SourceStats st;
+  bolo::test::FrameCollector sink(160, 120);
+  for (std::uint32_t sequence : {0u, 1u, 2u}) {
+    const auto bytes = lepton_buffer(320, 100, sequence * 5);  // row 120 is not read
+    REQUIRE(stream.deliver(filled(bytes, sequence), sink, st) == StreamStatus::frame);
+  }
+  CHECK(stream.skipped_in_camera() == 0);
+  CHECK(st.duplicates == 0);
+}

@@ -61,7 +61,9 @@ class SequenceGaps {
 // What V4l2Source makes of each buffer the driver hands over, apart from the device (tests feed
 // it synthetic Y16 buffers): the driver's sequence numbers (drops, late frames), the layout
 // check, the header (sequence kept increasing across a reopen, timestamp) and, from Lepton
-// telemetry rows, FFC events and temperatures.
+// telemetry rows, FFC events, temperatures and the frame counter: frames skipped inside the
+// camera (the driver never saw them, so its numbers show no gap) and frames sent twice
+// (SourceStats::duplicates, delivered all the same).
 class V4l2BufferStream {
  public:
   struct Buffer {
@@ -77,12 +79,17 @@ class V4l2BufferStream {
   // The device was reopened (with `layout`): the driver numbers from 0 again.
   void reopened(const Y16Layout& layout);
   std::uint64_t out_of_order() const { return gaps_.out_of_order(); }
+  // Frames the telemetry counter stepped over that the driver's numbers do not account for.
+  std::uint64_t skipped_in_camera() const { return skipped_in_camera_; }
+  // Counter steps too large (or too far back) to be losses: a restarted core, a bad row.
+  std::uint64_t counter_jumps() const { return counter_.jumps(); }
   const LeptonTelemetry& last_telemetry() const { return telemetry_; }
 
  private:
   void follow_sequence(std::uint32_t sequence, SourceStats& stats);
   fw::FrameHeader header_of(const Buffer& buffer) const;
-  void read_telemetry(const Y16Frame& frame, fw::FrameHeader& header);
+  bool read_telemetry(const Y16Frame& frame, fw::FrameHeader& header);
+  void follow_frame_counter(std::uint32_t sequence, SourceStats& stats);
   void push_image(const Y16Frame& frame, const fw::FrameHeader& header, fw::LineSink& sink);
 
   Y16Layout layout_;
@@ -93,6 +100,10 @@ class V4l2BufferStream {
   bool have_ffc_stamp_ = false;
   std::uint32_t last_ffc_ms_ = 0;
   LeptonTelemetry telemetry_;
+  LeptonFrameCounter counter_;
+  bool have_counted_sequence_ = false;
+  std::uint32_t counted_sequence_ = 0;  // the driver's highest number among frames with telemetry
+  std::uint64_t skipped_in_camera_ = 0;
 };
 
 class V4l2Source final : public FrameSource {
@@ -106,6 +117,10 @@ class V4l2Source final : public FrameSource {
   const LeptonTelemetry& last_telemetry() const { return buffers_->last_telemetry(); }
   // Frames the driver handed over behind a higher sequence number (see SequenceGaps).
   std::uint64_t out_of_order() const { return buffers_->out_of_order(); }
+  // From the Lepton telemetry frame counter (formats with telemetry rows): frames skipped inside
+  // the camera, and counter jumps (see V4l2BufferStream). Repeats: stats().duplicates.
+  std::uint64_t skipped_in_camera() const { return buffers_->skipped_in_camera(); }
+  std::uint64_t counter_jumps() const { return buffers_->counter_jumps(); }
 
   struct Device;
 
