@@ -50,6 +50,12 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> y16_sizes(int fd) {
   return sizes;
 }
 
+// What this node can do: drivers with several nodes per device report the node's own
+// capabilities apart from the whole device's.
+std::uint32_t node_capabilities(const v4l2_capability& cap) {
+  return (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
+}
+
 // The Lepton's telemetry format: 160 wide, two rows more than the 120-row image.
 bool lepton_telemetry_size(std::uint32_t w, std::uint32_t h) { return w == 160 && h == 122; }
 
@@ -112,7 +118,7 @@ struct V4l2Source::Device {
     if (fd < 0) return std::string("cannot open: ") + std::strerror(errno);
     v4l2_capability cap{};
     if (xioctl(fd, VIDIOC_QUERYCAP, &cap) != 0) return "not a V4L2 device";
-    const std::uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
+    const std::uint32_t caps = node_capabilities(cap);
     if (!(caps & V4L2_CAP_VIDEO_CAPTURE)) return "not a video capture device";
     if (!(caps & V4L2_CAP_STREAMING)) return "does not support streaming I/O";
     n.driver = reinterpret_cast<const char*>(cap.driver);
@@ -389,8 +395,7 @@ std::vector<V4l2DeviceEntry> list_v4l2_y16_devices() {
     if (fd < 0) continue;
     v4l2_capability cap{};
     if (xioctl(fd, VIDIOC_QUERYCAP, &cap) == 0) {
-      const std::uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
-      if (caps & V4L2_CAP_VIDEO_CAPTURE) {
+      if (node_capabilities(cap) & V4L2_CAP_VIDEO_CAPTURE) {
         auto sizes = y16_sizes(fd);
         if (!sizes.empty())
           out.push_back({node, reinterpret_cast<const char*>(cap.card), reinterpret_cast<const char*>(cap.driver),
