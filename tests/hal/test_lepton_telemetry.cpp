@@ -77,7 +77,7 @@ TEST_CASE("lepton frame counter: steps, the learned stride, late and repeated fr
   CHECK(c.stride() == 0);
 }
 
-TEST_CASE("lepton frame counter: a smaller step corrects the stride; the 32-bit counter wraps", "[hal][telemetry]") {
+TEST_CASE("lepton frame counter: a smaller step corrects the stride, the 32-bit counter wraps", "[hal][telemetry]") {
   using Step = LeptonFrameCounter::Step;
   LeptonFrameCounter c;
   c.add(10);

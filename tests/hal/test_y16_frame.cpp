@@ -156,7 +156,7 @@ TEST_CASE("v4l2: sequence gaps count frames never delivered; late frames are tak
   CHECK(reopened.out_of_order() == 0);
 }
 
-TEST_CASE("v4l2 buffers: synthetic Y16 buffers become frames; gaps, FFC, refusals and a reopen counted", "[hal][v4l2]") {
+TEST_CASE("v4l2 buffers: synthetic Y16 buffers become frames, with gaps, FFC, refusals and a reopen counted", "[hal][v4l2]") {
   using S = StreamStatus;
   V4l2BufferStream stream(Y16Layout{160, 120, 2, 384});
   SourceStats st;
