@@ -122,7 +122,7 @@ TEST_CASE("v4l2: the Y16 size asked for among what the driver offers", "[hal][v4
   CHECK_FALSE(choose_y16_size(Sizes{}, {}).has_value());
 }
 
-TEST_CASE("v4l2: sequence gaps count frames never delivered; late frames are taken back", "[hal][v4l2]") {
+TEST_CASE("v4l2: sequence gaps count frames never delivered, late frames are taken back", "[hal][v4l2]") {
   SequenceGaps in_order;
   for (std::uint32_t s : {7u, 8u, 9u}) CHECK(in_order.add(s));
   CHECK(in_order.missing() == 0);
