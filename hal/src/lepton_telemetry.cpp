@@ -36,4 +36,67 @@ std::int32_t centikelvin_to_mc(std::uint16_t ck) {
   return static_cast<std::int32_t>(ck) * 10 - 273150;
 }
 
+LeptonFrameCounter::Step LeptonFrameCounter::add(std::uint32_t counter) {
+  if (!have_) {
+    have_ = true;
+    start_at(counter);
+    return Step::first;
+  }
+  const auto step = static_cast<std::int32_t>(counter - highest_);  // the 32-bit counter may wrap
+  Step s = Step::repeat;
+  if (step > 0) s = forward_by(static_cast<std::uint32_t>(step));
+  if (step < 0) s = behind_by(0u - static_cast<std::uint32_t>(step));
+  switch (s) {
+    case Step::forward: highest_ = counter; break;
+    case Step::repeat: ++repeats_; break;
+    case Step::late: ++late_; break;
+    case Step::jump:
+      ++jumps_;
+      start_at(counter);  // the stride is kept: the same camera, counting from elsewhere
+      break;
+    case Step::first: break;
+  }
+  return s;
+}
+
+void LeptonFrameCounter::restart() {
+  have_ = false;
+  stride_ = 0;
+}
+
+void LeptonFrameCounter::start_at(std::uint32_t counter) {
+  highest_ = counter;
+  delivered_ = 1;
+  advanced_ = 0;
+}
+
+LeptonFrameCounter::Step LeptonFrameCounter::forward_by(std::uint32_t step) {
+  if (stride_ == 0 || step < stride_) {
+    if (step > kLeptonMaxStride) return Step::jump;
+    // The camera's step shows for the first time (or is smaller than believed: the earlier
+    // steps held gaps). The window's slots were in the old step, so it starts over with this
+    // frame and the previous highest, one step behind.
+    stride_ = step;
+    advanced_ = 1;
+    delivered_ = 0b11;
+    return Step::forward;
+  }
+  const std::uint32_t frames = (step + stride_ / 2) / stride_;
+  if (frames > kLeptonCounterWindow) return Step::jump;
+  advanced_ = frames;
+  delivered_ = (frames < 64 ? delivered_ << frames : 0) | 1u;
+  return Step::forward;
+}
+
+// Behind the highest: a frame not delivered yet is late, one delivered already a repeat.
+LeptonFrameCounter::Step LeptonFrameCounter::behind_by(std::uint32_t step) {
+  if (stride_ == 0) return step > kLeptonMaxStride ? Step::jump : Step::late;
+  const std::uint32_t frames = (step + stride_ / 2) / stride_;
+  if (frames >= 64) return Step::jump;  // beyond the window (and the 64 bits that keep it)
+  const std::uint64_t bit = std::uint64_t{1} << frames;
+  if ((delivered_ & bit) != 0) return Step::repeat;
+  delivered_ |= bit;
+  return Step::late;
+}
+
 }  // namespace bolo::hal

@@ -17,6 +17,18 @@ SeekFrameKind seek_frame_kind(std::uint16_t type) {
   }
 }
 
+bool seek_frame_type_known(std::uint16_t type) {
+  switch (type) {
+    case 9:
+    case 14:
+    case 25:
+    case 26:
+    case 27:
+    case 28: return true;
+    default: return seek_frame_kind(type) != SeekFrameKind::other;
+  }
+}
+
 SeekFrameParser::SeekFrameParser(const SeekModel& model)
     : model_(model),
       bytes_(model.frame_bytes()),

@@ -62,22 +62,42 @@ bool SeekSource::request_shutter() {
   return ok(transport_.control_out(seek::kToggleShutter, toggle));
 }
 
-SeekSource::Read SeekSource::read_frame(std::int64_t& arrival_ns) {
+// Asks for one frame: START_GET_IMAGE_TRANSFER with the pixel count (LE32).
+Transfer SeekSource::request_frame() {
   const std::uint32_t pixels = parser_.model().pixels();
   const std::uint8_t count[4] = {static_cast<std::uint8_t>(pixels), static_cast<std::uint8_t>(pixels >> 8),
                                  static_cast<std::uint8_t>(pixels >> 16), static_cast<std::uint8_t>(pixels >> 24)};
   const Transfer request = transport_.control_out(seek::kStartGetImageTransfer, count);
-  if (request.status == TransferStatus::disconnected) return Read::gone;
-  if (!ok(request)) {
-    ++stats_.corrupt_transfers;
-    return Read::lost;
+  if (ok(request)) {
+    parser_.begin();
+    silent_timeouts_ = 0;
   }
-  parser_.begin();
+  return request;
+}
+
+// The frame asked for, or what became of it. A frame still awaited after a timeout (`waiting`)
+// keeps what has arrived and is read on at the next call, without asking again.
+SeekSource::Read SeekSource::read_frame(std::int64_t& arrival_ns) {
+  if (!frame_requested_) {
+    const Transfer request = request_frame();
+    if (request.status == TransferStatus::disconnected) return Read::gone;
+    if (!ok(request)) {
+      ++stats_.corrupt_transfers;
+      return Read::lost;
+    }
+    frame_requested_ = true;
+  }
+  const Read r = read_chunks(arrival_ns);
+  frame_requested_ = r == Read::waiting;
+  return r;
+}
+
+SeekSource::Read SeekSource::read_chunks(std::int64_t& arrival_ns) {
   for (;;) {
     const Transfer t = transport_.next(chunk_, config_.transfer_timeout_ms);
     switch (t.status) {
-      case TransferStatus::ok: break;
-      case TransferStatus::timeout: ++stats_.timeouts; return Read::lost;
+      case TransferStatus::ok: silent_timeouts_ = 0; break;
+      case TransferStatus::timeout: return on_timeout();
       case TransferStatus::error: ++stats_.corrupt_transfers; return Read::lost;
       case TransferStatus::disconnected:
       case TransferStatus::end: return Read::gone;
@@ -89,6 +109,36 @@ SeekSource::Read SeekSource::read_frame(std::int64_t& arrival_ns) {
       case SeekChunk::overflow: ++stats_.corrupt_transfers; return Read::lost;
     }
   }
+}
+
+// A pause (the camera's, or a loaded host's) is counted and waited out: the camera sends nothing
+// it was not asked for, so whatever comes next without a new request is the rest of this frame.
+// Silent for timeouts_before_giving_up in a row, the camera has abandoned it: a frame that had
+// begun is counted short, and the next call asks anew.
+SeekSource::Read SeekSource::on_timeout() {
+  ++stats_.timeouts;
+  if (++silent_timeouts_ < config_.timeouts_before_giving_up) return Read::waiting;
+  if (parser_.received() > 0) ++stats_.short_transfers;
+  return Read::lost;
+}
+
+// After a lost frame the camera may still send the rest of it (a transfer error mid-frame, or a
+// pause longer than the patience above), ahead of the frame asked for next; the chunks would then
+// assemble into a frame that begins mid-frame. Such a frame's type word is pixel data.
+bool SeekSource::starts_a_frame(const SeekFrameInfo& info) const { return seek_frame_type_known(info.type); }
+
+// Drops what the camera is still sending until it is silent, so that the next request's frame
+// starts at its first chunk. The frame assembled from the stale chunks is counted corrupt.
+StreamStatus SeekSource::resynchronise() {
+  ++stats_.corrupt_transfers;
+  ++sequence_;
+  const std::size_t chunks_per_frame = (parser_.model().frame_bytes() + chunk_.size() - 1) / chunk_.size();
+  for (std::size_t n = 0; n < 2 * chunks_per_frame; ++n) {
+    const Transfer t = transport_.next(chunk_, config_.transfer_timeout_ms);
+    if (t.status == TransferStatus::disconnected) return device_gone();
+    if (t.status != TransferStatus::ok) break;  // silent (the wait was the point, not a fault)
+  }
+  return StreamStatus::fault;
 }
 
 // Every frame the camera sends (images, shutter and calibration frames) carries the next counter
@@ -107,6 +157,8 @@ bool SeekSource::follow_counter(const SeekFrameInfo& info) {
 
 StreamStatus SeekSource::device_gone() {
   have_counter_ = false;  // a replugged camera boots and counts again
+  frame_requested_ = false;
+  check_alignment_ = false;  // and sends nothing left over from before
   if (connected_) {  // counted once per unplug, however long the camera stays away
     ++stats_.disconnects;
     ++sequence_;
@@ -134,12 +186,17 @@ StreamStatus SeekSource::stream_frame(fw::LineSink& sink) {
     std::int64_t arrival_ns = 0;
     const Read r = read_frame(arrival_ns);
     if (r == Read::gone) return device_gone();
+    if (r == Read::waiting) return StreamStatus::fault;  // counted; the frame may still come
     if (r == Read::lost) {
       ++sequence_;
+      check_alignment_ = true;
       return StreamStatus::fault;
     }
     SeekFrameInfo info;
     parser_.parse_received(info);
+    const bool check = check_alignment_;
+    check_alignment_ = false;
+    if (check && !starts_a_frame(info)) return resynchronise();
     const bool duplicate = follow_counter(info);
     switch (info.kind) {
       case SeekFrameKind::image: break;

@@ -50,6 +50,12 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> y16_sizes(int fd) {
   return sizes;
 }
 
+// What this node can do: drivers with several nodes per device report the node's own
+// capabilities apart from the whole device's.
+std::uint32_t node_capabilities(const v4l2_capability& cap) {
+  return (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
+}
+
 // The Lepton's telemetry format: 160 wide, two rows more than the 120-row image.
 bool lepton_telemetry_size(std::uint32_t w, std::uint32_t h) { return w == 160 && h == 122; }
 
@@ -112,7 +118,7 @@ struct V4l2Source::Device {
     if (fd < 0) return std::string("cannot open: ") + std::strerror(errno);
     v4l2_capability cap{};
     if (xioctl(fd, VIDIOC_QUERYCAP, &cap) != 0) return "not a V4L2 device";
-    const std::uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
+    const std::uint32_t caps = node_capabilities(cap);
     if (!(caps & V4L2_CAP_VIDEO_CAPTURE)) return "not a video capture device";
     if (!(caps & V4L2_CAP_STREAMING)) return "does not support streaming I/O";
     n.driver = reinterpret_cast<const char*>(cap.driver);
@@ -174,6 +180,21 @@ struct V4l2Source::Device {
   }
 };
 
+namespace {
+
+// A dequeued buffer as the driver filled it.
+V4l2BufferStream::Buffer filled(const v4l2_buffer& buf, const V4l2Source::Device::Buffer& mem) {
+  V4l2BufferStream::Buffer b;
+  b.bytes = {static_cast<const std::uint8_t*>(mem.start), std::min<std::size_t>(buf.bytesused, mem.length)};
+  b.sequence = buf.sequence;
+  b.error = (buf.flags & V4L2_BUF_FLAG_ERROR) != 0;
+  b.timestamp_monotonic = (buf.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
+  b.timestamp_ns = std::int64_t{buf.timestamp.tv_sec} * 1'000'000'000 + std::int64_t{buf.timestamp.tv_usec} * 1000;
+  return b;
+}
+
+}  // namespace
+
 bool SequenceGaps::add(std::uint32_t sequence) {
   if (!have_) {
     have_ = true;
@@ -191,13 +212,106 @@ bool SequenceGaps::add(std::uint32_t sequence) {
   return false;
 }
 
+V4l2BufferStream::V4l2BufferStream(const Y16Layout& layout) : layout_(layout), line_(layout.width) {}
+
+void V4l2BufferStream::reopened(const Y16Layout& layout) {
+  layout_ = layout;
+  line_.resize(layout.width);
+  sequence_offset_ = last_sequence_ + 2;  // a gap: the driver starts again at 0
+  gaps_.restart();
+  have_ffc_stamp_ = false;
+  counter_.restart();  // the camera may have restarted too
+  have_counted_sequence_ = false;
+}
+
+// Every number the driver skipped is a frame that never arrived (unless it comes late).
+void V4l2BufferStream::follow_sequence(std::uint32_t sequence, SourceStats& stats) {
+  const std::uint64_t missing_before = gaps_.missing();
+  gaps_.add(sequence);
+  stats.dropped = stats.dropped - missing_before + gaps_.missing();
+  last_sequence_ = sequence_offset_ + sequence;
+}
+
+fw::FrameHeader V4l2BufferStream::header_of(const Buffer& buffer) const {
+  fw::FrameHeader header;
+  header.width = layout_.width;
+  header.height = layout_.image_rows;
+  header.sequence = last_sequence_;
+  header.sequence_valid = true;
+  header.timestamp_valid = buffer.timestamp_monotonic;
+  header.timestamp_ns = buffer.timestamp_ns;
+  header.ffc = fw::FfcState::unknown;
+  return header;
+}
+
+// FFC: the core's "time at last FFC" changed since the previous frame. False without telemetry.
+bool V4l2BufferStream::read_telemetry(const Y16Frame& frame, fw::FrameHeader& header) {
+  if (!frame.telemetry(telemetry_)) return false;
+  header.ffc = have_ffc_stamp_ && telemetry_.time_at_last_ffc_ms != last_ffc_ms_ ? fw::FfcState::completed
+                                                                                  : fw::FfcState::none;
+  have_ffc_stamp_ = true;
+  last_ffc_ms_ = telemetry_.time_at_last_ffc_ms;
+  header.fpa_temp_mc = centikelvin_to_mc(telemetry_.fpa_temp_ck);
+  header.housing_temp_mc = centikelvin_to_mc(telemetry_.housing_temp_ck);
+  return true;
+}
+
+// A counter step over n frames while the driver's numbers advanced by s since the previous frame
+// with telemetry: s - 1 frames are the driver's to count (dropped, or handed over broken); the
+// other n - s never reached it, so the camera skipped them (or the wire lost them unnoticed).
+void V4l2BufferStream::follow_frame_counter(std::uint32_t sequence, SourceStats& stats) {
+  const LeptonFrameCounter::Step step = counter_.add(telemetry_.frame_counter);
+  const auto numbered = static_cast<std::int32_t>(sequence - counted_sequence_);
+  const bool newer = !have_counted_sequence_ || numbered > 0;
+  if (step == LeptonFrameCounter::Step::repeat) ++stats.duplicates;
+  if (step == LeptonFrameCounter::Step::forward && have_counted_sequence_ && numbered > 0 &&
+      counter_.advanced() > static_cast<std::uint32_t>(numbered))
+    skipped_in_camera_ += counter_.advanced() - static_cast<std::uint32_t>(numbered);
+  if (newer) {
+    have_counted_sequence_ = true;
+    counted_sequence_ = sequence;
+  }
+}
+
+void V4l2BufferStream::push_image(const Y16Frame& frame, const fw::FrameHeader& header, fw::LineSink& sink) {
+  sink.begin_frame(header);
+  for (std::uint32_t row = 0; row < layout_.image_rows; ++row) {
+    frame.image_row(row, line_);
+    sink.push_line(row, fw::LineView(line_.data(), line_.size()));
+  }
+  sink.end_frame();
+}
+
+StreamStatus V4l2BufferStream::deliver(const Buffer& buffer, fw::LineSink& sink, SourceStats& stats) {
+  follow_sequence(buffer.sequence, stats);
+  if (buffer.error) {
+    ++stats.corrupt_transfers;
+    return StreamStatus::fault;
+  }
+  switch (Y16Frame::check(buffer.bytes, layout_)) {
+    case Y16Check::ok: break;
+    case Y16Check::short_frame: ++stats.short_transfers; return StreamStatus::fault;
+    case Y16Check::bad_layout: ++stats.corrupt_transfers; return StreamStatus::fault;
+  }
+  const Y16Frame frame(buffer.bytes, layout_);
+  fw::FrameHeader header = header_of(buffer);
+  if (read_telemetry(frame, header)) follow_frame_counter(buffer.sequence, stats);
+  push_image(frame, header, sink);
+  ++stats.frames_delivered;
+  return StreamStatus::frame;
+}
+
 V4l2Source::V4l2Source(const V4l2Config& config) : config_(config), device_(std::make_unique<Device>()) {
   const std::string why = device_->open(config_, negotiated_);
   if (!why.empty()) throw std::runtime_error(config_.path + ": " + why);
-  line_.resize(negotiated_.width);
+  buffers_.emplace(layout());
 }
 
 V4l2Source::~V4l2Source() = default;
+
+Y16Layout V4l2Source::layout() const {
+  return {negotiated_.width, negotiated_.image_rows, negotiated_.telemetry_rows, negotiated_.bytes_per_line};
+}
 
 SourceFormat V4l2Source::format() const {
   SourceFormat f;
@@ -212,9 +326,6 @@ StreamStatus V4l2Source::lost_device() {
   if (device_->fd >= 0) {  // counted once per unplug, however long the camera stays away
     ++stats_.disconnects;
     device_->close();
-    sequence_offset_ = last_sequence_ + 2;  // a gap: the driver starts again at 0
-    gaps_.restart();
-    have_ffc_stamp_ = false;
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(config_.reconnect_timeout_ms);
   while (std::chrono::steady_clock::now() < deadline) {
@@ -222,6 +333,7 @@ StreamStatus V4l2Source::lost_device() {
     if (device_->open(config_, again).empty() && again.width == negotiated_.width &&
         again.image_rows == negotiated_.image_rows) {
       negotiated_ = again;
+      buffers_->reopened(layout());
       ++stats_.reconnects;
       return StreamStatus::fault;
     }
@@ -264,57 +376,11 @@ StreamStatus V4l2Source::stream_frame(fw::LineSink& sink) {
     v4l2_buffer& b;
     ~Requeue() { xioctl(d.fd, VIDIOC_QBUF, &b); }
   } requeue{*device_, buf};
-
-  // Every number the driver skipped is a frame that never arrived (unless it comes late).
-  const std::uint64_t missing_before = gaps_.missing();
-  gaps_.add(buf.sequence);
-  stats_.dropped = stats_.dropped - missing_before + gaps_.missing();
-  last_sequence_ = sequence_offset_ + buf.sequence;
-
-  if (buf.flags & V4L2_BUF_FLAG_ERROR) {
-    ++stats_.corrupt_transfers;
-    return StreamStatus::fault;
-  }
   if (buf.index >= device_->buffers.size()) {
     ++stats_.corrupt_transfers;
     return StreamStatus::fault;
   }
-  const Device::Buffer& mem = device_->buffers[buf.index];
-  const std::span<const std::uint8_t> bytes(static_cast<const std::uint8_t*>(mem.start),
-                                            std::min<std::size_t>(buf.bytesused, mem.length));
-  const Y16Layout layout{negotiated_.width, negotiated_.image_rows, negotiated_.telemetry_rows,
-                         negotiated_.bytes_per_line};
-  switch (Y16Frame::check(bytes, layout)) {
-    case Y16Check::ok: break;
-    case Y16Check::short_frame: ++stats_.short_transfers; return StreamStatus::fault;
-    case Y16Check::bad_layout: ++stats_.corrupt_transfers; return StreamStatus::fault;
-  }
-  const Y16Frame frame(bytes, layout);
-
-  fw::FrameHeader header;
-  header.width = negotiated_.width;
-  header.height = negotiated_.image_rows;
-  header.sequence = last_sequence_;
-  header.sequence_valid = true;
-  header.timestamp_valid = (buf.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
-  header.timestamp_ns = std::int64_t{buf.timestamp.tv_sec} * 1'000'000'000 + std::int64_t{buf.timestamp.tv_usec} * 1000;
-  header.ffc = fw::FfcState::unknown;
-  if (frame.telemetry(telemetry_)) {
-    header.ffc = have_ffc_stamp_ && telemetry_.time_at_last_ffc_ms != last_ffc_ms_ ? fw::FfcState::completed
-                                                                                    : fw::FfcState::none;
-    have_ffc_stamp_ = true;
-    last_ffc_ms_ = telemetry_.time_at_last_ffc_ms;
-    header.fpa_temp_mc = centikelvin_to_mc(telemetry_.fpa_temp_ck);
-    header.housing_temp_mc = centikelvin_to_mc(telemetry_.housing_temp_ck);
-  }
-  sink.begin_frame(header);
-  for (std::uint32_t row = 0; row < negotiated_.image_rows; ++row) {
-    frame.image_row(row, line_);
-    sink.push_line(row, fw::LineView(line_.data(), line_.size()));
-  }
-  sink.end_frame();
-  ++stats_.frames_delivered;
-  return StreamStatus::frame;
+  return buffers_->deliver(filled(buf, device_->buffers[buf.index]), sink, stats_);
 }
 
 std::vector<V4l2DeviceEntry> list_v4l2_y16_devices() {
@@ -329,8 +395,7 @@ std::vector<V4l2DeviceEntry> list_v4l2_y16_devices() {
     if (fd < 0) continue;
     v4l2_capability cap{};
     if (xioctl(fd, VIDIOC_QUERYCAP, &cap) == 0) {
-      const std::uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
-      if (caps & V4L2_CAP_VIDEO_CAPTURE) {
+      if (node_capabilities(cap) & V4L2_CAP_VIDEO_CAPTURE) {
         auto sizes = y16_sizes(fd);
         if (!sizes.empty())
           out.push_back({node, reinterpret_cast<const char*>(cap.card), reinterpret_cast<const char*>(cap.driver),

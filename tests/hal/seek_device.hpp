@@ -1,7 +1,8 @@
 #pragma once
 // A Seek camera on the far side of VendorUsbTransport, answering as usb-thermal-cores.md says:
 // control requests logged, a frame request queues one frame of the next scripted type cut into
-// bulk chunks. Scripted faults replace a chunk (zero-length read, timeout, error, unplug).
+// bulk chunks. Scripted faults replace a chunk (zero-length read, timeout, error, unplug) or hold
+// it back (pause: `pause_timeouts` silent reads, then the frame goes on).
 
 #include <cstdint>
 #include <deque>
@@ -32,10 +33,11 @@ inline std::vector<std::uint8_t> make_seek_frame(const hal::SeekModel& m, std::u
 
 class FakeSeek final : public hal::VendorUsbTransport {
  public:
-  enum class Fault { none, zero_length, timeout, error, unplug };
+  // timeout: the camera abandons the frame (silent until asked again); pause: it goes on later.
+  enum class Fault { none, zero_length, timeout, error, unplug, pause, silent };
   struct Planned {
     std::uint16_t type;
-    Fault fault = Fault::none;  // replaces the frame's second chunk
+    Fault fault = Fault::none;  // replaces (pause: delays) the frame's second chunk
     std::uint16_t counter_step = 1;  // 0: the previous frame's counter again; > 1: a gap
   };
   explicit FakeSeek(const hal::SeekModel& m) : model(m) {}
@@ -55,7 +57,10 @@ class FakeSeek final : public hal::VendorUsbTransport {
     if (request == hal::seek::kStartGetImageTransfer) {
       const std::uint32_t pixels = data[0] | data[1] << 8 | data[2] << 16 | std::uint32_t{data[3]} << 24;
       requested_pixels = pixels;
-      queue_next_frame();
+      if (unanswered_requests > 0)
+        --unanswered_requests;  // not ready: the request is accepted and nothing is sent
+      else
+        queue_next_frame();
     }
     t.bytes = data.size();
     return t;
@@ -81,6 +86,8 @@ class FakeSeek final : public hal::VendorUsbTransport {
       case Fault::none: break;
       case Fault::zero_length: bytes.clear(); chunks.clear(); break;
       case Fault::timeout: t.status = hal::TransferStatus::timeout; chunks.clear(); return t;
+      case Fault::silent: t.status = hal::TransferStatus::timeout; return t;  // the rest still comes
+      case Fault::pause: break;  // expanded into silent reads when queued
       case Fault::error: t.status = hal::TransferStatus::error; chunks.clear(); return t;
       case Fault::unplug: unplugged = true; chunks.clear(); t.status = hal::TransferStatus::disconnected; return t;
     }
@@ -101,6 +108,8 @@ class FakeSeek final : public hal::VendorUsbTransport {
   std::deque<std::pair<Fault, std::vector<std::uint8_t>>> chunks;
   std::vector<std::uint8_t> log;
   std::vector<std::uint32_t> dead_in_startup;
+  std::uint32_t pause_timeouts = 1;  // silent reads of a pause
+  std::uint32_t unanswered_requests = 0;  // the first this many frame requests get no frame
   std::uint32_t requested_pixels = 0;
   std::uint16_t counter = 0;
   std::int64_t clock = 0;
@@ -119,7 +128,9 @@ class FakeSeek final : public hal::VendorUsbTransport {
                                        p.type == 4 ? dead_in_startup : std::vector<std::uint32_t>{});
     for (std::size_t at = 0, n = 0; at < frame.size(); at += model.chunk_bytes, ++n) {
       const std::size_t end = std::min(frame.size(), at + model.chunk_bytes);
-      chunks.emplace_back(n == 1 ? p.fault : Fault::none,
+      const bool paused = n == 1 && p.fault == Fault::pause;
+      for (std::uint32_t k = 0; paused && k < pause_timeouts; ++k) chunks.emplace_back(Fault::silent, std::vector<std::uint8_t>{});
+      chunks.emplace_back(n == 1 && !paused ? p.fault : Fault::none,
                           std::vector<std::uint8_t>(frame.begin() + static_cast<std::ptrdiff_t>(at),
                                                     frame.begin() + static_cast<std::ptrdiff_t>(end)));
     }

@@ -47,3 +47,53 @@ TEST_CASE("lepton telemetry: a short row is refused and leaves the output alone"
   CHECK_FALSE(decode_lepton_telemetry(w, t));
   CHECK(t.frame_counter == 7);
 }
+
+TEST_CASE("lepton frame counter: steps, the learned stride, late and repeated frames, jumps", "[hal][telemetry]") {
+  using Step = LeptonFrameCounter::Step;
+  LeptonFrameCounter c;
+  CHECK(c.add(100) == Step::first);
+  CHECK(c.stride() == 0);
+  CHECK(c.add(103) == Step::forward);  // the camera's step shows: 3
+  CHECK(c.stride() == 3);
+  CHECK(c.add(100) == Step::repeat);   // the first frame, one step behind
+  CHECK(c.add(109) == Step::forward);
+  CHECK(c.advanced() == 2);            // one frame skipped
+  CHECK(c.add(109) == Step::repeat);
+  CHECK(c.add(115) == Step::forward);
+  CHECK(c.add(112) == Step::late);     // behind, never delivered
+  CHECK(c.add(112) == Step::repeat);   // behind, delivered already
+  CHECK(c.add(106) == Step::late);     // the one counted skipped at 109 after all
+  CHECK(c.repeats() == 3);
+  CHECK(c.late() == 2);
+  CHECK(c.add(115 + 3 * 64) == Step::forward);  // 63 skipped: still losses
+  CHECK(c.advanced() == 64);
+  CHECK(c.add(307 + 3 * 65) == Step::jump);     // beyond the window: a jump, counted from there
+  CHECK(c.add(307 + 3 * 66) == Step::forward);
+  CHECK(c.add(307 + 3 * 2) == Step::jump);      // far behind: a core counting from the start again
+  CHECK(c.jumps() == 2);
+  CHECK(c.stride() == 3);  // kept across a jump
+  c.restart();
+  CHECK(c.add(7) == Step::first);
+  CHECK(c.stride() == 0);
+}
+
+TEST_CASE("lepton frame counter: a smaller step corrects the stride, the 32-bit counter wraps", "[hal][telemetry]") {
+  using Step = LeptonFrameCounter::Step;
+  LeptonFrameCounter c;
+  c.add(10);
+  CHECK(c.add(12) == Step::forward);  // the first step held a gap: taken as the stride for now
+  CHECK(c.stride() == 2);
+  CHECK(c.add(13) == Step::forward);
+  CHECK(c.stride() == 1);
+  CHECK(c.add(20) == Step::forward);  // a first step too large to be the camera's is no stride
+  CHECK(c.advanced() == 7);
+  LeptonFrameCounter first_far;
+  first_far.add(10);
+  CHECK(first_far.add(10 + kLeptonMaxStride + 1) == Step::jump);
+  LeptonFrameCounter wrap;
+  wrap.add(0xFFFFFFFFu);
+  CHECK(wrap.add(0) == Step::forward);
+  CHECK(wrap.advanced() == 1);
+  CHECK(wrap.add(0xFFFFFFFFu) == Step::repeat);  // 1 behind (delivered), not ~4e9 ahead
+  CHECK(wrap.add(0xFFFFFFFEu) == Step::late);
+}

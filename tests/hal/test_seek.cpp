@@ -38,6 +38,8 @@ TEST_CASE("seek parser: frame types, counter, dead pixels for both models", "[ha
   CHECK(hal::seek_frame_kind(8) == SeekFrameKind::startup_calibration);
   CHECK(hal::seek_frame_kind(7) == SeekFrameKind::startup_calibration);
   CHECK(hal::seek_frame_kind(25) == SeekFrameKind::other);
+  for (std::uint16_t t : {1, 3, 4, 6, 7, 8, 9, 14, 20, 25, 26, 27, 28}) CHECK(hal::seek_frame_type_known(t));
+  for (std::uint16_t t : {0, 2, 5, 10, 29, 1003, 8000, 0xFFFF}) CHECK_FALSE(hal::seek_frame_type_known(t));
 }
 
 TEST_CASE("seek parser: chunks assemble a frame, a zero-length or overlong read gives it up", "[hal][seek]") {
@@ -112,16 +114,18 @@ TEST_CASE("seek source: zero-length reads, timeouts, errors and an unplug are co
   using S = hal::StreamStatus;
   std::vector<S> statuses;
   std::vector<std::uint64_t> seq;
-  for (int i = 0; i < 9; ++i) {
+  for (int i = 0; i < 10; ++i) {
     statuses.push_back(source.stream_frame(sink));
     if (statuses.back() == S::frame) seq.push_back(sink.header().sequence);
   }
-  CHECK(statuses == std::vector<S>{S::frame, S::fault, S::frame, S::fault, S::fault, S::frame,
+  // The abandoned frame (F::timeout: silent until asked again) is awaited over two timeouts,
+  // then given up: two faults.
+  CHECK(statuses == std::vector<S>{S::frame, S::fault, S::frame, S::fault, S::fault, S::fault, S::frame,
                                    S::fault, S::frame, S::frame});
   CHECK(seq == std::vector<std::uint64_t>{0, 2, 5, 7, 8});
   const hal::SourceStats st = source.stats();
-  CHECK(st.short_transfers == 1);
-  CHECK(st.timeouts == 1);
+  CHECK(st.short_transfers == 2);  // the zero-length read, and the frame abandoned after its first chunk
+  CHECK(st.timeouts == 2);
   CHECK(st.corrupt_transfers == 1);
   CHECK(st.disconnects == 1);
   CHECK(st.reconnects == 1);
@@ -133,6 +137,79 @@ TEST_CASE("seek source: zero-length reads, timeouts, errors and an unplug are co
   CHECK(st.duplicates == 0);
   // After the replug the start-up sequence ran again.
   CHECK(std::count(cam.log.begin(), cam.log.end(), std::uint8_t{84}) == 2);
+}
+
+TEST_CASE("seek source: a pause mid-frame is a counted timeout, not a lost frame", "[hal][seek]") {
+  using F = test::FakeSeek::Fault;
+  using S = hal::StreamStatus;
+  const hal::SeekModel m = hal::kSeekCompact;
+  test::FakeSeek cam(m);
+  cam.plan = {{3}, {3, F::pause}, {3}};  // frame 2 stops after its first chunk, then goes on
+  hal::SeekSource source(cam, m);
+  test::FrameCollector sink(m.width, m.height);
+  std::vector<S> statuses;
+  std::vector<std::uint64_t> seq;
+  for (int i = 0; i < 4; ++i) {
+    statuses.push_back(source.stream_frame(sink));
+    if (statuses.back() != S::frame) continue;
+    seq.push_back(sink.header().sequence);
+    // Each frame whole and its own: pixel i = 1000 + counter + i % 1000 (test::FakeSeek).
+    const std::uint16_t base = static_cast<std::uint16_t>(1000 + seq.size());
+    CHECK(sink.frame()[1] == base + 1);
+    CHECK(sink.frame().back() == base + (m.pixels() - 1) % 1000);
+  }
+  CHECK(statuses == std::vector<S>{S::frame, S::fault, S::frame, S::frame});
+  CHECK(seq == std::vector<std::uint64_t>{0, 1, 2});  // nothing was lost: no gap
+  const hal::SourceStats st = source.stats();
+  CHECK(st.timeouts == 1);
+  CHECK(st.short_transfers == 0);
+  CHECK(st.dropped == 0);
+  CHECK(source.counters().counter_jumps == 0);
+  // The paused frame was read on, not asked for again.
+  CHECK(std::count(cam.log.begin(), cam.log.end(), std::uint8_t{hal::seek::kStartGetImageTransfer}) == 3);
+}
+
+TEST_CASE("seek source: a request the camera never answers costs timeouts, not a short frame", "[hal][seek]") {
+  using S = hal::StreamStatus;
+  test::FakeSeek cam(hal::kSeekCompact);
+  cam.unanswered_requests = 1;  // e.g. still booting
+  hal::SeekSource source(cam, hal::kSeekCompact);
+  test::FrameCollector sink(208, 156);
+  std::vector<S> statuses;
+  for (int i = 0; i < 3; ++i) statuses.push_back(source.stream_frame(sink));
+  CHECK(statuses == std::vector<S>{S::fault, S::fault, S::frame});
+  CHECK(source.stats().timeouts == 2);
+  CHECK(source.stats().short_transfers == 0);
+  CHECK(sink.header().sequence == 1);  // the unanswered request leaves a gap all the same
+}
+
+TEST_CASE("seek source: the rest of a frame given up on is never delivered as part of the next", "[hal][seek]") {
+  using F = test::FakeSeek::Fault;
+  using S = hal::StreamStatus;
+  const hal::SeekModel m = hal::kSeekCompact;
+  test::FakeSeek cam(m);
+  cam.pause_timeouts = 3;  // longer than the source waits (2 timeouts): frame 2 is given up...
+  cam.plan = {{3}, {3, F::pause}, {3}, {3}, {3}};  // ...and its rest then comes before frame 3
+  hal::SeekSource source(cam, m);
+  test::FrameCollector sink(m.width, m.height);
+  std::vector<S> statuses;
+  std::vector<std::uint16_t> counters;  // of the frames delivered, from their pixels
+  for (int i = 0; i < 7; ++i) {
+    statuses.push_back(source.stream_frame(sink));
+    if (statuses.back() != S::frame) continue;
+    const auto counter = static_cast<std::uint16_t>(sink.frame()[1] - 1001);
+    counters.push_back(counter);
+    CHECK(sink.frame().back() == 1000 + counter + (m.pixels() - 1) % 1000);  // whole, not mixed
+  }
+  // Frame 2's rest + frame 3's first chunk begin mid-frame (pixels where the type word is): that
+  // "frame" is refused, frame 3's rest drained, and frame 4 asked for afresh.
+  CHECK(statuses == std::vector<S>{S::frame, S::fault, S::fault, S::fault, S::fault, S::frame, S::frame});
+  CHECK(counters == std::vector<std::uint16_t>{1, 4, 5});
+  const hal::SourceStats st = source.stats();
+  CHECK(st.timeouts == 3);
+  CHECK(st.short_transfers == 1);    // frame 2, given up
+  CHECK(st.corrupt_transfers == 1);  // the stale chunks with frame 3's start
+  CHECK(source.counters().calibration_frames == 0);  // not taken for some other frame type
 }
 
 TEST_CASE("seek source: a camera that never sends an image gives faults, not a hang", "[hal][seek]") {

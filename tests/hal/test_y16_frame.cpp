@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "../firmware/frame_collector.hpp"
 #include "bolo/hal/v4l2_source.hpp"
 #include "bolo/hal/y16_frame.hpp"
 
@@ -14,7 +15,8 @@ namespace {
 
 // A 160x122 PureThermal frame: pixel (x, y) = 100 * y + x, row A telemetry in row 120,
 // each row padded to `stride` bytes.
-std::vector<std::uint8_t> lepton_buffer(std::uint32_t stride, std::uint32_t last_ffc_ms) {
+std::vector<std::uint8_t> lepton_buffer(std::uint32_t stride, std::uint32_t last_ffc_ms,
+                                        std::uint32_t frame_counter = 77) {
   std::vector<std::uint8_t> b(std::size_t{stride} * 122, 0xEE);
   auto put = [&](std::uint32_t row, std::uint32_t x, std::uint16_t v) {
     b[std::size_t{row} * stride + 2 * x] = static_cast<std::uint8_t>(v & 0xFF);
@@ -27,11 +29,22 @@ std::vector<std::uint8_t> lepton_buffer(std::uint32_t stride, std::uint32_t last
     put(121, x, 0);
   }
   put(120, 3, 3u << 4);  // FFC complete
-  put(120, 20, 77);
+  put(120, 20, static_cast<std::uint16_t>(frame_counter & 0xFFFF));
+  put(120, 21, static_cast<std::uint16_t>(frame_counter >> 16));
   put(120, 24, 30615);
   put(120, 26, 30500);
   put(120, 30, static_cast<std::uint16_t>(last_ffc_ms & 0xFFFF));
   put(120, 31, static_cast<std::uint16_t>(last_ffc_ms >> 16));
+  return b;
+}
+
+// What the driver hands over with a buffer: its frame number, a monotonic time stamp.
+V4l2BufferStream::Buffer filled(const std::vector<std::uint8_t>& bytes, std::uint32_t sequence) {
+  V4l2BufferStream::Buffer b;
+  b.bytes = bytes;
+  b.sequence = sequence;
+  b.timestamp_monotonic = true;
+  b.timestamp_ns = std::int64_t{sequence} * 111'000'000;
   return b;
 }
 
@@ -109,7 +122,7 @@ TEST_CASE("v4l2: the Y16 size asked for among what the driver offers", "[hal][v4
   CHECK_FALSE(choose_y16_size(Sizes{}, {}).has_value());
 }
 
-TEST_CASE("v4l2: sequence gaps count frames never delivered; late frames are taken back", "[hal][v4l2]") {
+TEST_CASE("v4l2: sequence gaps count frames never delivered, late frames are taken back", "[hal][v4l2]") {
   SequenceGaps in_order;
   for (std::uint32_t s : {7u, 8u, 9u}) CHECK(in_order.add(s));
   CHECK(in_order.missing() == 0);
@@ -141,4 +154,105 @@ TEST_CASE("v4l2: sequence gaps count frames never delivered; late frames are tak
   CHECK(reopened.add(0));
   CHECK(reopened.missing() == 0);
   CHECK(reopened.out_of_order() == 0);
+}
+
+TEST_CASE("v4l2 buffers: synthetic Y16 buffers become frames, with gaps, FFC, refusals and a reopen counted", "[hal][v4l2]") {
+  using S = StreamStatus;
+  V4l2BufferStream stream(Y16Layout{160, 120, 2, 384});
+  SourceStats st;
+  bolo::test::FrameCollector sink(160, 120);
+  const auto before_ffc = lepton_buffer(384, 100, 1), after_ffc = lepton_buffer(384, 5000, 4);
+  REQUIRE(stream.deliver(filled(before_ffc, 10), sink, st) == S::frame);
+  CHECK(sink.header().sequence == 10);
+  CHECK(sink.header().timestamp_valid);
+  CHECK(sink.header().timestamp_ns == 1'110'000'000);
+  CHECK(sink.header().ffc == bolo::fw::FfcState::none);  // the first stamp is no event
+  CHECK(sink.header().fpa_temp_mc == 33000);             // 306.15 K
+  CHECK(sink.lines() == 120);
+  CHECK(sink.frame()[119 * 160 + 159] == 12059);  // image rows only, padding skipped
+  REQUIRE(stream.deliver(filled(before_ffc, 11), sink, st) == S::frame);
+  CHECK(sink.header().ffc == bolo::fw::FfcState::none);
+  REQUIRE(stream.deliver(filled(after_ffc, 13), sink, st) == S::frame);  // 12 never came
+  CHECK(sink.header().ffc == bolo::fw::FfcState::completed);
+  CHECK(st.dropped == 1);
+
+  V4l2BufferStream::Buffer failed = filled(after_ffc, 14);
+  failed.error = true;
+  CHECK(stream.deliver(failed, sink, st) == S::fault);
+  const std::vector<std::uint8_t> cut(after_ffc.begin(), after_ffc.end() - 64 - 2);  // into the last row
+  CHECK(stream.deliver(filled(cut, 15), sink, st) == S::fault);
+  CHECK(st.corrupt_transfers == 1);
+  CHECK(st.short_transfers == 1);
+  CHECK(st.dropped == 1);  // numbered and handed over, if broken: not dropped
+
+  stream.reopened(Y16Layout{160, 120, 2, 320});  // the driver numbers from 0 again
+  REQUIRE(stream.deliver(filled(lepton_buffer(320, 5000, 9), 0), sink, st) == S::frame);
+  CHECK(sink.header().sequence == 17);  // after 15, with a gap for the unplug
+  CHECK(sink.header().ffc == bolo::fw::FfcState::none);
+  CHECK(st.frames_delivered == 4);
+  CHECK(stream.out_of_order() == 0);
+}
+
+TEST_CASE("v4l2 buffers: the telemetry frame counter shows frames skipped in the camera and sent twice", "[hal][v4l2]") {
+  V4l2BufferStream stream(Y16Layout{160, 120, 2, 320});
+  SourceStats st;
+  bolo::test::FrameCollector sink(160, 120);
+  // (telemetry frame counter, the driver's sequence number) of each buffer, in the order dequeued.
+  auto stream_frames = [&](std::initializer_list<std::pair<std::uint32_t, std::uint32_t>> frames) {
+    for (auto [counter, sequence] : frames) {
+      const auto bytes = lepton_buffer(320, 100, counter);
+      REQUIRE(stream.deliver(filled(bytes, sequence), sink, st) == StreamStatus::frame);
+    }
+  };
+  stream_frames({{1001, 0}, {1002, 1}, {1004, 2}});  // 1003 never left the camera: no gap in the driver's numbers
+  CHECK(stream.skipped_in_camera() == 1);
+  CHECK(st.dropped == 0);
+  stream_frames({{1006, 4}});  // 1005 had the driver's number 3, which it dropped: not the camera's
+  CHECK(stream.skipped_in_camera() == 1);
+  CHECK(st.dropped == 1);
+  stream_frames({{1006, 5}});  // the camera sent 1006 twice: delivered, counted a duplicate
+  CHECK(st.duplicates == 1);
+  stream_frames({{1008, 7}, {1007, 6}, {1009, 8}});  // uvcvideo swapped two: nothing lost, nothing twice
+  CHECK(stream.out_of_order() == 1);
+  CHECK(st.dropped == 1);
+  CHECK(stream.skipped_in_camera() == 1);
+  CHECK(st.duplicates == 1);
+  stream_frames({{1012, 9}, {1013, 10}, {1012, 11}});  // 1010, 1011 skipped; 1012 again after 1013
+  CHECK(stream.skipped_in_camera() == 3);
+  CHECK(st.duplicates == 2);
+  stream_frames({{7, 12}, {8, 13}});  // the core counts from the start again: a jump, no losses
+  CHECK(stream.counter_jumps() == 1);
+  CHECK(stream.skipped_in_camera() == 3);
+  CHECK(st.duplicates == 2);
+  stream.reopened(Y16Layout{160, 120, 2, 320});  // a replugged camera counts anew
+  stream_frames({{500, 0}, {501, 1}});
+  CHECK(stream.skipped_in_camera() == 3);
+  CHECK(stream.counter_jumps() == 1);
+  CHECK(st.frames_delivered == 15);
+}
+
+TEST_CASE("v4l2 buffers: a camera exporting every third core frame steps its counter by 3", "[hal][v4l2]") {
+  V4l2BufferStream stream(Y16Layout{160, 120, 2, 320});
+  SourceStats st;
+  bolo::test::FrameCollector sink(160, 120);
+  std::uint32_t sequence = 0;
+  for (std::uint32_t counter : {30u, 33u, 36u, 42u, 42u, 45u}) {  // 39 skipped, 42 sent twice
+    const auto bytes = lepton_buffer(320, 100, counter);
+    REQUIRE(stream.deliver(filled(bytes, sequence++), sink, st) == StreamStatus::frame);
+  }
+  CHECK(stream.skipped_in_camera() == 1);
+  CHECK(st.duplicates == 1);
+  CHECK(stream.counter_jumps() == 0);
+}
+
+TEST_CASE("v4l2 buffers: without telemetry rows nothing is counted from them", "[hal][v4l2]") {
+  V4l2BufferStream stream(Y16Layout{160, 120, 0, 320});
+  SourceStats st;
+  bolo::test::FrameCollector sink(160, 120);
+  for (std::uint32_t sequence : {0u, 1u, 2u}) {
+    const auto bytes = lepton_buffer(320, 100, sequence * 5);  // row 120 is not read
+    REQUIRE(stream.deliver(filled(bytes, sequence), sink, st) == StreamStatus::frame);
+  }
+  CHECK(stream.skipped_in_camera() == 0);
+  CHECK(st.duplicates == 0);
 }

@@ -4,7 +4,9 @@
 // 160x122 format its telemetry frame counter must be the one sent, and FFC events must appear
 // exactly where the telemetry's FFC time changes. Faults must show in the source's counters:
 // short frames as skipped sequence numbers (uvcvideo drops them), silences as timeouts,
-// unplugs as disconnects with a reconnect each.
+// unplugs as disconnects with a reconnect each; with telemetry rows, frames the camera skipped
+// (the silences: the counter steps over them, the driver's numbers do not) as skipped in the
+// camera, and frames sent twice as duplicates.
 //
 //   hil_uvc_hal --send-log FILE --done FILE [--size 160x122|160x120] [--min-frames N]
 //               [--buffers N] [--ffc-period N] [--lost-per-unplug N] [--progress FILE]
@@ -12,7 +14,8 @@
 //
 // --real: a camera without a send log (BOLO_HIL_DEVICE=v4l2:/dev/videoN): N frames, none dropped,
 // corrupt or short, no disconnect, no timeout once streaming, no image twice in a row (a sensor's
-// noise never repeats), and with telemetry rows every frame counter new.
+// noise never repeats), and with telemetry rows every frame counter new, none skipped in the
+// camera and no counter jump.
 //
 // --progress: the count of frames delivered so far, rewritten after each frame, for the
 // emulator's --credit (it stays a bounded number of frames ahead of this program).
@@ -125,12 +128,19 @@ int stream_real_camera(hal::V4l2Source& source, HashingSink& sink, bool telemetr
          std::to_string(st.corrupt_transfers) + " corrupt, " + std::to_string(st.short_transfers) + " short frames");
   expect(st.disconnects == 0, std::to_string(st.disconnects) + " disconnects");
   expect(st.timeouts == startup_timeouts, std::to_string(st.timeouts - startup_timeouts) + " timeouts while streaming");
-  expect(repeated == 0 && reused_counters == 0, std::to_string(repeated) + " images repeated, " +
-                                                    std::to_string(reused_counters) + " frame counters reused");
-  std::printf("hil_uvc_hal: %s: real V4L2 camera, %zu frames in %.1f s (%.1f/s); out of order %llu, start-up "
-              "timeouts %llu\n",
+  expect(repeated == 0 && reused_counters == 0 && st.duplicates == 0,
+         std::to_string(repeated) + " images repeated, " + std::to_string(reused_counters) +
+             " frame counters reused (the source counted " + std::to_string(st.duplicates) + " duplicates)");
+  expect(source.skipped_in_camera() == 0 && source.counter_jumps() == 0,
+         std::to_string(source.skipped_in_camera()) + " frames skipped in the camera, " +
+             std::to_string(source.counter_jumps()) + " frame counter jumps");
+  std::printf("hil_uvc_hal: %s: real V4L2 camera, %zu frames in %.1f s (%.1f/s); out of order %llu, skipped in "
+              "the camera %llu, duplicates %llu, counter jumps %llu, start-up timeouts %llu\n",
               failures == 0 ? "PASS" : "FAIL", got.size(), seconds, static_cast<double>(got.size()) / seconds,
-              static_cast<unsigned long long>(source.out_of_order()), static_cast<unsigned long long>(startup_timeouts));
+              static_cast<unsigned long long>(source.out_of_order()),
+              static_cast<unsigned long long>(source.skipped_in_camera()),
+              static_cast<unsigned long long>(st.duplicates), static_cast<unsigned long long>(source.counter_jumps()),
+              static_cast<unsigned long long>(startup_timeouts));
   return failures == 0 ? 0 : 1;
 }
 
@@ -324,6 +334,18 @@ int main(int argc, char** argv) {
       expect(source.out_of_order() >= late && source.out_of_order() <= late + dups,
              "frames the source saw out of order " + std::to_string(source.out_of_order()) + ", late by content " +
                  std::to_string(late) + " (+ up to " + std::to_string(dups) + " swapped duplicates)");
+    // The telemetry counter: a silence skips its frame inside the camera (the driver numbers
+    // nothing for it; a short frame it drops is its own gap), a duplicate repeats the counter.
+    // (A silence on the first or last frame would show no step; the scenario's plans have none.)
+    const std::uint64_t silences = injected(Fault::timeout);
+    if (telemetry && unplugs == 0) {
+      expect(source.skipped_in_camera() == silences, "frames skipped in the camera " +
+                                                         std::to_string(source.skipped_in_camera()) +
+                                                         ", silences sent " + std::to_string(silences));
+      expect(st.duplicates == dups, "duplicates counted " + std::to_string(st.duplicates) + ", sent " +
+                                        std::to_string(dups));
+      expect(source.counter_jumps() == 0, std::to_string(source.counter_jumps()) + " frame counter jumps");
+    }
     std::uint64_t ffc_seen = 0, ffc_want = 0;
     if (telemetry && ffc_period > 0 && unplugs == 0) {
       auto stamp = [&](std::uint32_t counter) { return (counter - 1) / ffc_period; };
@@ -340,7 +362,7 @@ int main(int argc, char** argv) {
     std::printf("hil_uvc_hal: %s: V4l2Source delivered %zu frames in %.1f s (%.0f/s); sent %llu, broken %llu "
                 "(short %llu, silent %llu, unplugs %llu), duplicates %llu, lost to unplugs %zu; counted dropped %llu "
                 "timeouts %llu corrupt %llu disconnects %llu reconnects %llu (max recovery %.2f s); out of order %zu (uvcvideo); "
-                "FFC %llu/%llu\n",
+                "skipped in the camera %llu, duplicates %llu, counter jumps %llu; FFC %llu/%llu\n",
                 failures == 0 ? "PASS" : "FAIL", got.size(), seconds, static_cast<double>(got.size()) / seconds,
                 static_cast<unsigned long long>(expected->frames_sent),
                 static_cast<unsigned long long>(shorts + injected(Fault::timeout) + unplugs),
@@ -349,6 +371,8 @@ int main(int argc, char** argv) {
                 missing, static_cast<unsigned long long>(st.dropped), static_cast<unsigned long long>(st.timeouts),
                 static_cast<unsigned long long>(st.corrupt_transfers), static_cast<unsigned long long>(st.disconnects),
                 static_cast<unsigned long long>(st.reconnects), max_recovery, late,
+                static_cast<unsigned long long>(source.skipped_in_camera()),
+                static_cast<unsigned long long>(st.duplicates), static_cast<unsigned long long>(source.counter_jumps()),
                 static_cast<unsigned long long>(ffc_seen), static_cast<unsigned long long>(ffc_want));
     return failures == 0 ? 0 : 1;
   } catch (const std::exception& e) {

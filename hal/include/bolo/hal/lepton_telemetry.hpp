@@ -40,4 +40,42 @@ bool decode_lepton_telemetry(std::span<const std::uint16_t> row_a, LeptonTelemet
 // Centikelvin -> milli-degrees Celsius (the FrameHeader unit); 0 (no reading) -> unknown.
 std::int32_t centikelvin_to_mc(std::uint16_t ck);
 
+// The largest forward step (in frames) taken as frames lost; beyond it, or more than 63 frames
+// behind the highest, a step is a jump (a restarted core, a row that is not telemetry), not that
+// many losses. Frames up to 63 behind are told apart as late or repeated.
+inline constexpr std::uint32_t kLeptonCounterWindow = 64;
+// The largest step per exported frame believed: the core runs at ~27 Hz and exports ~9 Hz.
+inline constexpr std::uint32_t kLeptonMaxStride = 8;
+
+// Follows the telemetry frame counter of the frames a source delivers, in delivery order. The
+// counter counts the core's frames; a camera exporting every third (the FLIR ONE Pro capture)
+// steps by 3, so the step of one exported frame (the stride) is learned: the smallest forward
+// step since the (re)start. A forward step of n strides skips n - 1 frames. A counter behind
+// the highest is late (uvcvideo hands frames over out of order now and then) unless it was
+// delivered before: then it is a repeat, as is the highest again (the camera sent a frame twice).
+class LeptonFrameCounter {
+ public:
+  enum class Step : std::uint8_t { first, forward, repeat, late, jump };
+  Step add(std::uint32_t counter);
+  void restart();  // a reopened device: the next counter is a first one
+  // Exported frames the last `forward` step advanced (1: none skipped).
+  std::uint32_t advanced() const { return advanced_; }
+  std::uint32_t stride() const { return stride_; }  // 0 until a forward step was seen
+  std::uint64_t repeats() const { return repeats_; }
+  std::uint64_t late() const { return late_; }
+  std::uint64_t jumps() const { return jumps_; }
+
+ private:
+  void start_at(std::uint32_t counter);
+  Step forward_by(std::uint32_t step);
+  Step behind_by(std::uint32_t step);
+
+  bool have_ = false;
+  std::uint32_t highest_ = 0;
+  std::uint32_t stride_ = 0;
+  std::uint64_t delivered_ = 0;  // bit k: the frame k strides behind the highest was delivered
+  std::uint32_t advanced_ = 0;
+  std::uint64_t repeats_ = 0, late_ = 0, jumps_ = 0;
+};
+
 }  // namespace bolo::hal

@@ -44,6 +44,10 @@ enum class SeekFrameKind : std::uint8_t {
 };
 
 SeekFrameKind seek_frame_kind(std::uint16_t type);
+// One of the types the facts doc lists (1, 3, 4, 6, 7, 8, 20 and the boot types 9, 14, 25-28).
+// A chunk from the middle of a frame has pixel data where the type word is, which a sensor's
+// counts practically never make one of these small numbers.
+bool seek_frame_type_known(std::uint16_t type);
 
 enum class SeekChunk : std::uint8_t {
   need_more,  // keep reading

@@ -34,6 +34,10 @@ enum Request : std::uint8_t {
 
 struct SeekSourceConfig {
   std::uint32_t transfer_timeout_ms = 1000;
+  // A requested frame is waited for over this many timeouts in a row before it is given up and
+  // asked for again (1: at the first). The camera sends only what was asked for, so what comes
+  // after a pause can only be the rest of that frame; one that abandoned it stays silent.
+  std::uint32_t timeouts_before_giving_up = 2;
   std::uint32_t reconnect_timeout_ms = 2000;
   // Frames without an image (boot and calibration frames) before a call gives up with a fault.
   std::uint32_t max_frames_without_image = 64;
@@ -70,9 +74,14 @@ class SeekSource final : public FrameSource {
   std::span<const std::uint8_t> chip_id() const { return {chip_id_, sizeof chip_id_}; }
 
  private:
-  enum class Read : std::uint8_t { frame, lost, gone };
+  enum class Read : std::uint8_t { frame, waiting, lost, gone };
   TransferStatus start();
+  Transfer request_frame();
   Read read_frame(std::int64_t& arrival_ns);
+  Read read_chunks(std::int64_t& arrival_ns);
+  Read on_timeout();
+  bool starts_a_frame(const SeekFrameInfo& info) const;
+  StreamStatus resynchronise();
   StreamStatus device_gone();
   bool follow_counter(const SeekFrameInfo& info);
 
@@ -83,6 +92,9 @@ class SeekSource final : public FrameSource {
   bool started_ = false;
   bool connected_ = true;
   bool ffc_pending_ = false;
+  bool frame_requested_ = false;      // asked for and not yet whole, given up or failed
+  std::uint32_t silent_timeouts_ = 0;  // timeouts in a row while it is awaited
+  bool check_alignment_ = false;      // a frame was lost: the next must begin like one (resynchronise)
   std::uint64_t sequence_ = 0;
   bool have_counter_ = false;  // since the (re)start
   std::uint16_t previous_counter_ = 0;

@@ -9,11 +9,13 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "bolo/hal/frame_source.hpp"
 #include "bolo/hal/lepton_telemetry.hpp"
+#include "bolo/hal/y16_frame.hpp"
 
 namespace bolo::hal {
 
@@ -56,6 +58,54 @@ class SequenceGaps {
   std::uint64_t missing_ = 0, late_ = 0;
 };
 
+// What V4l2Source makes of each buffer the driver hands over, apart from the device (tests feed
+// it synthetic Y16 buffers): the driver's sequence numbers (drops, late frames), the layout
+// check, the header (sequence kept increasing across a reopen, timestamp) and, from Lepton
+// telemetry rows, FFC events, temperatures and the frame counter: frames skipped inside the
+// camera (the driver never saw them, so its numbers show no gap) and frames sent twice
+// (SourceStats::duplicates, delivered all the same).
+class V4l2BufferStream {
+ public:
+  struct Buffer {
+    std::span<const std::uint8_t> bytes;  // what the driver filled (bytesused)
+    std::uint32_t sequence = 0;           // the driver's frame number
+    bool error = false;                   // V4L2_BUF_FLAG_ERROR
+    bool timestamp_monotonic = false;     // V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC
+    std::int64_t timestamp_ns = 0;
+  };
+  explicit V4l2BufferStream(const Y16Layout& layout);
+  // Pushes the buffer's image rows into `sink` (`frame`) or counts in `stats` why not (`fault`).
+  StreamStatus deliver(const Buffer& buffer, fw::LineSink& sink, SourceStats& stats);
+  // The device was reopened (with `layout`): the driver numbers from 0 again.
+  void reopened(const Y16Layout& layout);
+  std::uint64_t out_of_order() const { return gaps_.out_of_order(); }
+  // Frames the telemetry counter stepped over that the driver's numbers do not account for.
+  std::uint64_t skipped_in_camera() const { return skipped_in_camera_; }
+  // Counter steps too large (or too far back) to be losses: a restarted core, a bad row.
+  std::uint64_t counter_jumps() const { return counter_.jumps(); }
+  const LeptonTelemetry& last_telemetry() const { return telemetry_; }
+
+ private:
+  void follow_sequence(std::uint32_t sequence, SourceStats& stats);
+  fw::FrameHeader header_of(const Buffer& buffer) const;
+  bool read_telemetry(const Y16Frame& frame, fw::FrameHeader& header);
+  void follow_frame_counter(std::uint32_t sequence, SourceStats& stats);
+  void push_image(const Y16Frame& frame, const fw::FrameHeader& header, fw::LineSink& sink);
+
+  Y16Layout layout_;
+  std::vector<std::uint16_t> line_;
+  SequenceGaps gaps_;
+  std::uint64_t sequence_offset_ = 0;  // keeps sequences increasing across a reopen
+  std::uint64_t last_sequence_ = 0;
+  bool have_ffc_stamp_ = false;
+  std::uint32_t last_ffc_ms_ = 0;
+  LeptonTelemetry telemetry_;
+  LeptonFrameCounter counter_;
+  bool have_counted_sequence_ = false;
+  std::uint32_t counted_sequence_ = 0;  // the driver's highest number among frames with telemetry
+  std::uint64_t skipped_in_camera_ = 0;
+};
+
 class V4l2Source final : public FrameSource {
  public:
   explicit V4l2Source(const V4l2Config& config);
@@ -64,25 +114,24 @@ class V4l2Source final : public FrameSource {
   StreamStatus stream_frame(fw::LineSink& sink) override;
   SourceStats stats() const override { return stats_; }
   const V4l2Negotiated& negotiated() const { return negotiated_; }
-  const LeptonTelemetry& last_telemetry() const { return telemetry_; }
+  const LeptonTelemetry& last_telemetry() const { return buffers_->last_telemetry(); }
   // Frames the driver handed over behind a higher sequence number (see SequenceGaps).
-  std::uint64_t out_of_order() const { return gaps_.out_of_order(); }
+  std::uint64_t out_of_order() const { return buffers_->out_of_order(); }
+  // From the Lepton telemetry frame counter (formats with telemetry rows): frames skipped inside
+  // the camera, and counter jumps (see V4l2BufferStream). Repeats: stats().duplicates.
+  std::uint64_t skipped_in_camera() const { return buffers_->skipped_in_camera(); }
+  std::uint64_t counter_jumps() const { return buffers_->counter_jumps(); }
 
   struct Device;
 
  private:
   StreamStatus lost_device();
+  Y16Layout layout() const;
 
   V4l2Config config_;
   std::unique_ptr<Device> device_;
   V4l2Negotiated negotiated_;
-  std::vector<std::uint16_t> line_;
-  SequenceGaps gaps_;
-  std::uint64_t sequence_offset_ = 0;  // keeps sequences increasing across a reopen
-  std::uint64_t last_sequence_ = 0;
-  bool have_ffc_stamp_ = false;
-  std::uint32_t last_ffc_ms_ = 0;
-  LeptonTelemetry telemetry_;
+  std::optional<V4l2BufferStream> buffers_;  // from the first open on
   SourceStats stats_;
 };
 
