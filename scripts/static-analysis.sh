@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Static analysis of the code that runs on the camera board: firmware/, fixed_point/, hal/.
+# Static analysis of the code that runs on the camera board: firmware/ (with the VO core,
+# firmware/vo), fixed_point/, hal/.
 #   1. clang-tidy with the checks of .clang-tidy (every finding is an error) on the translation
 #      units of those folders, using the compile commands of a configured build; their headers
 #      are checked through them (HeaderFilterRegex).
@@ -35,7 +36,7 @@ build=$(cd "$build" && pwd)
 # The board code's translation units, as the compile database names them.
 mapfile -t sources < <(
   grep -o '"file": *"[^"]*"' "$build/compile_commands.json" | sed 's/^"file": *"//; s/"$//' |
-    grep -E "^$root/(firmware/(src|examples)|fixed_point|hal/src)/[^/]+\.cpp$" | sort -u)
+    grep -E "^$root/(firmware/(src|examples|vo/src)|fixed_point|hal/src)/[^/]+\.cpp$" | sort -u)
 if [ "${#sources[@]}" -eq 0 ]; then
   echo "static-analysis: no firmware/, fixed_point/ or hal/ sources in $build/compile_commands.json" >&2
   exit 2
@@ -72,11 +73,11 @@ echo "== cppcheck ($("$cppcheck" --version))"
 #    suppression go.)
 if ! "$cppcheck" --enable=warning,performance,portability --error-exitcode=1 --inline-suppr \
   --std=c++20 --language=c++ --quiet -j "$jobs" \
-  -I firmware/include -I fixed_point/include -I hal/include -I sim/recording/include \
+  -I firmware/include -I firmware/vo/include -I fixed_point/include -I hal/include -I sim/recording/include \
   --suppress=missingIncludeSystem \
   --suppress=CastIntegerToAddressAtReturn:firmware/include/bolo/firmware/bad_pixel_stage.hpp \
   --suppress=uninitvar:firmware/src/two_frame_corrector.cpp \
-  firmware/src firmware/examples fixed_point hal/src; then
+  firmware/src firmware/examples firmware/vo/src fixed_point hal/src; then
   status=1
   echo "cppcheck: findings"
 else

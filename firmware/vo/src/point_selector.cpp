@@ -9,8 +9,8 @@ constexpr std::uint32_t kBlock = 16;
 constexpr std::uint32_t kBins = 64;
 constexpr float kBinWidth = 4.0f;  // gradient magnitude per histogram bin (counts / pixel)
 
-float magnitude(const Level& lv, std::size_t i) {
-  return std::sqrt(lv.gx.data[i] * lv.gx.data[i] + lv.gy.data[i] * lv.gy.data[i]);
+float magnitude(const Level& level, std::size_t i) {
+  return std::sqrt(level.gx.data[i] * level.gx.data[i] + level.gy.data[i] * level.gy.data[i]);
 }
 }  // namespace
 
@@ -18,10 +18,10 @@ std::size_t selector_block_count(std::uint32_t width, std::uint32_t height) {
   return std::size_t{(width + kBlock - 1) / kBlock} * ((height + kBlock - 1) / kBlock);
 }
 
-std::size_t select_points(const Level& lv, std::span<const std::uint8_t> occupied,
+std::size_t select_points(const Level& level, std::span<const std::uint8_t> occupied,
                           std::uint32_t wanted, std::uint32_t margin, SelectorScratch scratch,
                           std::span<PixelPoint> out) {
-  const std::uint32_t w = lv.value.width, h = lv.value.height;
+  const std::uint32_t w = level.value.width, h = level.value.height;
   const std::uint32_t bw = (w + kBlock - 1) / kBlock, bh = (h + kBlock - 1) / kBlock;
   // Per block: median gradient (from a histogram) plus a margin, so a point must stand out
   // against its own surroundings rather than against the whole image.
@@ -31,7 +31,7 @@ std::size_t select_points(const Level& lv, std::span<const std::uint8_t> occupie
       std::uint32_t n = 0;
       for (std::uint32_t y = by * kBlock; y < h && y < (by + 1) * kBlock; ++y)
         for (std::uint32_t x = bx * kBlock; x < w && x < (bx + 1) * kBlock; ++x) {
-          const auto bin = static_cast<std::uint32_t>(magnitude(lv, std::size_t{y} * w + x) / kBinWidth);
+          const auto bin = static_cast<std::uint32_t>(magnitude(level, std::size_t{y} * w + x) / kBinWidth);
           ++scratch.histogram[bin < kBins ? bin : kBins - 1];
           ++n;
         }
@@ -58,7 +58,7 @@ std::size_t select_points(const Level& lv, std::span<const std::uint8_t> occupie
           for (std::uint32_t x = cx; x < cx + c && x + margin < w; ++x) {
             const std::size_t i = std::size_t{y} * w + x;
             if (!occupied.empty() && occupied[i]) continue;
-            const float g = magnitude(lv, i);
+            const float g = magnitude(level, i);
             const float excess = g - scratch.block_threshold[std::size_t{y / kBlock} * bw + x / kBlock];
             if (excess > best_score) {
               best_score = excess;
