@@ -86,6 +86,11 @@ def run(name, effects, seed, preset=None, extra=()):
     with open(os.path.join(rec, "truth", "effects.json")) as f: truth = json.load(f)
     return d, truth, dt
 
+def dbic_text(v):
+    """The held-out dBIC as the study prints it; 1e9 (bolo::diag::kExactEvidence) means no residual left."""
+    return "exact" if v >= 1e9 else f"{v:.1f}"
+
+
 def truth_param(truth, eid):
     e = truth.get("effects", {})
     return e.get(eid, {}) if isinstance(e, dict) else {}
@@ -247,7 +252,7 @@ def write_docs(rows):
                  f"{d['baseline']['heldout_rms']:.3g} -> {d['heldout_rms_final']:.3g}; {r['seconds']:.1f} s.\n")
         for f in d["findings"]:
             L.append(f"* **{f['effect']}**: {f['where']['summary']}; params `{json.dumps(f['params'])}`; "
-                     f"held-out dBIC {f['evidence']['delta_bic']:.1f}, held-out RMS {f['heldout_rms_before']:.3g} -> {f['heldout_rms_after']:.3g}")
+                     f"held-out dBIC {dbic_text(f['evidence']['delta_bic'])}, held-out RMS {f['heldout_rms_before']:.3g} -> {f['heldout_rms_after']:.3g}")
         for u in d["unexplained"]:
             L.append(f"* unexplained: {u['where']['summary']} (RMS {u['rms']:.3g})")
         if not d["findings"] and not d["unexplained"]: L.append("* nothing found")

@@ -133,6 +133,11 @@ TEST_CASE("two repeated frames in a recording are found wherever the held-out bl
   CHECK((*finding(d, "frame_duplication"))["params"]["frames"] == nlohmann::json::array({49, 99}));
   CHECK((*finding(d, "frame_duplication"))["params"]["every"] == 50);
   CHECK(d["unexplained"].empty());
+  // Repeats leave no held-out residual: the JSON carries the sentinel number, the report says so.
+  CHECK((*finding(d, "frame_duplication"))["evidence"]["delta_bic"].get<double>() == Approx(diag::kExactEvidence));
+  const std::string html = read_text(tmp / "dup.d" / "report.html");
+  CHECK(html.find("&Delta;BIC exact") != std::string::npos);
+  CHECK(html.find("1e+09") == std::string::npos);
 }
 
 TEST_CASE("slow drift below the noise tracks the FPA temperature", "[diagnose][concealed]") {

@@ -99,6 +99,8 @@ std::string fmt(double v) {
   return s.str();
 }
 
+std::string fmt_delta_bic(double v) { return v >= kExactEvidence ? "exact" : fmt(v); }
+
 std::string where_text(const Where& w) {
   std::ostringstream s;
   s << html_escape(w.summary) << "<br><small>frames ";
@@ -144,7 +146,7 @@ std::string render_report(const Diagnosis& d, const DiagnoseData& data, const Re
     int i = 0;
     for (const Finding& f : d.findings)
       h << "<tr><td>" << ++i << "</td><td><b>" << f.effect << "</b><br><small><code>" << html_escape(f.simulator_effect)
-        << "</code></small></td><td>&Delta;BIC " << fmt(f.evidence.delta_bic) << "<br>p " << fmt(f.evidence.p_value)
+        << "</code></small></td><td>&Delta;BIC " << fmt_delta_bic(f.evidence.delta_bic) << "<br>p " << fmt(f.evidence.p_value)
         << "<br>block z " << fmt(f.evidence.block_z) << "<br>n_eff " << fmt(f.evidence.n_eff) << "</td><td><code>"
         << html_escape(f.params.dump()) << "</code></td><td>" << where_text(f.where) << "</td><td>"
         << fmt(f.heldout_rms_before) << " &rarr; " << fmt(f.heldout_rms_after) << "<br><small>noise floor "
@@ -217,7 +219,7 @@ std::string render_report(const Diagnosis& d, const DiagnoseData& data, const Re
   h << "<h2>Every candidate, every round</h2><table><tr><th>round</th><th>effect</th><th>&Delta;BIC</th><th>block z</th>"
        "<th>held-out SSE ratio</th><th>accepted</th></tr>";
   for (const CandidateScore& s : d.scores)
-    h << "<tr><td>" << s.round << "</td><td>" << s.effect << "</td><td>" << fmt(s.evidence.delta_bic) << "</td><td>"
+    h << "<tr><td>" << s.round << "</td><td>" << s.effect << "</td><td>" << fmt_delta_bic(s.evidence.delta_bic) << "</td><td>"
       << fmt(s.evidence.block_z) << "</td><td>"
       << (s.evidence.sse_before > 0 ? fmt(s.evidence.sse_after / s.evidence.sse_before) : "") << "</td><td>"
       << (s.accepted ? "yes" : s.note) << "</td></tr>";

@@ -128,7 +128,7 @@ Scored score(const Candidate& c, const DiagnoseData& d, const std::vector<float>
     e.delta_bic = e.log_likelihood_ratio - c.parameter_count() * std::log(std::max(2.0, e.n_eff));
     e.p_value = chi2_sf(e.log_likelihood_ratio, c.parameter_count());
   } else if (e.sse_after <= 0 && e.sse_before > 0) {
-    e.log_likelihood_ratio = e.delta_bic = 1e9;  // explains held-out data exactly (e.g. repeats)
+    e.log_likelihood_ratio = e.delta_bic = kExactEvidence;  // explains held-out data exactly
     e.p_value = 0;
   }
   return out;

@@ -29,6 +29,10 @@ struct Options {
   double min_explained_share = 0.03;
 };
 
+// delta_bic and log_likelihood_ratio of an effect that leaves no held-out residual at all (a
+// repeated frame explained by repeating it): the JSON contract wants a number, the report says "exact".
+inline constexpr double kExactEvidence = 1e9;
+
 struct Evidence {
   double delta_bic = 0, log_likelihood_ratio = 0, p_value = 1, block_z = 0, n_eff = 0;
   double sse_before = 0, sse_after = 0, count = 0;
