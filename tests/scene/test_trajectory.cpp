@@ -162,6 +162,10 @@ TEST_CASE("TUM lines: 8 numbers, unit quaternions, and they parse back", "[scene
   CHECK(n == times.size());
   CHECK(text.back() == '\n');
   CHECK_THROWS_WITH(parse_tum_line("1 2 3"), Catch::Contains("8 numbers"));
+  CHECK_THROWS_WITH(parse_tum_line("1 2 3 4 0 0 0 1 5"), Catch::Contains("8 numbers"));
+  CHECK_THROWS_WITH(parse_tum_line("1 2 nan 4 0 0 0 1"), Catch::Contains("not finite"));
+  CHECK_THROWS_WITH(parse_tum_line("1 2 3 4 0 0 0 inf"), Catch::Contains("not finite"));
+  CHECK_THROWS_WITH(parse_tum_line("1 2 3 4 0 0 0 0"), Catch::Contains("zero length"));
 }
 
 TEST_CASE("trajectories are deterministic from the seed", "[scene][trajectory]") {

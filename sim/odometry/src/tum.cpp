@@ -1,10 +1,10 @@
 #include "bolo/odometry/tum.hpp"
 
-#include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <string>
+
+#include "bolo/sim/scene/pose.hpp"
 
 namespace bolo::odo {
 
@@ -16,22 +16,18 @@ std::vector<StampedPose> read_tum(const std::filesystem::path& file) {
   for (std::size_t number = 1; std::getline(in, line); ++number) {
     const std::size_t first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream fields(line);
-    double v[8];
-    int n = 0;
-    while (n < 8 && fields >> v[n]) ++n;
-    std::string extra;
     const std::string where = file.string() + ": line " + std::to_string(number);
-    if (n != 8 || (fields >> extra)) throw Error(where + ": expected 8 numbers (t tx ty tz qx qy qz qw)");
-    for (double x : v)
-      if (!std::isfinite(x)) throw Error(where + ": a value is not finite");
-    const double qn = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
-    if (qn < 1e-6) throw Error(where + ": quaternion has zero length");
-    if (!poses.empty() && v[0] <= poses.back().t) throw Error(where + ": time t is not increasing");
+    sim::scene::StampedPose parsed;
+    try {
+      parsed = sim::scene::parse_tum_line(line);
+    } catch (const std::invalid_argument& e) {
+      throw Error(where + ": " + e.what());
+    }
+    if (!poses.empty() && parsed.t <= poses.back().t) throw Error(where + ": time t is not increasing");
     StampedPose p;
-    p.t = v[0];
-    p.T_wc.t = vo::Vec3(v[1], v[2], v[3]);
-    p.T_wc.R = vo::from_quaternion(v[4], v[5], v[6], v[7]);
+    p.t = parsed.t;
+    p.T_wc.t = parsed.pose.position;
+    p.T_wc.R = parsed.pose.orientation.toRotationMatrix();
     poses.push_back(p);
   }
   return poses;

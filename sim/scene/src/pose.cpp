@@ -79,21 +79,24 @@ std::string to_tum(double t, const Pose& pose) {
 
 StampedPose parse_tum_line(std::string_view line) {
   const std::string s(line);
+  constexpr const char* kShape = "expected 8 numbers (t tx ty tz qx qy qz qw)";
   double v[8];
   const char* p = s.c_str();
-  for (int i = 0; i < 8; ++i) {
+  for (double& x : v) {
     char* end = nullptr;
-    v[i] = std::strtod(p, &end);
-    if (end == p) throw std::invalid_argument("TUM line '" + s + "': expected 8 numbers (t tx ty tz qx qy qz qw)");
+    x = std::strtod(p, &end);
+    if (end == p) throw std::invalid_argument(kShape);
     p = end;
   }
   while (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n') ++p;
-  if (*p != '\0') throw std::invalid_argument("TUM line '" + s + "': trailing text after 8 numbers");
+  if (*p != '\0') throw std::invalid_argument(kShape);
+  for (double x : v)
+    if (!std::isfinite(x)) throw std::invalid_argument("a value is not finite");
+  Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+  if (!(q.norm() >= 1e-6)) throw std::invalid_argument("quaternion has zero length");
   StampedPose out;
   out.t = v[0];
   out.pose.position = Eigen::Vector3d(v[1], v[2], v[3]);
-  Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-  if (!(q.norm() > 0.0)) throw std::invalid_argument("TUM line '" + s + "': zero quaternion");
   out.pose.orientation = q.normalized();
   return out;
 }

@@ -45,8 +45,9 @@ struct StampedPose {
   double t = 0.0;
   Pose pose;
 };
-// Parses one TUM line (the quaternion is normalised). Throws std::invalid_argument naming the
-// line when it does not hold 8 numbers.
+// Parses one TUM line (the quaternion is normalised): the one TUM parser of the project (bolo
+// evaluate and the odometry tools read files through it). Throws std::invalid_argument saying
+// what is wrong (not 8 numbers, a value not finite, a zero quaternion); callers add file and line.
 StampedPose parse_tum_line(std::string_view line);
 
 }  // namespace bolo::sim::scene
