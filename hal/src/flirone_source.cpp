@@ -17,6 +17,15 @@ SourceFormat FlirOneSource::format() const {
   return f;
 }
 
+ExtraCounters FlirOneSource::extra_counters() const {
+  const FlirOneCounters& r = reassembler_.counters();
+  ExtraCounters c;
+  c.add("stray_transfers", r.stray_transfers);
+  c.add("trailing_bytes", r.trailing_bytes);
+  c.add("bad_status", r.bad_status);
+  return c;
+}
+
 bool FlirOneSource::lost_frames_since(const FlirOneCounters& before) {
   const FlirOneCounters& now = reassembler_.counters();
   const std::uint64_t truncated = now.truncated - before.truncated;

@@ -155,3 +155,22 @@ TEST_CASE("flirone source: a device that stays away keeps reporting faults, neve
   CHECK(source.stats().reconnects == 0);
   CHECK(sink.frames() == 0);
 }
+
+TEST_CASE("flirone source: stray transfers, trailing bytes and unread statuses are extra counters", "[hal][flirone]") {
+  ScriptedTransport usb;
+  usb.steps.push_back({hal::TransferStatus::ok, {1, 2, 3, 4}});  // joined mid-frame: stray
+  usb.frame(test::make_flirone_frame({.frame_counter = 3, .json = R"({"shutterState":"ON)"}));
+  auto with_tail = test::make_flirone_frame({.frame_counter = 6});
+  with_tail.insert(with_tail.end(), {9, 9, 9});  // after the frame's end, not a frame's start
+  usb.steps.push_back({hal::TransferStatus::ok, with_tail});
+  hal::FlirOneSource source(usb);
+  test::FrameCollector sink(80, 60);
+  std::vector<std::uint64_t> seq;
+  run(source, sink, seq);
+  CHECK(seq.size() == 2);  // none of them costs a frame
+  const hal::ExtraCounters extra = source.extra_counters();
+  REQUIRE(extra.find("stray_transfers") != nullptr);
+  CHECK(extra.find("stray_transfers")->value == 1);
+  CHECK(extra.find("trailing_bytes")->value == 3);
+  CHECK(extra.find("bad_status")->value == 1);
+}

@@ -36,6 +36,9 @@ class FlirOneSource final : public FrameSource {
   // for reconnect_timeout_ms. end_of_stream only when a replayed log ends.
   StreamStatus stream_frame(fw::LineSink& sink) override;
   SourceStats stats() const override { return stats_; }
+  // The reassembler's counts that SourceStats has no place for: stray_transfers,
+  // trailing_bytes, bad_status (a JSON status not read; the frame is still delivered).
+  ExtraCounters extra_counters() const override;
 
   const FlirOneReassembler& reassembler() const { return reassembler_; }
   // The frame last delivered (telemetry, JSON status, JPEG).
