@@ -212,6 +212,23 @@ nlohmann::json stats_json(const hal::SourceStats& s) {
           {"dropped", s.dropped},                   {"duplicates", s.duplicates}};
 }
 
+// "skipped_in_camera 2" reads as "skipped in camera 2", like the SourceStats line above it.
+std::string extra_counters_text(const hal::ExtraCounters& extra) {
+  std::ostringstream o;
+  for (const hal::NamedCounter& c : extra.items()) {
+    std::string name(c.name);
+    std::replace(name.begin(), name.end(), '_', ' ');
+    o << (o.tellp() > 0 ? ", " : "") << name << " " << c.value;
+  }
+  return o.str();
+}
+
+nlohmann::json extra_counters_json(const hal::ExtraCounters& extra) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const hal::NamedCounter& c : extra.items()) j[std::string(c.name)] = c.value;
+  return j;
+}
+
 int run_capture(const CaptureOptions& o, std::ostream& out) {
   if (o.output.empty()) fail("--out: required");
   if (!o.overwrite && fs::exists(o.output)) fail(o.output.string(), ": exists (use --overwrite to replace it)");
@@ -293,7 +310,10 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
   progress.finish();
   if (captured == 0) fail(o.device, ": delivered no frames, nothing written");
   const hal::SourceStats stats = source->stats();
-  nlohmann::json extra = {{"device", o.device}, {"stats", stats_json(stats)},
+  const hal::ExtraCounters counters = source->extra_counters();
+  nlohmann::json extra = {{"device", o.device},
+                          {"stats", stats_json(stats)},
+                          {"extra_counters", extra_counters_json(counters)},
                           {"timestamps_not_increasing", clock.not_increasing}};
   if (synced && synced->latency().count > 0)
     extra["sync_latency_ns"] = {{"count", synced->latency().count}, {"min", synced->latency().min_ns},
@@ -307,6 +327,7 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
   if (ended && o.frames != 0 && captured < o.frames)
     out << "the source ended after " << captured << " of " << o.frames << " frames\n";
   out << "device faults: " << stats_text(stats) << "\n";
+  if (!counters.items().empty()) out << "device counters: " << extra_counters_text(counters) << "\n";
   if (!shutter_at.empty()) out << "shutter events requested: " << shutters << " of " << shutter_at.size() << "\n";
   if (clock.not_increasing > 0)
     out << clock.not_increasing << " frames with a time stamp not after the previous one: t_s left empty\n";
@@ -324,7 +345,7 @@ Command add_capture_command(CLI::App& parent) {
       parent, "capture", "Record frames from a camera (V4L2, USB) or a recording into a recording",
       "Records from any frame source of the HAL into a recording in the shared format\n"
       "(frames.npy, frames.csv with time, FFC and temperatures where the device reports them,\n"
-      "recording.json, capture.json with the device's fault counters). Devices:\n"
+      "recording.json, capture.json with the device's fault and extra counters). Devices:\n"
       "  v4l2:/dev/videoN   UVC Y16 camera (Lepton on PureThermal: 160x122 with telemetry)\n"
       "  usb:flirone        FLIR ONE Pro (libusb)\n"
       "  usb:seek           Seek Thermal Compact / CompactPro (libusb)\n"

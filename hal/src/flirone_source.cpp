@@ -17,6 +17,17 @@ SourceFormat FlirOneSource::format() const {
   return f;
 }
 
+ExtraCounters FlirOneSource::extra_counters() const {
+  const FlirOneCounters& r = reassembler_.counters();
+  ExtraCounters c;
+  c.add("skipped_in_camera", skipped_in_camera_);
+  c.add("counter_jumps", counter_.jumps());
+  c.add("stray_transfers", r.stray_transfers);
+  c.add("trailing_bytes", r.trailing_bytes);
+  c.add("bad_status", r.bad_status);
+  return c;
+}
+
 bool FlirOneSource::lost_frames_since(const FlirOneCounters& before) {
   const FlirOneCounters& now = reassembler_.counters();
   const std::uint64_t truncated = now.truncated - before.truncated;
@@ -25,8 +36,24 @@ bool FlirOneSource::lost_frames_since(const FlirOneCounters& before) {
                                 (now.bad_crc - before.bad_crc);
   stats_.short_transfers += truncated;
   stats_.corrupt_transfers += corrupt;
-  sequence_ += truncated + corrupt;
+  count_lost(truncated + corrupt);
   return truncated + corrupt > 0;
+}
+
+// A lost frame leaves a gap in the sequence, and is the wire's loss, not the camera's skip.
+void FlirOneSource::count_lost(std::uint64_t frames) {
+  sequence_ += frames;
+  lost_since_good_ += frames;
+}
+
+// A counter step over n exported frames with s frames lost on the wire since the previous good
+// frame: n - 1 frames are missing, s of them counted already (short, corrupt); the camera never
+// sent the others (its core counted them but did not export them).
+void FlirOneSource::follow_frame_counter(std::uint32_t counter) {
+  const bool forward = counter_.add(counter) == LeptonFrameCounter::Step::forward;
+  const std::uint64_t missing = forward ? counter_.advanced() - 1u : 0u;
+  if (missing > lost_since_good_) skipped_in_camera_ += missing - lost_since_good_;
+  lost_since_good_ = 0;
 }
 
 StreamStatus FlirOneSource::stream_frame(fw::LineSink& sink) {
@@ -52,7 +79,7 @@ StreamStatus FlirOneSource::stream_frame(fw::LineSink& sink) {
         return StreamStatus::fault;
       case TransferStatus::error:
         ++stats_.corrupt_transfers;
-        if (reassembler_.buffered() > 0) ++sequence_;
+        if (reassembler_.buffered() > 0) count_lost(1);
         reassembler_.reset();
         return StreamStatus::fault;
       case TransferStatus::disconnected:
@@ -61,6 +88,8 @@ StreamStatus FlirOneSource::stream_frame(fw::LineSink& sink) {
           ++sequence_;  // a gap: nothing before the unplug is a predecessor of what follows
           reassembler_.reset();
           have_previous_ = false;  // the core restarts: no predecessor across an unplug
+          counter_.restart();      // and counts from wherever it starts again
+          lost_since_good_ = 0;
           connected_ = false;
         }
         if (transport_.reconnect(config_.reconnect_timeout_ms)) {
@@ -84,6 +113,9 @@ StreamStatus FlirOneSource::stream_frame(fw::LineSink& sink) {
 StreamStatus FlirOneSource::deliver(fw::LineSink& sink, std::int64_t arrival_ns) {
   const FlirOneFrame& f = reassembler_.frame();
   const std::uint32_t counter = f.lepton.frame_counter;
+  follow_frame_counter(counter);
+  // The previous frame's counter again, as before: the counter's repeats would also take one
+  // delivered up to 63 frames back.
   const bool duplicate = have_previous_ && counter == previous_counter_;
   if (duplicate) ++stats_.duplicates;
   if (duplicate && config_.skip_duplicates) return StreamStatus::end_of_stream;

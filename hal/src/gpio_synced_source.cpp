@@ -8,6 +8,13 @@ bool GpioSyncedSource::request_shutter() {
   return ok;
 }
 
+ExtraCounters GpioSyncedSource::extra_counters() const {
+  ExtraCounters c = inner_.extra_counters();
+  c.add("ffc_imminent_frames", imminent_frames_);
+  c.add("sync_unmatched_frames", unmatched_);
+  return c;
+}
+
 void GpioSyncedSource::take_edges() {
   std::int64_t batch[16];
   for (;;) {

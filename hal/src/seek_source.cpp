@@ -26,6 +26,16 @@ SourceFormat SeekSource::format() const {
   return f;
 }
 
+ExtraCounters SeekSource::extra_counters() const {
+  ExtraCounters c;
+  c.add("shutter_frames", counters_.shutter_frames);
+  c.add("calibration_frames", counters_.calibration_frames);
+  c.add("startup_frames", counters_.startup_frames);
+  c.add("start_failures", counters_.start_failures);
+  c.add("counter_jumps", counters_.counter_jumps);
+  return c;
+}
+
 // The start-up sequence of usb-thermal-cores.md. The factory-settings write/read pairs are not
 // sent: the facts do not give their payloads.
 TransferStatus SeekSource::start() {

@@ -322,6 +322,14 @@ SourceFormat V4l2Source::format() const {
   return f;
 }
 
+ExtraCounters V4l2Source::extra_counters() const {
+  ExtraCounters c;
+  c.add("out_of_order", out_of_order());
+  c.add("skipped_in_camera", skipped_in_camera());
+  c.add("counter_jumps", counter_jumps());
+  return c;
+}
+
 StreamStatus V4l2Source::lost_device() {
   if (device_->fd >= 0) {  // counted once per unplug, however long the camera stays away
     ++stats_.disconnects;

@@ -70,7 +70,10 @@ TEST_CASE("capture: file: re-records a recording frame for frame", "[cli][captur
     CHECK(b.ffc == a.ffc);
   }
   CHECK(out.info().width == 24);
-  CHECK(fs::exists(tmp / "out" / "capture.json"));
+  // A recording counts nothing beyond SourceStats: no line for it, an empty object.
+  CHECK_FALSE(has(r.out, "device counters"));
+  const auto summary = nlohmann::json::parse(read_text(tmp / "out" / "capture.json"));
+  CHECK(summary.at("extra_counters") == nlohmann::json::object());
 }
 
 TEST_CASE("capture: --frames stops early, the source ending first is reported", "[cli][capture]") {
@@ -96,6 +99,7 @@ TEST_CASE("capture: the real FLIR ONE transfer log gives the shared recording", 
   REQUIRE(r.code == 0);
   CHECK(has(r.out, "captured 20 frames (80x60)"));
   CHECK(has(r.out, "duplicates 2"));
+  CHECK(has(r.out, "device counters: skipped in camera 0, counter jumps 0,"));
   CHECK(read_text(tmp / "out" / "frames.npy") == read_text(ref / "frames.npy"));  // byte for byte
   rec::Recording out(tmp / "out"), expected(ref);
   for (std::uint64_t i = 0; i < 20; ++i) {
@@ -106,6 +110,28 @@ TEST_CASE("capture: the real FLIR ONE transfer log gives the shared recording", 
     CHECK(*b.housing_temp_c == Approx(*a.housing_temp_c).margin(1e-9));
     CHECK(b.ffc == a.ffc);
   }
+}
+
+TEST_CASE("capture: a source's extra counters are in the summary and in capture.json", "[cli][capture]") {
+  TempDir tmp;
+  const fs::path log = tmp / "log";
+  fs::create_directories(log);
+  std::ofstream(log / "1.txt") << "01020304";  // joined mid-frame: a stray transfer
+  const std::uint32_t counters[] = {0, 3, 9};   // the core steps by 3: 6 was skipped in the camera
+  for (std::uint32_t i = 0; i < 3; ++i)
+    std::ofstream(log / (std::to_string(i + 2) + ".txt")) << hex(make_flirone_frame({.frame_counter = counters[i]}));
+  const CliResult r = run_bolo({"capture", "--device", "flirone-log:" + log.string(), "--out", (tmp / "out").string()});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(has(r.out, "captured 3 frames (80x60)"));
+  CHECK(has(r.out,
+            "\ndevice counters: skipped in camera 1, counter jumps 0, stray transfers 1, trailing bytes 0, bad status 0\n"));
+  const auto summary = nlohmann::json::parse(read_text(tmp / "out" / "capture.json"));
+  CHECK(summary.at("extra_counters") == nlohmann::json({{"skipped_in_camera", 1},
+                                                        {"counter_jumps", 0},
+                                                        {"stray_transfers", 1},
+                                                        {"trailing_bytes", 0},
+                                                        {"bad_status", 0}}));
 }
 
 TEST_CASE("capture: refusals name the device, flag or file and leave nothing behind", "[cli][capture]") {

@@ -109,6 +109,9 @@ TEST_CASE("flirone capture: the source's frames equal the shared recording bit f
   CHECK(stats.frames_delivered == 20);
   CHECK(stats.duplicates == 2);
   CHECK(stats.short_transfers + stats.corrupt_transfers + stats.timeouts + stats.disconnects == 0);
+  // The counter steps by 3 from 147678 to 147729: 17 steps and the 2 repeats, nothing skipped.
+  CHECK(source.skipped_in_camera() == 0);
+  CHECK(source.counter_jumps() == 0);
 }
 
 TEST_CASE("flirone capture: duplicates can be skipped", "[hal][flirone][real]") {

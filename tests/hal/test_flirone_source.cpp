@@ -101,6 +101,45 @@ TEST_CASE("flirone source: faults are counted, lost frames leave sequence gaps",
   CHECK(sink.header().ffc == fw::FfcState::completed);  // last-FFC time moved
   CHECK(sink.header().timestamp_valid);
   CHECK(sink.header().fpa_temp_mc == 46850);
+  // The frames missing from the counter were lost on the wire (counted above), not in the
+  // camera; the core counting from 1 after the replug is a new start, not a jump.
+  CHECK(source.skipped_in_camera() == 0);
+  CHECK(source.counter_jumps() == 0);
+}
+
+TEST_CASE("flirone source: the telemetry counter shows frames skipped in the camera and jumps", "[hal][flirone]") {
+  ScriptedTransport usb;
+  // The core counts 3 per exported frame. 12 (9 skipped), 15 twice, 24 after a frame lost on the
+  // wire (21; 18 skipped), then a jump by 100 frames and on from there.
+  for (std::uint32_t counter : {3u, 6u, 12u, 15u, 15u}) usb.frame(test::make_flirone_frame({.frame_counter = counter}));
+  auto bad = test::make_flirone_frame({.frame_counter = 21});
+  bad[5000] ^= 0x80;
+  usb.frame(bad);
+  for (std::uint32_t counter : {24u, 324u, 327u}) usb.frame(test::make_flirone_frame({.frame_counter = counter}));
+  hal::FlirOneSource source(usb);
+  test::FrameCollector sink(80, 60);
+  std::vector<std::uint64_t> seq;
+  run(source, sink, seq);
+  CHECK(seq == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 6, 7, 8});  // only the wire's loss is a gap
+  CHECK(source.skipped_in_camera() == 2);  // 9 and 18
+  CHECK(source.counter_jumps() == 1);
+  CHECK(source.stats().duplicates == 1);
+  CHECK(source.stats().corrupt_transfers == 1);
+  const hal::ExtraCounters extra = source.extra_counters();
+  CHECK(extra.find("skipped_in_camera")->value == 2);
+  CHECK(extra.find("counter_jumps")->value == 1);
+}
+
+TEST_CASE("flirone source: a skipped duplicate still counts, and a skip after it", "[hal][flirone]") {
+  ScriptedTransport usb;
+  for (std::uint32_t counter : {3u, 6u, 6u, 12u}) usb.frame(test::make_flirone_frame({.frame_counter = counter}));
+  hal::FlirOneSource source(usb, {.skip_duplicates = true});
+  test::FrameCollector sink(80, 60);
+  std::vector<std::uint64_t> seq;
+  run(source, sink, seq);
+  CHECK(seq == std::vector<std::uint64_t>{0, 1, 2});
+  CHECK(source.stats().duplicates == 1);
+  CHECK(source.skipped_in_camera() == 1);
 }
 
 TEST_CASE("flirone source: a pause mid-frame is a counted timeout, not a lost frame", "[hal][flirone]") {
@@ -154,4 +193,25 @@ TEST_CASE("flirone source: a device that stays away keeps reporting faults, neve
   CHECK(usb.reconnects == 3);
   CHECK(source.stats().reconnects == 0);
   CHECK(sink.frames() == 0);
+}
+
+TEST_CASE("flirone source: stray transfers, trailing bytes and unread statuses are extra counters", "[hal][flirone]") {
+  ScriptedTransport usb;
+  usb.steps.push_back({hal::TransferStatus::ok, {1, 2, 3, 4}});  // joined mid-frame: stray
+  usb.frame(test::make_flirone_frame({.frame_counter = 3, .json = R"({"shutterState":"ON)"}));
+  auto with_tail = test::make_flirone_frame({.frame_counter = 6});
+  with_tail.insert(with_tail.end(), {9, 9, 9});  // after the frame's end, not a frame's start
+  usb.steps.push_back({hal::TransferStatus::ok, with_tail});
+  hal::FlirOneSource source(usb);
+  test::FrameCollector sink(80, 60);
+  std::vector<std::uint64_t> seq;
+  run(source, sink, seq);
+  CHECK(seq.size() == 2);  // none of them costs a frame
+  const hal::ExtraCounters extra = source.extra_counters();
+  REQUIRE(extra.find("stray_transfers") != nullptr);
+  CHECK(extra.items()[0].name == "skipped_in_camera");
+  CHECK(extra.items()[1].name == "counter_jumps");
+  CHECK(extra.find("stray_transfers")->value == 1);
+  CHECK(extra.find("trailing_bytes")->value == 3);
+  CHECK(extra.find("bad_status")->value == 1);
 }

@@ -56,6 +56,11 @@ class TimedFrames final : public hal::FrameSource {
     return hal::StreamStatus::frame;
   }
   hal::SourceStats stats() const override { return {}; }
+  hal::ExtraCounters extra_counters() const override {
+    hal::ExtraCounters c;
+    c.add("counter_jumps", 4);
+    return c;
+  }
   std::vector<std::int64_t> times;
   std::size_t next = 0;
 };
@@ -96,6 +101,23 @@ TEST_CASE("gpio: frames with no edge before them are counted unmatched", "[hal][
   REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);
   CHECK(source.last_marks().latency_ns == 5);
   CHECK(source.unmatched_frames() == 1);
+}
+
+TEST_CASE("gpio: extra counters are the inner source's, then the GPIO ones", "[hal][gpio]") {
+  FakeLines lines;
+  TimedFrames frames({10, 20});
+  hal::GpioSyncedSource source(frames, lines);
+  test::FrameCollector sink(4, 2);
+  lines.imminent = true;
+  REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);
+  const hal::ExtraCounters extra = source.extra_counters();
+  REQUIRE(extra.items().size() == 3);
+  CHECK(extra.items()[0].name == "counter_jumps");
+  CHECK(extra.items()[0].value == 4);
+  CHECK(extra.items()[1].name == "ffc_imminent_frames");
+  CHECK(extra.items()[1].value == 1);
+  CHECK(extra.items()[2].name == "sync_unmatched_frames");
+  CHECK(extra.items()[2].value == 1);
 }
 
 TEST_CASE("gpio: shutter on request marks the next frame, FFC-imminent frames are marked", "[hal][gpio]") {

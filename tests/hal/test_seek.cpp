@@ -3,6 +3,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <string>
+#include <vector>
+
 #include "../firmware/frame_collector.hpp"
 #include "bolo/hal/seek_source.hpp"
 #include "seek_device.hpp"
@@ -255,4 +258,12 @@ TEST_CASE("seek source: the frame counter shows duplicates, gaps and surprises",
   CHECK(st.dropped == 2);  // the surprise of 999 is not counted as losses
   CHECK(source.counters().counter_jumps == 2);
   CHECK(source.counters().shutter_frames == 1);
+  // The same counters by name, as `bolo capture` reports them.
+  const hal::ExtraCounters extra = source.extra_counters();
+  std::vector<std::string> names;
+  for (const hal::NamedCounter& c : extra.items()) names.emplace_back(c.name);
+  CHECK(names == std::vector<std::string>{"shutter_frames", "calibration_frames", "startup_frames",
+                                          "start_failures", "counter_jumps"});
+  CHECK(extra.find("counter_jumps")->value == 2);
+  CHECK(extra.find("shutter_frames")->value == 1);
 }

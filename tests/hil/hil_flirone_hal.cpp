@@ -194,16 +194,26 @@ int main(int argc, char** argv) {
     const std::uint64_t unplugs = expected->injected[static_cast<std::size_t>(bolo::hil::Fault::disconnect)];
     expect(st.disconnects == unplugs, "disconnects counted " + std::to_string(st.disconnects) + ", injected " +
                                           std::to_string(unplugs));
+    // The emulator never skips a frame it numbered: every one missing from the telemetry counter
+    // was lost on the wire and counted there. A jump right after an unplug is a new start instead.
+    expect(source.skipped_in_camera() == 0,
+           "frames skipped in the camera: " + std::to_string(source.skipped_in_camera()) + ", want 0");
+    const std::uint64_t jumps = expected->injected[static_cast<std::size_t>(bolo::hil::Fault::frame_id_jump)];
+    expect(source.counter_jumps() <= jumps && source.counter_jumps() + unplugs >= jumps,
+           "counter jumps counted " + std::to_string(source.counter_jumps()) + ", injected " + std::to_string(jumps));
     expect(max_recovery_s <= 2.0, "replug recovery took " + std::to_string(max_recovery_s) + " s (> 2 s)");
     std::printf("hil_flirone_hal: %s: FlirOneSource delivered %zu frames in %.1f s (%.0f/s); emulator broke %llu "
-                "frames; source counted timeouts %llu short %llu corrupt %llu disconnects %llu (%llu fault returns); "
+                "frames, jumped its counter %llu times; source counted timeouts %llu short %llu corrupt %llu "
+                "disconnects %llu (%llu fault returns), skipped in camera %llu, counter jumps %llu; "
                 "max replug recovery %.3f s (of which at most: unplug seen %.3f s, reopened %.3f s)\n",
                 failures == 0 ? "PASS" : "FAIL", sink.hashes.size(), seconds,
                 static_cast<double>(sink.hashes.size()) / seconds,
-                static_cast<unsigned long long>(injected_losses), static_cast<unsigned long long>(st.timeouts),
-                static_cast<unsigned long long>(st.short_transfers),
+                static_cast<unsigned long long>(injected_losses), static_cast<unsigned long long>(jumps),
+                static_cast<unsigned long long>(st.timeouts), static_cast<unsigned long long>(st.short_transfers),
                 static_cast<unsigned long long>(st.corrupt_transfers),
                 static_cast<unsigned long long>(st.disconnects), static_cast<unsigned long long>(faults),
+                static_cast<unsigned long long>(source.skipped_in_camera()),
+                static_cast<unsigned long long>(source.counter_jumps()),
                 max_recovery_s, max_detect_s, timed.max_reconnect_s);
     return failures == 0 ? 0 : 1;
   } catch (const std::exception& e) {

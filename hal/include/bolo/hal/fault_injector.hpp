@@ -111,6 +111,7 @@ class FaultInjector final : public FrameSource {
   StreamStatus stream_frame(fw::LineSink& sink) override;
   // The inner source's statistics, with frames_delivered counting the frames delivered here.
   SourceStats stats() const override;
+  ExtraCounters extra_counters() const override { return inner_.extra_counters(); }
 
   const FaultCounts& faults() const { return counts_; }
   const DeliveryFaults& last_delivery() const { return last_; }

@@ -8,6 +8,7 @@
 
 #include "bolo/hal/flirone_reassembler.hpp"
 #include "bolo/hal/frame_source.hpp"
+#include "bolo/hal/lepton_telemetry.hpp"
 #include "bolo/hal/usb_transport.hpp"
 
 namespace bolo::hal {
@@ -36,6 +37,15 @@ class FlirOneSource final : public FrameSource {
   // for reconnect_timeout_ms. end_of_stream only when a replayed log ends.
   StreamStatus stream_frame(fw::LineSink& sink) override;
   SourceStats stats() const override { return stats_; }
+  // skipped_in_camera and counter_jumps (below), then the reassembler's counts that SourceStats
+  // has no place for: stray_transfers, trailing_bytes, bad_status (a JSON status not read; the
+  // frame is still delivered).
+  ExtraCounters extra_counters() const override;
+  // From the telemetry frame counter (LeptonFrameCounter): frames the core counted but the camera
+  // never sent (those lost on the wire, counted short or corrupt, aside), and steps too large to
+  // be losses. Repeats of the previous frame's counter: stats().duplicates.
+  std::uint64_t skipped_in_camera() const { return skipped_in_camera_; }
+  std::uint64_t counter_jumps() const { return counter_.jumps(); }
 
   const FlirOneReassembler& reassembler() const { return reassembler_; }
   // The frame last delivered (telemetry, JSON status, JPEG).
@@ -44,6 +54,8 @@ class FlirOneSource final : public FrameSource {
  private:
   StreamStatus deliver(fw::LineSink& sink, std::int64_t arrival_ns);
   bool lost_frames_since(const FlirOneCounters& before);
+  void count_lost(std::uint64_t frames);
+  void follow_frame_counter(std::uint32_t counter);
 
   BulkInTransport& transport_;
   FlirOneSourceConfig config_;
@@ -54,6 +66,9 @@ class FlirOneSource final : public FrameSource {
   bool connected_ = true;
   std::uint32_t previous_counter_ = 0;
   std::uint32_t previous_ffc_ms_ = 0;
+  LeptonFrameCounter counter_;
+  std::uint64_t lost_since_good_ = 0;  // frames lost on the wire since the last good frame
+  std::uint64_t skipped_in_camera_ = 0;
   SourceStats stats_;
 };
 

@@ -32,6 +32,8 @@ class GpioSyncedSource final : public FrameSource {
   SourceFormat format() const override { return inner_.format(); }
   StreamStatus stream_frame(fw::LineSink& sink) override;
   SourceStats stats() const override { return inner_.stats(); }
+  // The inner source's, then ffc_imminent_frames and sync_unmatched_frames.
+  ExtraCounters extra_counters() const override;
 
   bool request_shutter();
   const GpioFrameMarks& last_marks() const { return marks_; }

@@ -64,6 +64,8 @@ class SeekSource final : public FrameSource {
   SourceFormat format() const override;
   StreamStatus stream_frame(fw::LineSink& sink) override;
   SourceStats stats() const override { return stats_; }
+  // counters() by name.
+  ExtraCounters extra_counters() const override;
 
   // Closes the shutter for a calibration (an FFC event the stream then reports).
   bool request_shutter();

@@ -113,6 +113,8 @@ class V4l2Source final : public FrameSource {
   SourceFormat format() const override;
   StreamStatus stream_frame(fw::LineSink& sink) override;
   SourceStats stats() const override { return stats_; }
+  // out_of_order, skipped_in_camera and counter_jumps (below).
+  ExtraCounters extra_counters() const override;
   const V4l2Negotiated& negotiated() const { return negotiated_; }
   const LeptonTelemetry& last_telemetry() const { return buffers_->last_telemetry(); }
   // Frames the driver handed over behind a higher sequence number (see SequenceGaps).
