@@ -127,6 +127,10 @@ FfsEvent FunctionFs::next_event() {
     const ssize_t n = ::read(ep0_, &raw, sizeof raw);
     if (n == static_cast<ssize_t>(sizeof raw)) break;
     if (n < 0 && errno == EINTR) continue;
+    // EIDRM: the setup request this program had not answered yet was cancelled (the host gave up
+    // on it and went on: a new request or a reset came first). FunctionFS reports that once, on
+    // the next ep0 read; the events that follow are read as usual.
+    if (n < 0 && errno == EIDRM) continue;
     throw std::runtime_error(mount_dir_ + "/ep0: event read failed: " + std::strerror(errno));
   }
   FfsEvent event;
