@@ -50,9 +50,8 @@ void FlirOneSource::count_lost(std::uint64_t frames) {
 // frame: n - 1 frames are missing, s of them counted already (short, corrupt); the camera never
 // sent the others (its core counted them but did not export them).
 void FlirOneSource::follow_frame_counter(std::uint32_t counter) {
-  const bool forward = counter_.add(counter) == LeptonFrameCounter::Step::forward;
-  const std::uint64_t missing = forward ? counter_.advanced() - 1u : 0u;
-  if (missing > lost_since_good_) skipped_in_camera_ += missing - lost_since_good_;
+  if (counter_.add(counter) == LeptonFrameCounter::Step::forward)
+    skipped_in_camera_ += counter_.skipped_beyond(lost_since_good_);
   lost_since_good_ = 0;
 }
 

@@ -84,7 +84,7 @@ LeptonFrameCounter::Step LeptonFrameCounter::forward_by(std::uint32_t step) {
   const std::uint32_t frames = (step + stride_ / 2) / stride_;
   if (frames > kLeptonCounterWindow) return Step::jump;
   advanced_ = frames;
-  delivered_ = (frames < 64 ? delivered_ << frames : 0) | 1u;
+  delivered_ = (frames < kLeptonCounterWindow ? delivered_ << frames : 0) | 1u;
   return Step::forward;
 }
 
@@ -92,7 +92,7 @@ LeptonFrameCounter::Step LeptonFrameCounter::forward_by(std::uint32_t step) {
 LeptonFrameCounter::Step LeptonFrameCounter::behind_by(std::uint32_t step) {
   if (stride_ == 0) return step > kLeptonMaxStride ? Step::jump : Step::late;
   const std::uint32_t frames = (step + stride_ / 2) / stride_;
-  if (frames >= 64) return Step::jump;  // beyond the window (and the 64 bits that keep it)
+  if (frames >= kLeptonCounterWindow) return Step::jump;  // beyond the window (and the 64 bits that keep it)
   const std::uint64_t bit = std::uint64_t{1} << frames;
   if ((delivered_ & bit) != 0) return Step::repeat;
   delivered_ |= bit;

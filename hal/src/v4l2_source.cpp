@@ -264,9 +264,8 @@ void V4l2BufferStream::follow_frame_counter(std::uint32_t sequence, SourceStats&
   const auto numbered = static_cast<std::int32_t>(sequence - counted_sequence_);
   const bool newer = !have_counted_sequence_ || numbered > 0;
   if (step == LeptonFrameCounter::Step::repeat) ++stats.duplicates;
-  if (step == LeptonFrameCounter::Step::forward && have_counted_sequence_ && numbered > 0 &&
-      counter_.advanced() > static_cast<std::uint32_t>(numbered))
-    skipped_in_camera_ += counter_.advanced() - static_cast<std::uint32_t>(numbered);
+  if (step == LeptonFrameCounter::Step::forward && have_counted_sequence_ && numbered > 0)
+    skipped_in_camera_ += counter_.skipped_beyond(static_cast<std::uint32_t>(numbered) - 1u);
   if (newer) {
     have_counted_sequence_ = true;
     counted_sequence_ = sequence;

@@ -60,6 +60,13 @@ class LeptonFrameCounter {
   void restart();  // a reopened device: the next counter is a first one
   // Exported frames the last `forward` step advanced (1: none skipped).
   std::uint32_t advanced() const { return advanced_; }
+  // Of the frames the last `forward` step went over, those that `accounted` (frames the source
+  // knows were lost elsewhere since: on the wire, by the driver) does not explain: the camera
+  // counted them but never sent them.
+  std::uint32_t skipped_beyond(std::uint64_t accounted) const {
+    const std::uint64_t missing = advanced_ > 0 ? advanced_ - 1u : 0u;
+    return missing > accounted ? static_cast<std::uint32_t>(missing - accounted) : 0u;
+  }
   std::uint32_t stride() const { return stride_; }  // 0 until a forward step was seen
   std::uint64_t repeats() const { return repeats_; }
   std::uint64_t late() const { return late_; }
