@@ -41,6 +41,14 @@ nlohmann::json evaluate(const fs::path& run) {
   return nlohmann::json::parse(in);
 }
 
+// bolo odometry over `seq` in `mode` into `run`, then bolo evaluate: the evaluation.
+nlohmann::json odometry_evaluated(const fs::path& seq, const fs::path& run, const char* mode) {
+  const CliResult r = run_bolo({"odometry", seq.string(), "--out", run.string(), "--photometric", mode});
+  INFO(mode << ": " << r.err);
+  REQUIRE(r.code == 0);
+  return evaluate(run);
+}
+
 std::string refusal(const std::vector<std::string>& args) {
   const CliResult r = run_bolo(args);
   INFO(r.out << r.err);
@@ -75,11 +83,7 @@ TEST_CASE("every photometric mode runs on a ghosting sequence", "[vo][cli]") {
   const fs::path& seq = sequence("drive", "0.012");
   TempDir out;
   for (const char* mode : {"none", "affine", "ir", "ir-loop"}) {
-    const fs::path run = out / mode;
-    const CliResult r = run_bolo({"odometry", seq.string(), "--out", run.string(), "--photometric", mode});
-    INFO(mode << ": " << r.err);
-    REQUIRE(r.code == 0);
-    const nlohmann::json e = evaluate(run);
+    const nlohmann::json e = odometry_evaluated(seq, out / mode, mode);
     INFO(e.dump(2));
     CHECK(e["posed"].get<int>() >= 10);
     if (std::string(mode).rfind("ir", 0) == 0) {
@@ -104,11 +108,7 @@ TEST_CASE("the ir modes track a ghosting drive and estimate tau", "[vo][cli][tau
                                   "--seed", "1", "--supersample", "3"});
   REQUIRE(sim.code == 0);
   for (const char* mode : {"ir", "ir-loop"}) {
-    const fs::path run = tmp / mode;
-    const CliResult r = run_bolo({"odometry", seq.string(), "--out", run.string(), "--photometric", mode});
-    INFO(mode << ": " << r.err);
-    REQUIRE(r.code == 0);
-    const nlohmann::json e = evaluate(run);
+    const nlohmann::json e = odometry_evaluated(seq, tmp / mode, mode);
     INFO(e.dump(2));
     CHECK(e["posed"].get<int>() >= 135);  // of 150; initialisation takes ~12
     CHECK(e["reinitialisations"].get<int>() == 0);
