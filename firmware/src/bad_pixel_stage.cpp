@@ -12,7 +12,8 @@ BadPixelStage::BadPixelStage(const BadPixelConfig& config, std::span<Pixel> stor
                              LineSink& next)
     : Stage(next), config_(config), width_(config.width), height_(config.height) {
   const std::size_t frame = std::size_t{width_} * height_;
-  if (storage.size() < storage_pixels(width_) || (!config.mask.empty() && config.mask.size() < frame)) {
+  if (storage.size() < storage_pixels(width_, height_) ||
+      (!config.mask.empty() && config.mask.size() < frame)) {
     width_ = 0;  // misconfigured: every frame passes through untouched
     height_ = 0;
     return;
@@ -22,9 +23,17 @@ BadPixelStage::BadPixelStage(const BadPixelConfig& config, std::span<Pixel> stor
   ring_ = storage.subspan(0, ring);
   out_line_ = storage.subspan(ring, width_);
   // Flag bits in the room storage_pixels() sets aside after the lines, accessed as bytes.
-  flags_ = std::span<std::uint8_t>(
-      reinterpret_cast<std::uint8_t*>(storage.data() + ring + width_),
-      ring_rows_ * flag_words(width_) * 4);
+  std::uint8_t* const flag_room = reinterpret_cast<std::uint8_t*>(storage.data() + ring + width_);
+  const std::size_t line_bytes = flag_words(width_) * 4;
+  flags_ = std::span<std::uint8_t>(flag_room, ring_rows_ * line_bytes);
+  if (!config.mask.empty()) {
+    std::uint8_t* const mask_bits = flag_room + flags_.size();
+    for (std::uint32_t row = 0; row < height_; ++row)
+      detail::pack_mask_bits(config.mask.data() + std::size_t{row} * width_, width_,
+                             mask_bits + std::size_t{row} * line_bytes);
+    mask_bits_ = mask_bits;
+  }
+  config_.mask = {};  // not read again
 }
 
 BadPixelStage::BadPixelStage(const BadPixelConfig& config, const NucTables& input_nuc,
@@ -122,8 +131,9 @@ void BadPixelStage::push_lines(std::uint32_t first_row, std::uint32_t count, con
 
 detail::IngestLine BadPixelStage::ingest_job(std::uint32_t row, const Pixel* input) {
   const std::size_t at = std::size_t{row} * width_;
-  const std::uint8_t* mask = config_.mask.empty() ? nullptr : config_.mask.data() + at;
-  detail::IngestLine job{input, nullptr, nullptr, mask, config_.detect_stuck,
+  const std::uint8_t* mask_bits =
+      mask_bits_ == nullptr ? nullptr : mask_bits_ + std::size_t{row} * flag_words(width_) * 4;
+  detail::IngestLine job{input, nullptr, nullptr, mask_bits, config_.detect_stuck,
                          config_.stuck_low, config_.stuck_high, ring_line(row), ring_flags(row),
                          width_};
   if (nuc_ != nullptr) {
