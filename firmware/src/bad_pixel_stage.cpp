@@ -121,7 +121,7 @@ void BadPixelStage::push_lines(std::uint32_t first_row, std::uint32_t count, con
     while (end < last && end - row + 1 < room && !flushes_after(end)) ++end;
     ingest_run(row, end - row + 1, pixels + std::size_t{row - first_row} * stride, stride);
     if (flushes_after(end)) {
-      for (std::uint32_t r = ready; r < end; ++r) repair_row(r);
+      repair_rows(ready, end - ready);
       next().push_lines(ready, end - ready, ring_line(ready), width_, width_);
       ready = end;
     }
@@ -171,14 +171,25 @@ void BadPixelStage::emit(std::uint32_t row) {
 // Repairs in place in the ring: a repaired pixel is flagged, and flagged pixels are never read as
 // neighbours, so the rows still to come see the same neighbourhoods as with a copy.
 void BadPixelStage::repair_row(std::uint32_t row) {
-  if ((row_flagged_ >> (row & (ring_rows_ - 1))) & 1u) {
-    const std::uint8_t* centre_flags = ring_flags(row);
-    // Only flagged pixels change: the set bits of each flag word, lowest first. The scan stays
-    // a tight loop; the (rare) repair is a call.
-    for (std::uint32_t base = 0; base < width_; base += 32) {
-      for (std::uint32_t bits = flag_word(centre_flags, base); bits != 0; bits &= bits - 1)
-        repair(row, base + static_cast<std::uint32_t>(std::countr_zero(bits)));
-    }
+  if ((row_flagged_ >> (row & (ring_rows_ - 1))) & 1u) repair_flagged_row(row);
+}
+
+// Rows first ... first + count - 1, consecutive ring lines (a run about to leave): only the rows
+// whose bit in row_flagged_ is set are looked at, without a call per row.
+void BadPixelStage::repair_rows(std::uint32_t first, std::uint32_t count) {
+  std::uint64_t rows = row_flagged_ >> (first & (ring_rows_ - 1));
+  if (count < 64) rows &= (std::uint64_t{1} << count) - 1;
+  for (; rows != 0; rows &= rows - 1)
+    repair_flagged_row(first + static_cast<std::uint32_t>(std::countr_zero(rows)));
+}
+
+void BadPixelStage::repair_flagged_row(std::uint32_t row) {
+  const std::uint8_t* centre_flags = ring_flags(row);
+  // Only flagged pixels change: the set bits of each flag word, lowest first. The scan stays
+  // a tight loop; the (rare) repair is a call.
+  for (std::uint32_t base = 0; base < width_; base += 32) {
+    for (std::uint32_t bits = flag_word(centre_flags, base); bits != 0; bits &= bits - 1)
+      repair(row, base + static_cast<std::uint32_t>(std::countr_zero(bits)));
   }
 }
 

@@ -87,6 +87,8 @@ class BadPixelStage final : public Stage {
   void ingest(std::uint32_t row, const Pixel* line);
   void ingest_run(std::uint32_t row, std::uint32_t count, const Pixel* lines, std::size_t stride);
   void repair_row(std::uint32_t row);
+  void repair_rows(std::uint32_t first, std::uint32_t count);
+  void repair_flagged_row(std::uint32_t row);
   void emit(std::uint32_t row);
   // Replaces flagged pixel x of `row` by the rounded mean of its good 3x3 neighbours.
   [[gnu::noinline]] void repair(std::uint32_t row, std::uint32_t x);
