@@ -135,7 +135,7 @@ detail::IngestLine BadPixelStage::ingest_job(std::uint32_t row, const Pixel* inp
       mask_bits_ == nullptr ? nullptr : mask_bits_ + std::size_t{row} * flag_words(width_) * 4;
   detail::IngestLine job{input, nullptr, nullptr, mask_bits, config_.detect_stuck,
                          config_.stuck_low, config_.stuck_high, ring_line(row), ring_flags(row),
-                         width_};
+                         width_, std::size_t{width_} * height_ >= kPrefetchFromPixels};
   if (nuc_ != nullptr) {
     job.gain_q14 = nuc_->gain_q14.data() + at;
     job.offset = nuc_->offset.data() + at;

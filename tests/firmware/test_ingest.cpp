@@ -209,7 +209,7 @@ TEST_CASE("every ingest_rows path equals line-by-line ingest", "[kernels][bad_pi
   for (KernelPath path : fw::detail::kKernelPaths) {
     const auto rows_kernel = fw::detail::ingest_rows_kernel(path);
     if (rows_kernel == nullptr) continue;
-    for (std::size_t width : {1, 31, 32, 33, 160, 161}) {
+    for (std::size_t width : {1, 31, 32, 33, 160, 161, 1317}) {
       for (std::size_t rows : {1, 2, 5, 64}) {
         const std::size_t stride = width + rng.below(3);
         const std::size_t n = rows * width;
@@ -223,15 +223,17 @@ TEST_CASE("every ingest_rows path equals line-by-line ingest", "[kernels][bad_pi
         // about one flagged line in three
         for (auto& m : mask) m = rng.below(static_cast<std::uint32_t>(3 * width)) == 0 ? 1 : 0;
         const std::vector<std::uint8_t> mask_bits = mask_bits_of(mask.data(), width, rows);
-        for (int variant = 0; variant < 4; ++variant) {
+        for (int variant = 0; variant < 8; ++variant) {  // 4..7: the same with the prefetch hint
           const bool nuc = variant % 2 == 0;
+          const bool with_mask = variant % 4 < 2;
           const std::size_t flag_bytes = (width + 31) / 32 * 4;
           std::vector<fw::Pixel> ring(n + 2 * kGuard, kSentinel);
           std::vector<std::uint8_t> flags(rows * flag_bytes + 2 * kGuard, kFlagSentinel);
           const fw::detail::IngestLine first{in.data(), nuc ? gain.data() : nullptr,
                                              nuc ? off.data() : nullptr,
-                                             variant < 2 ? mask_bits.data() : nullptr, true, 0, 0x3FFF,
-                                             ring.data() + kGuard, flags.data() + kGuard, width};
+                                             with_mask ? mask_bits.data() : nullptr, true, 0, 0x3FFF,
+                                             ring.data() + kGuard, flags.data() + kGuard, width,
+                                             variant >= 4};
           INFO("path " << fw::detail::to_string(path) << " width " << width << " rows " << rows
                        << " variant " << variant);
           const std::uint64_t got = rows_kernel(first, rows, stride);
@@ -245,7 +247,8 @@ TEST_CASE("every ingest_rows path equals line-by-line ingest", "[kernels][bad_pi
               line.gain_q14 = gain.data() + i * width;
               line.offset = off.data() + i * width;
             }
-            if (variant < 2) line.mask_bits = mask_bits.data() + i * flag_bytes;
+            if (with_mask) line.mask_bits = mask_bits.data() + i * flag_bytes;
+            line.prefetch = false;
             line.ring = want_ring.data() + kGuard + i * width;
             line.flag_bits = want_flags.data() + kGuard + i * flag_bytes;
             if (fw::detail::ingest_kernel(KernelPath::portable)(line)) want |= std::uint64_t{1} << i;

@@ -50,6 +50,9 @@ struct IngestLine {
   Pixel* ring;
   std::uint8_t* flag_bits;
   std::size_t width;
+  // A hint, no change to the result: the input and tables come from beyond the L2 cache (large
+  // frames), so the SIMD paths prefetch them ahead of use.
+  bool prefetch = false;
 };
 // Returns whether any pixel was flagged.
 using IngestFn = bool (*)(const IngestLine& job);
