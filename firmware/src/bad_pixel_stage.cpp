@@ -115,10 +115,19 @@ void BadPixelStage::push_lines(std::uint32_t first_row, std::uint32_t count, con
     return row != ready && (row - ready >= ring_rows_ - 2 || (row & (ring_rows_ - 1)) == 0 ||
                             row == last);
   };
+  // The first row at or after `row` that flushes (rows >= ready): the last row, the row
+  // ring_rows_ - 2 after `ready`, or the next row in line 0 other than `ready` itself.
+  const std::uint32_t slot_mask = ring_rows_ - 1;
+  const auto next_flush = [&](std::uint32_t row) {
+    std::uint32_t line0 = (row + slot_mask) & ~slot_mask;
+    if (line0 == ready) line0 += ring_rows_;
+    return std::min({last, std::max(row, ready + ring_rows_ - 2), line0});
+  };
   for (std::uint32_t row = first_row; row <= last;) {
-    const std::uint32_t room = ring_rows_ - (row & (ring_rows_ - 1));  // lines to the ring's end
-    std::uint32_t end = row;  // the batch: row ... end
-    while (end < last && end - row + 1 < room && !flushes_after(end)) ++end;
+    const std::uint32_t room = ring_rows_ - (row & slot_mask);  // lines to the ring's end
+    // The batch: row ... end, up to the next flush or the ring's end (what stepping `end` on
+    // while !flushes_after(end) would give, without a test per row).
+    const std::uint32_t end = std::min(next_flush(row), row + room - 1);
     ingest_run(row, end - row + 1, pixels + std::size_t{row - first_row} * stride, stride);
     if (flushes_after(end)) {
       repair_rows(ready, end - ready);
