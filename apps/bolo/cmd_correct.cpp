@@ -360,7 +360,7 @@ int run_correct(const CorrectOptions& options, std::ostream& out) {
   if (o.float_output) {
     fw::LineSink* reference_input = &raw;
     if (o.bad_pixels) {
-      float_bad_storage.resize(fw::BadPixelStage::storage_pixels(width));
+      float_bad_storage.resize(fw::BadPixelStage::storage_pixels(width, height));
       float_bad_pixels.emplace(config.bad_pixels, float_bad_storage, raw);
       reference_input = &*float_bad_pixels;
     }

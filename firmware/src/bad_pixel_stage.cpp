@@ -12,7 +12,8 @@ BadPixelStage::BadPixelStage(const BadPixelConfig& config, std::span<Pixel> stor
                              LineSink& next)
     : Stage(next), config_(config), width_(config.width), height_(config.height) {
   const std::size_t frame = std::size_t{width_} * height_;
-  if (storage.size() < storage_pixels(width_) || (!config.mask.empty() && config.mask.size() < frame)) {
+  if (storage.size() < storage_pixels(width_, height_) ||
+      (!config.mask.empty() && config.mask.size() < frame)) {
     width_ = 0;  // misconfigured: every frame passes through untouched
     height_ = 0;
     return;
@@ -22,9 +23,17 @@ BadPixelStage::BadPixelStage(const BadPixelConfig& config, std::span<Pixel> stor
   ring_ = storage.subspan(0, ring);
   out_line_ = storage.subspan(ring, width_);
   // Flag bits in the room storage_pixels() sets aside after the lines, accessed as bytes.
-  flags_ = std::span<std::uint8_t>(
-      reinterpret_cast<std::uint8_t*>(storage.data() + ring + width_),
-      ring_rows_ * flag_words(width_) * 4);
+  std::uint8_t* const flag_room = reinterpret_cast<std::uint8_t*>(storage.data() + ring + width_);
+  const std::size_t line_bytes = flag_words(width_) * 4;
+  flags_ = std::span<std::uint8_t>(flag_room, ring_rows_ * line_bytes);
+  if (!config.mask.empty()) {
+    std::uint8_t* const mask_bits = flag_room + flags_.size();
+    for (std::uint32_t row = 0; row < height_; ++row)
+      detail::pack_mask_bits(config.mask.data() + std::size_t{row} * width_, width_,
+                             mask_bits + std::size_t{row} * line_bytes);
+    mask_bits_ = mask_bits;
+  }
+  config_.mask = {};  // not read again
 }
 
 BadPixelStage::BadPixelStage(const BadPixelConfig& config, const NucTables& input_nuc,
@@ -106,13 +115,22 @@ void BadPixelStage::push_lines(std::uint32_t first_row, std::uint32_t count, con
     return row != ready && (row - ready >= ring_rows_ - 2 || (row & (ring_rows_ - 1)) == 0 ||
                             row == last);
   };
+  // The first row at or after `row` that flushes (rows >= ready): the last row, the row
+  // ring_rows_ - 2 after `ready`, or the next row in line 0 other than `ready` itself.
+  const std::uint32_t slot_mask = ring_rows_ - 1;
+  const auto next_flush = [&](std::uint32_t row) {
+    std::uint32_t line0 = (row + slot_mask) & ~slot_mask;
+    if (line0 == ready) line0 += ring_rows_;
+    return std::min({last, std::max(row, ready + ring_rows_ - 2), line0});
+  };
   for (std::uint32_t row = first_row; row <= last;) {
-    const std::uint32_t room = ring_rows_ - (row & (ring_rows_ - 1));  // lines to the ring's end
-    std::uint32_t end = row;  // the batch: row ... end
-    while (end < last && end - row + 1 < room && !flushes_after(end)) ++end;
+    const std::uint32_t room = ring_rows_ - (row & slot_mask);  // lines to the ring's end
+    // The batch: row ... end, up to the next flush or the ring's end (what stepping `end` on
+    // while !flushes_after(end) would give, without a test per row).
+    const std::uint32_t end = std::min(next_flush(row), row + room - 1);
     ingest_run(row, end - row + 1, pixels + std::size_t{row - first_row} * stride, stride);
     if (flushes_after(end)) {
-      for (std::uint32_t r = ready; r < end; ++r) repair_row(r);
+      repair_rows(ready, end - ready);
       next().push_lines(ready, end - ready, ring_line(ready), width_, width_);
       ready = end;
     }
@@ -122,10 +140,11 @@ void BadPixelStage::push_lines(std::uint32_t first_row, std::uint32_t count, con
 
 detail::IngestLine BadPixelStage::ingest_job(std::uint32_t row, const Pixel* input) {
   const std::size_t at = std::size_t{row} * width_;
-  const std::uint8_t* mask = config_.mask.empty() ? nullptr : config_.mask.data() + at;
-  detail::IngestLine job{input, nullptr, nullptr, mask, config_.detect_stuck,
+  const std::uint8_t* mask_bits =
+      mask_bits_ == nullptr ? nullptr : mask_bits_ + std::size_t{row} * flag_words(width_) * 4;
+  detail::IngestLine job{input, nullptr, nullptr, mask_bits, config_.detect_stuck,
                          config_.stuck_low, config_.stuck_high, ring_line(row), ring_flags(row),
-                         width_};
+                         width_, std::size_t{width_} * height_ >= kPrefetchFromPixels};
   if (nuc_ != nullptr) {
     job.gain_q14 = nuc_->gain_q14.data() + at;
     job.offset = nuc_->offset.data() + at;
@@ -161,14 +180,25 @@ void BadPixelStage::emit(std::uint32_t row) {
 // Repairs in place in the ring: a repaired pixel is flagged, and flagged pixels are never read as
 // neighbours, so the rows still to come see the same neighbourhoods as with a copy.
 void BadPixelStage::repair_row(std::uint32_t row) {
-  if ((row_flagged_ >> (row & (ring_rows_ - 1))) & 1u) {
-    const std::uint8_t* centre_flags = ring_flags(row);
-    // Only flagged pixels change: the set bits of each flag word, lowest first. The scan stays
-    // a tight loop; the (rare) repair is a call.
-    for (std::uint32_t base = 0; base < width_; base += 32) {
-      for (std::uint32_t bits = flag_word(centre_flags, base); bits != 0; bits &= bits - 1)
-        repair(row, base + static_cast<std::uint32_t>(std::countr_zero(bits)));
-    }
+  if ((row_flagged_ >> (row & (ring_rows_ - 1))) & 1u) repair_flagged_row(row);
+}
+
+// Rows first ... first + count - 1, consecutive ring lines (a run about to leave): only the rows
+// whose bit in row_flagged_ is set are looked at, without a call per row.
+void BadPixelStage::repair_rows(std::uint32_t first, std::uint32_t count) {
+  std::uint64_t rows = row_flagged_ >> (first & (ring_rows_ - 1));
+  if (count < 64) rows &= (std::uint64_t{1} << count) - 1;
+  for (; rows != 0; rows &= rows - 1)
+    repair_flagged_row(first + static_cast<std::uint32_t>(std::countr_zero(rows)));
+}
+
+void BadPixelStage::repair_flagged_row(std::uint32_t row) {
+  const std::uint8_t* centre_flags = ring_flags(row);
+  // Only flagged pixels change: the set bits of each flag word, lowest first. The scan stays
+  // a tight loop; the (rare) repair is a call.
+  for (std::uint32_t base = 0; base < width_; base += 32) {
+    for (std::uint32_t bits = flag_word(centre_flags, base); bits != 0; bits &= bits - 1)
+      repair(row, base + static_cast<std::uint32_t>(std::countr_zero(bits)));
   }
 }
 

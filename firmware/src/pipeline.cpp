@@ -18,8 +18,9 @@ bool fuse_nuc_into_bad_pixels(const PipelineConfig& config) {
 
 std::size_t Pipeline::arena_pixels(const PipelineConfig& config) {
   const std::uint32_t w = config.corrector.width;
-  std::size_t pixels = TwoFrameCorrector::storage_pixels(w, config.corrector.height);
-  if (config.use_bad_pixels) pixels += BadPixelStage::storage_pixels(w);
+  const std::uint32_t h = config.corrector.height;
+  std::size_t pixels = TwoFrameCorrector::storage_pixels(w, h);
+  if (config.use_bad_pixels) pixels += BadPixelStage::storage_pixels(w, h);
   if (config.use_nuc && !fuse_nuc_into_bad_pixels(config)) pixels += NucStage::storage_pixels(w);
   return pixels;
 }
@@ -42,11 +43,11 @@ Pipeline::Pipeline(const PipelineConfig& config, std::span<Pixel> arena, LineSin
     bad.width = w;
     bad.height = h;
     if (fuse_nuc_into_bad_pixels(config)) {
-      bad_pixels_.emplace(bad, config.nuc, take(BadPixelStage::storage_pixels(w)), *input_);
+      bad_pixels_.emplace(bad, config.nuc, take(BadPixelStage::storage_pixels(w, h)), *input_);
       input_ = &*bad_pixels_;
       return;
     }
-    bad_pixels_.emplace(bad, take(BadPixelStage::storage_pixels(w)), *input_);
+    bad_pixels_.emplace(bad, take(BadPixelStage::storage_pixels(w, h)), *input_);
     input_ = &*bad_pixels_;
   }
   if (config.use_nuc) {

@@ -78,8 +78,8 @@ TEST_CASE("bad-pixel stage with NUC on input equals NucStage -> BadPixelStage", 
         const fw::NucTables tables{gain, offset};
 
         std::vector<fw::Pixel> nuc_storage(fw::NucStage::storage_pixels(w));
-        std::vector<fw::Pixel> bad_storage(fw::BadPixelStage::storage_pixels(w));
-        std::vector<fw::Pixel> fused_storage(fw::BadPixelStage::storage_pixels(w));
+        std::vector<fw::Pixel> bad_storage(fw::BadPixelStage::storage_pixels(w, h));
+        std::vector<fw::Pixel> fused_storage(fw::BadPixelStage::storage_pixels(w, h));
         FrameCollector chained(w, h + 2), fused(w, h + 2);
         fw::BadPixelStage bad(cfg, bad_storage, chained);
         fw::NucStage nuc(w, h, tables, nuc_storage, bad);
@@ -114,7 +114,7 @@ TEST_CASE("bad-pixel stage with NUC tables shorter than a frame passes frames th
   constexpr std::uint32_t W = 4, H = 2;
   std::vector<std::uint16_t> gain(W * H - 1, 2 * fw::kNucUnityGain);
   std::vector<std::int16_t> offset(W * H, 0);
-  std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W));
+  std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W, H));
   FrameCollector sink(W, H);
   fw::BadPixelConfig cfg;
   cfg.width = W;

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstdio>
+#include <cstring>
 #include <vector>
 
 #include "bolo/firmware/detail/kernels.hpp"
@@ -37,7 +38,33 @@ Outcome run(KernelPath path, fw::detail::IngestLine job) {
   return o;
 }
 
+// A byte mask (non-zero = bad) of `rows` lines of `width` as the intake's mask bits, lines back
+// to back like flag words.
+std::vector<std::uint8_t> mask_bits_of(const std::uint8_t* mask, std::size_t width,
+                                       std::size_t rows = 1) {
+  const std::size_t line = fw::detail::flag_line_bytes(width);
+  std::vector<std::uint8_t> bits(rows * line + 4);  // + 4: a pointer to it is never past the end
+  for (std::size_t i = 0; i < rows; ++i)
+    fw::detail::pack_mask_bits(mask + i * width, width, bits.data() + i * line);
+  return bits;
+}
+
 }  // namespace
+
+TEST_CASE("pack_mask_bits puts pixel x at bit x % 32 of word x / 32", "[kernels][bad_pixel]") {
+  std::vector<std::uint8_t> mask(70, 0);
+  mask[0] = 1;
+  mask[5] = 255;
+  mask[31] = 2;
+  mask[32] = 1;
+  mask[69] = 1;
+  const std::vector<std::uint8_t> bits = mask_bits_of(mask.data(), mask.size());
+  std::uint32_t w[3];
+  std::memcpy(w, bits.data(), sizeof w);
+  CHECK(w[0] == 0x80000021u);
+  CHECK(w[1] == 0x00000001u);
+  CHECK(w[2] == 0x00000020u);  // bits past the width stay 0
+}
 
 TEST_CASE("every ingest path equals the portable loops", "[kernels][bad_pixel]") {
   std::vector<KernelPath> paths;
@@ -67,10 +94,11 @@ TEST_CASE("every ingest path equals the portable loops", "[kernels][bad_pixel]")
           mask[i] = rng.below(10) == 0 ? static_cast<std::uint8_t>(1 + rng.below(255)) : 0;
         }
         const bool nuc = round % 4 < 2;
+        const std::vector<std::uint8_t> mask_bits = mask_bits_of(mask.data() + offset, width);
         fw::detail::IngestLine job{in.data() + offset,
                                    nuc ? gain.data() + offset : nullptr,
                                    nuc ? off.data() + offset : nullptr,
-                                   round % 3 != 0 ? mask.data() + offset : nullptr,
+                                   round % 3 != 0 ? mask_bits.data() : nullptr,
                                    round % 5 != 4,
                                    static_cast<fw::Pixel>(rng.below(3)),
                                    static_cast<fw::Pixel>(round % 2 ? 0x3FFF : 65535 - rng.below(2)),
@@ -96,14 +124,15 @@ TEST_CASE("the portable ingest loops follow their definition", "[kernels][bad_pi
   const std::vector<std::uint16_t> gain = {16384, 32768, 16384, 16384, 8192, 16384};
   const std::vector<std::int16_t> off = {0, 0, 0, -100, 1, 0};
   const std::vector<std::uint8_t> mask = {0, 0, 0, 0, 7, 0};
+  const std::vector<std::uint8_t> mask_bits = mask_bits_of(mask.data(), mask.size());
   std::vector<fw::Pixel> ring(in.size());
   std::uint32_t flags = 0xFFFFFFFFu;
-  fw::detail::IngestLine job{in.data(), gain.data(), off.data(), mask.data(), true, 0, 0x3FFF,
+  fw::detail::IngestLine job{in.data(), gain.data(), off.data(), mask_bits.data(), true, 0, 0x3FFF,
                              ring.data(), reinterpret_cast<std::uint8_t*>(&flags), in.size()};
   CHECK(fw::detail::ingest_kernel(KernelPath::portable)(job));
   CHECK(ring == std::vector<fw::Pixel>{0, 10, 0x3FFF, 0, 101, 65535});
   CHECK(flags == 0b011101u);  // pixel x is bit x; bits past the width are 0
-  job.mask = nullptr;
+  job.mask_bits = nullptr;
   job.detect_stuck = false;
   CHECK_FALSE(fw::detail::ingest_kernel(KernelPath::portable)(job));
   CHECK(flags == 0u);
@@ -166,7 +195,8 @@ TEST_CASE("every ingest path equals the portable loops in and around the 16-bit 
           outside_in[rng.below(static_cast<std::uint32_t>(outside_in.size()))];
       if (round % 4 == 3) gain[rng.below(static_cast<std::uint32_t>(width))] =
           outside_gain[rng.below(static_cast<std::uint32_t>(outside_gain.size()))];
-      compare({in.data(), gain.data(), off.data(), round % 2 ? mask.data() : nullptr, true, 0,
+      const std::vector<std::uint8_t> mask_bits = mask_bits_of(mask.data(), width);
+      compare({in.data(), gain.data(), off.data(), round % 2 ? mask_bits.data() : nullptr, true, 0,
                0x3FFF, nullptr, nullptr, width});
     }
   }
@@ -179,7 +209,7 @@ TEST_CASE("every ingest_rows path equals line-by-line ingest", "[kernels][bad_pi
   for (KernelPath path : fw::detail::kKernelPaths) {
     const auto rows_kernel = fw::detail::ingest_rows_kernel(path);
     if (rows_kernel == nullptr) continue;
-    for (std::size_t width : {1, 31, 32, 33, 160, 161}) {
+    for (std::size_t width : {1, 31, 32, 33, 160, 161, 1317}) {
       for (std::size_t rows : {1, 2, 5, 64}) {
         const std::size_t stride = width + rng.below(3);
         const std::size_t n = rows * width;
@@ -192,15 +222,18 @@ TEST_CASE("every ingest_rows path equals line-by-line ingest", "[kernels][bad_pi
         for (auto& o : off) o = static_cast<std::int16_t>(static_cast<int>(rng.below(41)) - 20);
         // about one flagged line in three
         for (auto& m : mask) m = rng.below(static_cast<std::uint32_t>(3 * width)) == 0 ? 1 : 0;
-        for (int variant = 0; variant < 4; ++variant) {
+        const std::vector<std::uint8_t> mask_bits = mask_bits_of(mask.data(), width, rows);
+        for (int variant = 0; variant < 8; ++variant) {  // 4..7: the same with the prefetch hint
           const bool nuc = variant % 2 == 0;
+          const bool with_mask = variant % 4 < 2;
           const std::size_t flag_bytes = (width + 31) / 32 * 4;
           std::vector<fw::Pixel> ring(n + 2 * kGuard, kSentinel);
           std::vector<std::uint8_t> flags(rows * flag_bytes + 2 * kGuard, kFlagSentinel);
           const fw::detail::IngestLine first{in.data(), nuc ? gain.data() : nullptr,
                                              nuc ? off.data() : nullptr,
-                                             variant < 2 ? mask.data() : nullptr, true, 0, 0x3FFF,
-                                             ring.data() + kGuard, flags.data() + kGuard, width};
+                                             with_mask ? mask_bits.data() : nullptr, true, 0, 0x3FFF,
+                                             ring.data() + kGuard, flags.data() + kGuard, width,
+                                             variant >= 4};
           INFO("path " << fw::detail::to_string(path) << " width " << width << " rows " << rows
                        << " variant " << variant);
           const std::uint64_t got = rows_kernel(first, rows, stride);
@@ -214,7 +247,8 @@ TEST_CASE("every ingest_rows path equals line-by-line ingest", "[kernels][bad_pi
               line.gain_q14 = gain.data() + i * width;
               line.offset = off.data() + i * width;
             }
-            if (variant < 2) line.mask = mask.data() + i * width;
+            if (with_mask) line.mask_bits = mask_bits.data() + i * flag_bytes;
+            line.prefetch = false;
             line.ring = want_ring.data() + kGuard + i * width;
             line.flag_bits = want_flags.data() + kGuard + i * flag_bytes;
             if (fw::detail::ingest_kernel(KernelPath::portable)(line)) want |= std::uint64_t{1} << i;

@@ -215,6 +215,43 @@ TEST_CASE("every kernel path counts saturation like the portable loop", "[kernel
   }
 }
 
+// The AVX-512 VNNI kernel takes blocks of 128 pixels whose inputs are all below 2^15 (14-bit
+// data) without the bit flip and tests them for out-of-range values once per block; a block that
+// fails either test is redone the general way. Long lines of such inputs, some blocks with a
+// saturating pixel (low or high) or one input at or above 2^15, at several offsets and every
+// coefficient set: outputs, counts and the store update as the portable loop's.
+TEST_CASE("every kernel path equals the portable loop on long lines below 2^15, saturation included",
+          "[kernels]") {
+  SplitMix64 rng(53);
+  std::vector<fw::CorrectorCoefficients> sets = coefficient_sets(rng);
+  sets.push_back({3u << 24, 1u << 24});               // 3 cur - prev: high above cur 21845
+  sets.push_back({(1u << 28) + 5, (1u << 28) - 7});  // G, A >= 2^28: the third digit
+  for (KernelPath path : paths_to_test()) {
+    for (std::size_t width : {128, 255, 512, 1000}) {
+      for (std::size_t offset : {0, 3}) {
+        std::vector<fw::Pixel> cur(offset + width), prev(offset + width);
+        for (std::size_t i = 0; i < cur.size(); ++i) {
+          cur[i] = static_cast<fw::Pixel>(4000 + rng.below(200));
+          prev[i] = static_cast<fw::Pixel>(cur[i] + rng.below(40) - 20);
+        }
+        // about every third block: a pixel far below its predecessor (negative with unity
+        // coefficients), a bright one (high with 3 cur - prev), or an input at 2^15 or above
+        for (std::size_t b = offset; b + 128 <= cur.size(); b += 128) {
+          const std::size_t at = b + rng.below(128);
+          switch (rng.below(6)) {
+            case 0: prev[at] = 0x7FFF; cur[at] = 0; break;
+            case 1: cur[at] = 0x7FFF; prev[at] = 0; break;
+            case 2: (rng.below(2) ? cur[at] : prev[at]) = static_cast<fw::Pixel>(0x8000 + rng.below(0x8000)); break;
+            default: break;
+          }
+        }
+        INFO("path " << fw::detail::to_string(path) << " width " << width << " offset " << offset);
+        CHECK(compare(path, cur, prev, sets, offset) == 0);
+      }
+    }
+  }
+}
+
 TEST_CASE("nuc_line equals its definition on random and edge data", "[kernels][nuc]") {
   SplitMix64 rng(17);
   for (std::size_t width : {1, 7, 15, 16, 17, 31, 32, 33, 63, 64, 65, 160, 640, 1317}) {

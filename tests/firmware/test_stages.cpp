@@ -74,9 +74,10 @@ TEST_CASE("bad pixels are replaced by the rounded mean of their good 3x3 neighbo
   cfg.width = W;
   cfg.height = H;
   cfg.mask = mask;
-  std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W));
+  std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W, H));
   FrameCollector sink(W, H);
   fw::BadPixelStage stage(cfg, storage, sink);
+  std::fill(mask.begin(), mask.end(), 0);  // the stage took the mask at construction
   push_frame(stage, header(W, H, 0), frame);
   const auto& out = sink.frame();
   // (1,1): neighbours 10 20 30 11 31 12 22 (0 at (2,2) is bad) -> 136/7 = 19.43 -> 19
@@ -116,7 +117,7 @@ TEST_CASE("line latency: corrector 0 lines, bad-pixel stage its radius", "[laten
     fw::BadPixelConfig cfg;
     cfg.width = W;
     cfg.height = H;
-    std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W));
+    std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W, H));
     fw::BadPixelStage stage(cfg, storage, probe);
     stage.begin_frame(header(W, H, 0));
     for (std::uint32_t r = 0; r < H; ++r) {
@@ -159,7 +160,7 @@ TEST_CASE("the pipeline equals its stages applied one after another", "[pipeline
   fw::Pipeline pipeline(cfg, arena, piped);
 
   // The same stages, each run on whole frames into its own collector.
-  std::vector<fw::Pixel> nuc_storage(W), bad_storage(fw::BadPixelStage::storage_pixels(W)),
+  std::vector<fw::Pixel> nuc_storage(W), bad_storage(fw::BadPixelStage::storage_pixels(W, H)),
       cor_storage(fw::TwoFrameCorrector::storage_pixels(W, H));
   FrameCollector after_nuc(W, H), after_bad(W, H), after_cor(W, H);
   fw::NucStage nuc(W, H, cfg.nuc, nuc_storage, after_nuc);
@@ -246,7 +247,7 @@ TEST_CASE("the bad-pixel stage equals the plain rule on random frames", "[bad_pi
               : roll < per_mille           ? cfg.stuck_high
                                            : static_cast<fw::Pixel>(rng.below(0x4000));
         }
-        std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(w));
+        std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(w, h));
         FrameCollector sink(w, h);
         fw::BadPixelStage stage(cfg, storage, sink);
         INFO("w " << w << " h " << h << " variant " << variant);
@@ -302,7 +303,7 @@ TEST_CASE("bad-pixel stage: rows beyond the frame's height are passed on, never 
   cfg.width = W;
   cfg.height = H;
   cfg.mask = mask;
-  std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W));
+  std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W, H));
   FrameCollector sink(W, H + 2);
   fw::BadPixelStage stage(cfg, storage, sink);
   std::vector<fw::Pixel> line(W, 700);
