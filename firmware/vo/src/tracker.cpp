@@ -15,6 +15,7 @@ namespace {
 
 constexpr double kMotionPrior = 0.02;
 constexpr double kConverged = 0.003;  // a level stops when a step gains less than this share
+constexpr std::uint32_t kRefusedStepsToStop = 2;  // at the finest level (see track_frame)
 constexpr std::uint32_t kPixelsPerTrackedPoint = 40;  // share of each translation axis' own information
 
 using Mat8 = Eigen::Matrix<double, 8, 8>;
@@ -207,6 +208,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
       acc = accumulate(s, l, T, a, b, cutoff, true, false);
     }
     double lambda = 1e-3;
+    std::uint32_t refused_in_a_row = 0;
     // A weak prior towards the motion model's prediction: at video rates the camera cannot
     // jump, and it keeps directions the points do not constrain (far scenes) from wandering.
     const Vec3 prior = kMotionPrior * Vec3(acc.H(0, 0), acc.H(1, 1), acc.H(2, 2));
@@ -234,10 +236,14 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
         const bool small_gain = next.energy > (1.0 - kConverged) * acc.energy;
         T = T_new, a = a_new, b = b_new, acc = next;
         lambda = std::max(lambda * 0.5, 1e-6);
+        refused_in_a_row = 0;
         if (delta.head<6>().norm() < 1e-5 || small_gain) break;
       } else {
+        // At the finest level, two damped steps in a row that do not lower the energy: the pose
+        // is at the bottom of what the noise lets it find (more damping only shrinks the step).
+        // Coarse levels keep trying: from a far guess their basin is long and shallow.
         lambda *= 4;
-        if (lambda > 1e4) break;
+        if (lambda > 1e4 || (++refused_in_a_row >= kRefusedStepsToStop && level == 0)) break;
       }
     }
     if (level == 0) {
