@@ -247,7 +247,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
         T = T_new, a = a_new, b = b_new, acc = next;
         lambda = std::max(lambda * 0.5, 1e-6);
         refused_in_a_row = 0;
-        if (delta.head<6>().norm() < 1e-5 || small_gain) break;
+        if (small_gain || step_pixels(delta) < kNegligibleStep * static_cast<double>(1u << l)) break;
       } else {
         // A refused step that would have moved the points by a small part of this level's pixel,
         // or at the finest level two refused steps in a row: the pose is at the bottom of what
