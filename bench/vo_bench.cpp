@@ -6,7 +6,7 @@
 // were posed moves the average: the CPU time of the posed frames alone is printed too (ms/posed),
 // with the number of keyframes (each runs the window bundle adjustment).
 //
-//   bolo-vo-bench [--frames N] [--mode none|affine|ir|ir-loop] [--sizes WxH,...]
+//   bolo-vo-bench [--frames N] [--mode none|affine|ir] [--sizes WxH,...] [--max-keyframes N]
 
 #include <algorithm>
 #include <chrono>
@@ -73,21 +73,51 @@ Frames render(std::uint32_t w, std::uint32_t h, int count, double fps) {
 
 }  // namespace
 
+constexpr const char* kUsage =
+    "usage: bolo-vo-bench [--frames N] [--mode none|affine|ir] [--sizes WxH[,WxH...]] [--max-keyframes N]\n"
+    "\n"
+    "Times the VO core (firmware/vo) on one core over street/drive frames rendered through the\n"
+    "two-frame bolometer model (60 Hz, tau 12 ms): CPU ms per frame and per posed frame, the\n"
+    "real-time factor at 60 Hz, the arena size and the process's peak resident memory (which must\n"
+    "not grow while frames are processed).\n"
+    "\n"
+    "  --frames N         frames per size (default 120, at least 10)\n"
+    "  --mode M           photometric model (default ir)\n"
+    "  --sizes LIST       frame sizes (default 160x120,320x256,640x512)\n"
+    "  --max-keyframes N  sliding-window size, 2..8 (default 8, the VO's default)\n"
+    "  --help             this text\n";
+
 int main(int argc, char** argv) {
   int frames = 120;
+  std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;
   std::string mode_name = "ir", sizes = "160x120,320x256,640x512";
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--frames")) frames = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--mode")) mode_name = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--sizes")) sizes = argv[i + 1];
+  for (int i = 1; i < argc; ++i) {
+    const bool has_value = i + 1 < argc;
+    if (!std::strcmp(argv[i], "--help")) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    } else if (!std::strcmp(argv[i], "--frames") && has_value) {
+      frames = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--mode") && has_value) {
+      mode_name = argv[++i];
+    } else if (!std::strcmp(argv[i], "--sizes") && has_value) {
+      sizes = argv[++i];
+    } else if (!std::strcmp(argv[i], "--max-keyframes") && has_value) {
+      max_keyframes = static_cast<std::uint32_t>(std::atoi(argv[++i]));
+    } else {
+      std::fprintf(stderr, "bolo-vo-bench: unknown option or missing value: %s\n%s", argv[i], kUsage);
+      return 2;
+    }
   }
   vo::Photometric mode;
-  if (!vo::parse_photometric(mode_name.c_str(), mode) || mode == vo::Photometric::ir_loop || frames < 10) {
-    std::fprintf(stderr, "bolo-vo-bench: --mode none|affine|ir, --frames >= 10\n");
+  if (!vo::parse_photometric(mode_name.c_str(), mode) || mode == vo::Photometric::ir_loop || frames < 10 ||
+      max_keyframes < 2 || max_keyframes > vo::kMaxKeyframes) {
+    std::fprintf(stderr, "bolo-vo-bench: --mode none|affine|ir, --frames >= 10, --max-keyframes 2..8\n");
     return 2;
   }
   const double fps = 60;
-  std::printf("bolo-vo-bench: VO (%s) on street/drive, %d frames at 60 Hz, tau 12 ms, one core (thread CPU time)\n", mode_name.c_str(), frames);
+  std::printf("bolo-vo-bench: VO (%s, %u keyframes) on street/drive, %d frames at 60 Hz, tau 12 ms, one core (thread CPU time)\n",
+              mode_name.c_str(), max_keyframes, frames);
   std::printf("%-9s %9s %9s %10s %9s %12s %12s %14s\n", "size", "ms/frame", "fps", "x realtime", "ms/posed", "arena KiB", "peak RSS KiB", "RSS growth KiB");
   std::size_t start = 0;
   while (start < sizes.size()) {
@@ -100,6 +130,7 @@ int main(int argc, char** argv) {
     const Frames f = render(w, h, frames, fps);
     vo::VoConfig cfg;
     cfg.width = w, cfg.height = h, cfg.camera = f.camera, cfg.photometric = mode, cfg.tau_init_s = 0.012f;
+    cfg.max_keyframes = max_keyframes;
     std::vector<std::byte> arena(vo::Odometry::arena_bytes(cfg));
     std::memset(arena.data(), 0, arena.size());  // touch it: the peak below includes the arena
     vo::Odometry odometry(cfg, arena);

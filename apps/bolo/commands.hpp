@@ -108,6 +108,7 @@ struct OdometryOptions {
   std::optional<double> hfov_deg;
   std::optional<std::uint64_t> frames;
   bool no_ba = false;
+  std::uint32_t max_keyframes = 8;
   bool overwrite = false;
   bool progress = true;
 };

@@ -79,6 +79,21 @@ TEST_CASE("odometry tracks a short drive and writes every output", "[vo][cli]") 
   CHECK(e["tracked_points_total"].get<int>() > 1000);
 }
 
+TEST_CASE("odometry: --max-keyframes sets the sliding window", "[vo][cli]") {
+  const fs::path& seq = sequence("drive", "0.0002");
+  TempDir out;
+  const fs::path run = out / "vo";
+  const CliResult r = run_bolo({"odometry", seq.string(), "--out", run.string(), "--max-keyframes", "4"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  std::ifstream in(run / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  CHECK(summary["max_keyframes"].get<int>() == 4);
+  CHECK(summary["arena_bytes"].get<double>() > 0);
+  const nlohmann::json e = evaluate(run);
+  CHECK(e["ate_relative"].get<double>() < 0.10);
+}
+
 TEST_CASE("every photometric mode runs on a ghosting sequence", "[vo][cli]") {
   const fs::path& seq = sequence("drive", "0.012");
   TempDir out;
@@ -200,6 +215,8 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
   // 10.6 --tau-init out of range
   CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--tau-init", "0.5"})
             .find("--tau-init: must be within") != std::string::npos);
+  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--max-keyframes", "9"})
+            .find("--max-keyframes: must be within 2..8, got 9") != std::string::npos);
   // 10.7 evaluate: not an odometry output
   CHECK(refusal({"evaluate", seq.string()}).find("summary.json: cannot open") != std::string::npos);
   // 10.8 evaluate: a bad ground-truth file

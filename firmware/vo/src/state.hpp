@@ -68,8 +68,9 @@ inline float huber_weight(float r, float k) {
 }
 
 inline constexpr std::uint32_t kMaxBaParams = 8 * kMaxKeyframes;
-// Per window point in the BA scratch: H_rr, g_r, backup inverse depth, coupling to kf params.
-inline constexpr std::size_t kBaStride = 3 + kMaxBaParams;
+// Per window point in the BA scratch: H_rr, g_r, backup inverse depth, coupling to kf params,
+// the host pattern and two counts (window_ba.cpp lays the row out).
+inline constexpr std::size_t kBaStride = 3 + kMaxBaParams + kPattern + 2;
 using BaMatrix = Eigen::Matrix<double, kMaxBaParams, kMaxBaParams>;
 using BaVector = Eigen::Matrix<double, kMaxBaParams, 1>;
 
@@ -153,6 +154,11 @@ void start_initialisation(State& s);
 void search_immature_points(State& s);
 void activate_mature_points(State& s);
 void window_bundle_adjustment(State& s);
+// The window's robust photometric energy at the current parameters, with the Gauss-Newton system
+// of the keyframe parameters (before the points are eliminated) left in s.ba_H (lower and upper
+// blocks) and s.ba_b; keyframe k's 8 parameters (left pose increment, a, b) start at 8 * its
+// place in s.order. What window_bundle_adjustment() solves; exposed for tests.
+double window_system(State& s);
 void refine_tau(State& s);
 std::uint32_t new_keyframe_slot(State& s);
 // Appends a keyframe's active points (world coordinates) to the retired-points output.

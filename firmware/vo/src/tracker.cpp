@@ -15,6 +15,8 @@ namespace {
 
 constexpr double kMotionPrior = 0.02;
 constexpr double kConverged = 0.003;  // a level stops when a step gains less than this share
+constexpr std::uint32_t kRefusedStepsToStop = 2;  // at the finest level (see track_frame)
+constexpr double kNegligibleStep = 0.1;            // pixels of the level a refused step may move
 constexpr std::uint32_t kPixelsPerTrackedPoint = 40;  // share of each translation axis' own information
 
 using Mat8 = Eigen::Matrix<double, 8, 8>;
@@ -197,6 +199,15 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
     T = resume->T_cw, a = resume->a, b = resume->b;
     levels = resume->level;
   }
+  // How far a pose step moves the points in pixels: rotation times f, translation times f and
+  // the points' mean inverse depth (level 0 pixels).
+  double idepth_sum = 0;
+  for (std::uint32_t i = 0; i < s.ref_count; ++i) idepth_sum += s.ref[i].idepth;
+  const double mean_idepth = s.ref_count > 0 ? idepth_sum / s.ref_count : 0.0;
+  const double focal = camera_at(s.cfg.camera, 0).fx;
+  const auto step_pixels = [&](const Vec8& delta) {
+    return focal * (delta.segment<3>(3).norm() + delta.head<3>().norm() * mean_idepth);
+  };
   for (std::uint32_t l = levels; l-- > last_level;) {
     const int level = static_cast<int>(l);
     // Coarse levels start far from the optimum: a looser outlier cut.
@@ -207,6 +218,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
       acc = accumulate(s, l, T, a, b, cutoff, true, false);
     }
     double lambda = 1e-3;
+    std::uint32_t refused_in_a_row = 0;
     // A weak prior towards the motion model's prediction: at video rates the camera cannot
     // jump, and it keeps directions the points do not constrain (far scenes) from wandering.
     const Vec3 prior = kMotionPrior * Vec3(acc.H(0, 0), acc.H(1, 1), acc.H(2, 2));
@@ -234,10 +246,18 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
         const bool small_gain = next.energy > (1.0 - kConverged) * acc.energy;
         T = T_new, a = a_new, b = b_new, acc = next;
         lambda = std::max(lambda * 0.5, 1e-6);
-        if (delta.head<6>().norm() < 1e-5 || small_gain) break;
+        refused_in_a_row = 0;
+        if (small_gain || step_pixels(delta) < kNegligibleStep * static_cast<double>(1u << l)) break;
       } else {
+        // A refused step that would have moved the points by a small part of this level's pixel,
+        // or at the finest level two refused steps in a row: the pose is at the bottom of what
+        // the noise lets it find (more damping only shrinks the step). A coarse level refusing
+        // larger steps keeps trying: from a far guess its basin is long and shallow.
         lambda *= 4;
-        if (lambda > 1e4) break;
+        ++refused_in_a_row;
+        if (lambda > 1e4 || step_pixels(delta) < kNegligibleStep * static_cast<double>(1u << l) ||
+            (refused_in_a_row >= kRefusedStepsToStop && level == 0))
+          break;
       }
     }
     if (level == 0) {

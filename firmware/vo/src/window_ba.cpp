@@ -36,61 +36,90 @@ Window window_of(const State& s) {
   return w;
 }
 
+// One point's row in s.ba_hxr (kBaStride floats): the point's own Hessian and gradient, a backup
+// of its inverse depth, its coupling to every keyframe parameter, its host pattern and counts.
+constexpr std::size_t kRowHrr = 0, kRowGr = 1, kRowBackup = 2, kRowCoupling = 3;
+constexpr std::size_t kRowRef = kRowCoupling + kMaxBaParams;
+constexpr std::size_t kRowObserved = kRowRef + kPattern, kRowBad = kRowObserved + 1;
+static_assert(kRowBad < kBaStride, "the BA row layout must fit kBaStride");
+
+using Mat8 = Eigen::Matrix<double, 8, 8>;
+using Vec8 = Eigen::Matrix<double, 8, 1>;
+
+// Host parameters' Jacobian from the target's for a pair: J_host = J_target * A. The host pose
+// enters X = M X_h only through M = T_t T_h^-1, so perturbing the host by d moves M by
+// -Adj(M) d; the host's affine a and b enter with -1 and -e where the target's a and b enter.
+// This lets a pair sum one 8x8 block per observation and map it to the four blocks once.
+Mat8 host_from_target(const Se3& M, double e) {
+  Mat8 A = Mat8::Zero();
+  A.block<3, 3>(0, 0) = -M.R;
+  A.block<3, 3>(0, 3) = -skew(M.t) * M.R;
+  A.block<3, 3>(3, 3) = -M.R;
+  A(6, 6) = -1;
+  A(7, 7) = -e;
+  return A;
+}
+
 // drop_outliers: points that fit most of the keyframes they are seen in badly are marked `leaving`.
+// Pair by pair (host, target), so each pass walks one target image at a time.
 Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_outliers) {
   Totals tot;
   const Scaled k = camera_at(s.cfg.camera, 0);
   const float hub = s.cfg.huber_counts, c2 = s.cfg.gradient_c * s.cfg.gradient_c;
   const float cutoff = kPattern * hub * hub * 6.0f;
-  const std::uint32_t n = 8 * win.count;
   if (with_jacobians) {
     s.ba_H.setZero();
     s.ba_b.setZero();
   }
-  // Relative poses and brightness gains of every (host, target) pair, once per pass.
-  Se3 pair_M[kMaxKeyframes][kMaxKeyframes];
-  double pair_e[kMaxKeyframes][kMaxKeyframes];
-  for (std::uint32_t hs = 0; hs < kMaxKeyframes; ++hs)
-    for (std::uint32_t ts = 0; ts < kMaxKeyframes; ++ts)
-      if (s.kf[hs].used && s.kf[ts].used && ts != hs) {
-        pair_M[hs][ts] = s.kf[ts].T_cw * s.kf[hs].T_cw.inverse();
-        pair_e[hs][ts] = std::exp(s.kf[ts].a - s.kf[hs].a);
-      }
-  std::uint32_t point_index = 0;
+  // The window's active points, host by host, with their host patterns.
+  std::uint32_t first[kMaxKeyframes] = {}, count[kMaxKeyframes] = {};
+  std::uint32_t points = 0;
   for (std::uint32_t hs = 0; hs < kMaxKeyframes; ++hs) {
-    Keyframe& host = s.kf[hs];
+    const Keyframe& host = s.kf[hs];
+    first[hs] = points;
     if (!host.used) continue;
-    const int hi = win.index[hs];
     for (std::uint32_t i = 0; i < host.count; ++i) {
-      Point& p = host.points[i];
+      const Point& p = host.points[i];
       if (p.status != PointStatus::active) continue;
-      float* row = s.ba_hxr.data() + std::size_t{point_index} * kBaStride;
-      s.ba_index[point_index++] = hs << 16 | i;
-      // An energy-only pass leaves the rows alone.
-      if (with_jacobians) {
-        for (std::uint32_t q = 0; q < n; ++q) row[3 + q] = 0;
-        row[0] = row[1] = 0;
-      }
-      const Eigen::Vector3d nv((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0);
-      const Eigen::Vector3d Xh = nv / p.idepth;
-      // The host's pattern: the same for every target.
-      float refv[kPattern];
+      float* row = s.ba_hxr.data() + std::size_t{points} * kBaStride;
+      s.ba_index[points++] = hs << 16 | i;
+      // An energy-only pass leaves the system rows alone.
+      if (with_jacobians)
+        for (std::size_t q = 0; q < kRowRef; ++q)
+          if (q != kRowBackup) row[q] = 0;
       for (std::uint32_t j = 0; j < kPattern; ++j)
-        refv[j] = bilinear(host.pyramid.level[0].value, p.u + kPatternX[j], p.v + kPatternY[j]);
-      std::uint32_t observed = 0, bad = 0;
-      for (std::uint32_t ts = 0; ts < kMaxKeyframes; ++ts) {
-        const Keyframe& target = s.kf[ts];
-        if (!target.used || ts == hs) continue;
-        const int ti = win.index[ts];
-        const Se3& M = pair_M[hs][ts];
-        const Eigen::Vector3d X = M * Xh;
+        row[kRowRef + j] = bilinear(host.pyramid.level[0].value, p.u + kPatternX[j], p.v + kPatternY[j]);
+      row[kRowObserved] = row[kRowBad] = 0;
+    }
+    count[hs] = points - first[hs];
+  }
+  for (std::uint32_t hs = 0; hs < kMaxKeyframes; ++hs) {
+    const Keyframe& host = s.kf[hs];
+    if (!host.used || count[hs] == 0) continue;
+    const int hi = win.index[hs];
+    for (std::uint32_t ts = 0; ts < kMaxKeyframes; ++ts) {
+      const Keyframe& target = s.kf[ts];
+      if (!target.used || ts == hs) continue;
+      const int ti = win.index[ts];
+      const Se3 M = target.T_cw * host.T_cw.inverse();
+      const double e = std::exp(target.a - host.a);
+      const Mat8 A = host_from_target(M, e);
+      const Mat8 At = A.transpose();
+      const Level& tl = target.pyramid.level[0];
+      Mat8 pair_H = Mat8::Zero();
+      Vec8 pair_b = Vec8::Zero();
+      const std::uint32_t end = first[hs] + count[hs];
+      for (std::uint32_t pi = first[hs]; pi < end; ++pi) {
+        float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
+        const Point& p = host.points[s.ba_index[pi] & 0xffff];
+        const Eigen::Vector3d nv((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0);
+        const Eigen::Vector3d X = M * (nv / p.idepth);
         if (X.z() <= 1e-4) continue;
         const double x = X.x() / X.z(), y = X.y() / X.z();
         const auto u = static_cast<float>(k.fx * x + k.cx), v = static_cast<float>(k.fy * y + k.cy);
-        const Level& tl = target.pyramid.level[0];
         if (!inside(tl.value, u, v, 3.0f)) continue;
-        ++observed;
-        const double e = pair_e[hs][ts];
+        row[kRowObserved] += 1;
+        const float* refv = row + kRowRef;
         float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
         float energy = 0;
         for (std::uint32_t j = 0; j < kPattern; ++j) {
@@ -104,24 +133,22 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         ++tot.blocks;
         if (energy > cutoff) {
           tot.energy += cutoff;
-          ++bad;
+          row[kRowBad] += 1;
           continue;
         }
         ++tot.inliers;
         tot.energy += energy;
         if (!with_jacobians) continue;
-        // d(u,v)/dX, then X's derivatives by target pose, host pose and inverse depth.
+        // d(u,v)/dX, then X's derivatives by the target pose and the inverse depth.
         Eigen::Matrix<double, 2, 3> P;
         P << k.fx / X.z(), 0, -k.fx * X.x() / (X.z() * X.z()), 0, k.fy / X.z(), -k.fy * X.y() / (X.z() * X.z());
-        Eigen::Matrix<double, 3, 6> dT, dH;
+        Eigen::Matrix<double, 3, 6> dT;
         dT << Eigen::Matrix3d::Identity(), -skew(X);
-        dH << -M.R, M.R * skew(Xh);
-        const Eigen::Matrix<double, 2, 6> Jt = P * dT, Jh = P * dH;
+        const Eigen::Matrix<double, 2, 6> Jt = P * dT;
         const Eigen::Vector2d Jr = P * (M.R * (-nv / (static_cast<double>(p.idepth) * p.idepth)));
-        // Each pattern pixel's Jacobian row is J_j = K z_j with z_j = (gx, gy, ref - b_host, 1) and K
-        // (16 x 4) the same for the whole pattern (host block: Jh^T, e, e; target block: Jt^T,
-        // -e, -1), so the pattern adds K Z K^T with Z = sum w z z^T: one 4x4 sum a pixel and one
-        // 16x16 product a block instead of four 8x8 outer products a pixel.
+        // Each pattern pixel's Jacobian row (target parameters) is J_j = K z_j with
+        // z_j = (gx, gy, ref - b_host, 1) and K (8 x 4: Jt^T, -e, -1) the same for the whole
+        // pattern, so the pattern adds K Z K^T with Z = sum w z z^T.
         Eigen::Matrix4d Z = Eigen::Matrix4d::Zero();
         Eigen::Vector4d zr = Eigen::Vector4d::Zero();
         for (std::uint32_t j = 0; j < kPattern; ++j) {
@@ -130,30 +157,41 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
           Z.noalias() += (wj * z) * z.transpose();
           zr += (wj * r[j]) * z;
         }
-        Eigen::Matrix<double, 16, 4> K = Eigen::Matrix<double, 16, 4>::Zero();
-        K.block<6, 2>(0, 0) = Jh.transpose();
-        K(6, 2) = e, K(7, 3) = e;
-        K.block<6, 2>(8, 0) = Jt.transpose();
-        K(14, 2) = -e, K(15, 3) = -1;
+        Eigen::Matrix<double, 8, 4> K = Eigen::Matrix<double, 8, 4>::Zero();
+        K.block<6, 2>(0, 0) = Jt.transpose();
+        K(6, 2) = -e, K(7, 3) = -1;
         // Coefficient-wise products: at these sizes Eigen's blocked GEMM costs more than it saves.
-        const Eigen::Matrix<double, 16, 4> KZ = K.lazyProduct(Z);
-        const Eigen::Matrix<double, 16, 16> L = KZ.lazyProduct(K.transpose());
-        const Eigen::Matrix<double, 16, 1> bl = K * zr;
+        const Eigen::Matrix<double, 8, 4> KZ = K.lazyProduct(Z);
+        pair_H.noalias() += KZ.lazyProduct(K.transpose());
+        pair_b.noalias() += K * zr;
         const Eigen::Vector4d jr4(Jr[0], Jr[1], 0.0, 0.0);
-        const Eigen::Matrix<double, 16, 1> coupling = KZ * jr4;  // sum w J (g . Jr)
-        const int off[2] = {8 * hi, 8 * ti};
-        for (int A = 0; A < 2; ++A) {
-          for (int B = 0; B < 2; ++B)
-            s.ba_H.block<8, 8>(off[A], off[B]) += L.block<8, 8>(Eigen::Index{8} * A, Eigen::Index{8} * B);
-          s.ba_b.segment<8>(off[A]) += bl.segment<8>(Eigen::Index{8} * A);
-          for (int q = 0; q < 8; ++q) row[3 + off[A] + q] += static_cast<float>(coupling[8 * A + q]);
+        const Vec8 coupling_t = KZ * jr4;  // sum w J (g . Jr), target parameters
+        const Vec8 coupling_h = At * coupling_t;
+        float* target_coupling = row + kRowCoupling + 8 * static_cast<std::size_t>(ti);
+        float* host_coupling = row + kRowCoupling + 8 * static_cast<std::size_t>(hi);
+        for (int q = 0; q < 8; ++q) {
+          target_coupling[q] += static_cast<float>(coupling_t[q]);
+          host_coupling[q] += static_cast<float>(coupling_h[q]);
         }
-        row[0] += static_cast<float>(jr4.dot(Z * jr4));
-        row[1] += static_cast<float>(jr4.dot(zr));
+        row[kRowHrr] += static_cast<float>(jr4.dot(Z * jr4));
+        row[kRowGr] += static_cast<float>(jr4.dot(zr));
       }
-      if (drop_outliers && observed > 0 && bad * 2 > observed) p.status = PointStatus::leaving;
+      if (!with_jacobians) continue;
+      const Mat8 HA = pair_H * A;
+      s.ba_H.block<8, 8>(8 * ti, 8 * ti) += pair_H;
+      s.ba_H.block<8, 8>(8 * ti, 8 * hi) += HA;
+      s.ba_H.block<8, 8>(8 * hi, 8 * ti) += HA.transpose();
+      s.ba_H.block<8, 8>(8 * hi, 8 * hi) += At * HA;
+      s.ba_b.segment<8>(8 * ti) += pair_b;
+      s.ba_b.segment<8>(8 * hi) += At * pair_b;
     }
   }
+  if (drop_outliers)
+    for (std::uint32_t pi = 0; pi < points; ++pi) {
+      const float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
+      if (row[kRowObserved] > 0 && row[kRowBad] * 2 > row[kRowObserved])
+        s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff].status = PointStatus::leaving;
+    }
   return tot;
 }
 
@@ -165,6 +203,8 @@ void set_status(State& s, PointStatus from, PointStatus to) {
 }
 
 }  // namespace
+
+double window_system(State& s) { return accumulate(s, window_of(s), true, false).energy; }
 
 void window_bundle_adjustment(State& s) {
   const Window win = window_of(s);
@@ -186,14 +226,17 @@ void window_bundle_adjustment(State& s) {
     BaMatrix Hs = H;
     for (std::uint32_t pi = 0; pi < points; ++pi) {
       const float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
-      const double hrr = row[0] * (1 + lambda) + 1e-6;
-      if (row[0] <= 0) continue;
-      // The lower triangle only: LDLT reads nothing else.
+      if (row[kRowHrr] <= 0) continue;
+      const double hrr = row[kRowHrr] * (1 + lambda) + 1e-6;
+      Eigen::Matrix<double, kMaxBaParams, 1> c;
+      const float* coupling = row + kRowCoupling;
+      for (int q = 0; q < n; ++q) c[q] = coupling[q];
+      // The lower triangle only (LDLT reads nothing else), a column at a time: contiguous.
       for (int q = 0; q < n; ++q) {
-        const double cq = row[3 + q] / hrr;
+        const double cq = c[q] / hrr;
         if (cq == 0) continue;
-        b[q] -= cq * row[1];
-        for (int r = 0; r <= q; ++r) Hs(q, r) -= cq * row[3 + r];
+        b[q] -= cq * row[kRowGr];
+        for (int r = q; r < n; ++r) Hs(r, q) -= cq * c[r];
       }
     }
     for (int q = 0; q < n; ++q) Hs(q, q) += lambda * H(q, q) + 1e-6;
@@ -220,11 +263,12 @@ void window_bundle_adjustment(State& s) {
     for (std::uint32_t pi = 0; pi < points; ++pi) {
       float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
       Point& p = s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff];
-      row[2] = p.idepth;
-      if (row[0] <= 0) continue;
+      row[kRowBackup] = p.idepth;
+      if (row[kRowHrr] <= 0) continue;
       double coupling = 0;
-      for (int q = 0; q < n; ++q) coupling += row[3 + q] * dx[q];
-      const double d = -(row[1] + coupling) / (row[0] * (1 + lambda) + 1e-6);
+      const float* point_coupling = row + kRowCoupling;
+      for (int q = 0; q < n; ++q) coupling += point_coupling[q] * dx[q];
+      const double d = -(row[kRowGr] + coupling) / (row[kRowHrr] * (1 + lambda) + 1e-6);
       p.idepth = static_cast<float>(std::max(1e-3, std::min(100.0, p.idepth + d)));
     }
     // The trial pass builds the next system as it goes (a step is usually taken); after the last
@@ -240,7 +284,7 @@ void window_bundle_adjustment(State& s) {
       for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
         if (s.kf[slot].used) s.kf[slot].T_cw = saved_pose[slot], s.kf[slot].a = saved_a[slot], s.kf[slot].b = saved_b[slot];
       for (std::uint32_t pi = 0; pi < points; ++pi)
-        s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff].idepth = s.ba_hxr[std::size_t{pi} * kBaStride + 2];
+        s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff].idepth = s.ba_hxr[std::size_t{pi} * kBaStride + kRowBackup];
       lambda *= 10;
       if (last) set_status(s, PointStatus::leaving, PointStatus::active), outliers_marked = false;
       // The refused trial overwrote the system: rebuild it at the restored parameters (an

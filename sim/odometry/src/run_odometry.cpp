@@ -107,6 +107,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   config.photometric = options.photometric;
   config.tau_init_s = static_cast<float>(options.tau_init_s);
   config.window_ba = options.window_ba;
+  config.max_keyframes = options.max_keyframes;
   config.estimate_tau = options.estimate_tau;
   if (const char* why = vo::invalid_reason(config)) throw Error(options.recording.string() + ": " + why);
 
@@ -242,6 +243,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"points", summary.points},
                       {"tau_init_s", options.tau_init_s},
                       {"tau_estimated", options.estimate_tau},
+                      {"max_keyframes", options.max_keyframes},
                       {"tau_h_s", summary.tau_h_s},
                       {"tau_c_s", summary.tau_c_s},
                       {"vo_seconds", summary.seconds},

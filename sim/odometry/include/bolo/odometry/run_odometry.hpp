@@ -24,6 +24,7 @@ struct OdometryOptions {
   // camera.json.
   std::optional<double> hfov_deg;
   bool window_ba = true;
+  std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;  // sliding window, 2..8
   bool overwrite = false;
   std::optional<std::uint64_t> max_frames;
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
