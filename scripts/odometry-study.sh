@@ -55,4 +55,11 @@ for traj in $TRAJECTORIES; do
 done > "$work/index$ss_tag.txt"
 python3 "$here/scripts/study/summarise.py" "$work/index$ss_tag.txt" "$DOCS" \
   "size $SIZE, noise $NOISE counts, ${SECONDS_LONG} s per sequence, seeds $SEEDS, $SUPERSAMPLE x $SUPERSAMPLE rays per pixel"
+# Example trajectories for the page: 60 Hz, tau 12 ms, seed 1, none and ir.
+for traj in $TRAJECTORIES; do
+  for mode in none ir; do
+    svg="$work/seq-$traj-60hz-tau0.012-s1$ss_tag-vo-$mode/trajectory.svg"
+    [ -f "$svg" ] && cp "$svg" "$DOCS/trajectory-$traj-60hz-tau12-$mode.svg"
+  done
+done
 echo "odometry-study: wrote $DOCS/results.md and figures from $(wc -l < "$work/index$ss_tag.txt") runs"
