@@ -76,9 +76,7 @@ float typical_idepth(State& s) {
     if (kf.used)
       for (std::uint32_t i = 0; i < kf.count && n < s.ba_hxr.size(); ++i)
         if (kf.points[i].status == PointStatus::active) v[n++] = kf.points[i].idepth;
-  if (n == 0) return 0.0f;
-  std::nth_element(v, v + n / 2, v + n);
-  return v[n / 2];
+  return upper_median(v, n);
 }
 
 }  // namespace

@@ -148,9 +148,7 @@ double translation_flow(State& s, const Se3& M) {
     const double du = k.fx * (X.x() / X.z() - nv.x()), dv = k.fy * (X.y() / X.z() - nv.y());
     flows[n++] = static_cast<float>(std::sqrt(du * du + dv * dv));
   }
-  if (n == 0) return 0.0;
-  std::nth_element(flows, flows + n / 2, flows + n);
-  return flows[n / 2];
+  return upper_median(flows, n);
 }
 
 }  // namespace

@@ -98,13 +98,11 @@ void keyframe_flow(const State& s, double& flow_t, double& flow_rt, std::uint32_
   flow_rt = points ? std::sqrt(srt / points) : 0;
 }
 
-// Median pixel flow that the translation of `step` (between two frames) causes on the latest
-// keyframe's active points. A video-rate camera cannot make it large; a tracker that drifts
-// towards infinite translation (every point collapses onto one pixel) makes it huge.
+// Median pixel flow that the translation of `step` (between two frames) causes on the window's
+// active points. A video-rate camera cannot make it large; a tracker that drifts towards infinite
+// translation (every point collapses onto one pixel) makes it huge.
 double step_translation_flow(State& s, const Se3& step) {
-  const Keyframe& kf = s.kf[s.order[s.kf_count - 1]];
   const Scaled k = camera_at(s.cfg.camera, 0);
-  const Se3 M = s.T_cw * kf.T_cw.inverse();
   float* flows = s.ba_hxr.data();
   std::size_t n = 0;
   for (const Keyframe& host : s.kf) {
@@ -124,10 +122,7 @@ double step_translation_flow(State& s, const Se3& step) {
       flows[n++] = static_cast<float>(std::sqrt(du * du + dv * dv));
     }
   }
-  (void)M;
-  if (n == 0) return 0.0;
-  std::nth_element(flows, flows + n / 2, flows + n);
-  return flows[n / 2];
+  return upper_median(flows, n);
 }
 
 std::uint32_t active_in_window(const State& s) {

@@ -2,6 +2,7 @@
 // The VO's working state, shared by its parts (tracker, initialiser, depth search, window BA,
 // tau estimator). Everything here lives in the arena.
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 
@@ -61,6 +62,12 @@ struct Scaled {
 inline Scaled camera_at(const Camera& c, std::uint32_t level) {
   const float s = 1.0f / static_cast<float>(1u << level);
   return {c.fx * s, c.fy * s, (c.cx + 0.5f) * s - 0.5f, (c.cy + 0.5f) * s - 0.5f};
+}
+// The upper median of v[0 .. n) (0 when n is 0); reorders v.
+inline float upper_median(float* v, std::size_t n) {
+  if (n == 0) return 0.0f;
+  std::nth_element(v, v + n / 2, v + n);
+  return v[n / 2];
 }
 inline float huber_weight(float r, float k) {
   const float a = r < 0 ? -r : r;
