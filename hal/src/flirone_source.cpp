@@ -47,11 +47,16 @@ void FlirOneSource::count_lost(std::uint64_t frames) {
 }
 
 // A counter step over n exported frames with s frames lost on the wire since the previous good
-// frame: n - 1 frames are missing, s of them counted already (short, corrupt); the camera never
-// sent the others (its core counted them but did not export them).
+// frame: n - 1 frames are missing, s of them counted already (short, corrupt, each a gap in the
+// sequence); the camera never sent the others (its core counted them but did not export them).
+// Those leave a gap too: the frame after them is not its predecessor's successor on the sensor.
+// Runs before the frame is numbered, so the gap falls in front of it.
 void FlirOneSource::follow_frame_counter(std::uint32_t counter) {
-  if (counter_.add(counter) == LeptonFrameCounter::Step::forward)
-    skipped_in_camera_ += counter_.skipped_beyond(lost_since_good_);
+  if (counter_.add(counter) == LeptonFrameCounter::Step::forward) {
+    const std::uint32_t skipped = counter_.skipped_beyond(lost_since_good_);
+    skipped_in_camera_ += skipped;
+    sequence_ += skipped;
+  }
   lost_since_good_ = 0;
 }
 

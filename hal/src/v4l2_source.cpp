@@ -244,28 +244,34 @@ fw::FrameHeader V4l2BufferStream::header_of(const Buffer& buffer) const {
   return header;
 }
 
-// FFC: the core's "time at last FFC" changed since the previous frame. False without telemetry.
-bool V4l2BufferStream::read_telemetry(const Y16Frame& frame, fw::FrameHeader& header) {
-  if (!frame.telemetry(telemetry_)) return false;
+// From the telemetry just read: FFC (the core's "time at last FFC" changed since the previous
+// frame), FPA and housing temperature.
+void V4l2BufferStream::telemetry_to_header(fw::FrameHeader& header) {
   header.ffc = have_ffc_stamp_ && telemetry_.time_at_last_ffc_ms != last_ffc_ms_ ? fw::FfcState::completed
                                                                                   : fw::FfcState::none;
   have_ffc_stamp_ = true;
   last_ffc_ms_ = telemetry_.time_at_last_ffc_ms;
   header.fpa_temp_mc = centikelvin_to_mc(telemetry_.fpa_temp_ck);
   header.housing_temp_mc = centikelvin_to_mc(telemetry_.housing_temp_ck);
-  return true;
 }
 
 // A counter step over n frames while the driver's numbers advanced by s since the previous frame
 // with telemetry: s - 1 frames are the driver's to count (dropped, or handed over broken); the
 // other n - s never reached it, so the camera skipped them (or the wire lost them unnoticed).
+// The driver's numbers already leave a gap for its s - 1; the delivered sequence moves up by the
+// others, from this frame on, so that they leave one too. Only a forward step past a newer driver
+// number can: a repeat, a late frame or a jump adds nothing.
 void V4l2BufferStream::follow_frame_counter(std::uint32_t sequence, SourceStats& stats) {
   const LeptonFrameCounter::Step step = counter_.add(telemetry_.frame_counter);
   const auto numbered = static_cast<std::int32_t>(sequence - counted_sequence_);
   const bool newer = !have_counted_sequence_ || numbered > 0;
   if (step == LeptonFrameCounter::Step::repeat) ++stats.duplicates;
-  if (step == LeptonFrameCounter::Step::forward && have_counted_sequence_ && numbered > 0)
-    skipped_in_camera_ += counter_.skipped_beyond(static_cast<std::uint32_t>(numbered) - 1u);
+  if (step == LeptonFrameCounter::Step::forward && have_counted_sequence_ && numbered > 0) {
+    const std::uint32_t skipped = counter_.skipped_beyond(static_cast<std::uint32_t>(numbered) - 1u);
+    skipped_in_camera_ += skipped;
+    sequence_offset_ += skipped;
+    last_sequence_ += skipped;
+  }
   if (newer) {
     have_counted_sequence_ = true;
     counted_sequence_ = sequence;
@@ -293,8 +299,11 @@ StreamStatus V4l2BufferStream::deliver(const Buffer& buffer, fw::LineSink& sink,
     case Y16Check::bad_layout: ++stats.corrupt_transfers; return StreamStatus::fault;
   }
   const Y16Frame frame(buffer.bytes, layout_);
+  const bool has_telemetry = frame.telemetry(telemetry_);
+  // The counter before the header: frames the camera skipped move this frame's sequence up.
+  if (has_telemetry) follow_frame_counter(buffer.sequence, stats);
   fw::FrameHeader header = header_of(buffer);
-  if (read_telemetry(frame, header)) follow_frame_counter(buffer.sequence, stats);
+  if (has_telemetry) telemetry_to_header(header);
   push_image(frame, header, sink);
   ++stats.frames_delivered;
   return StreamStatus::frame;

@@ -6,6 +6,7 @@
 #include <deque>
 
 #include "../firmware/frame_collector.hpp"
+#include "bolo/firmware/two_frame_corrector.hpp"
 #include "bolo/hal/flirone_source.hpp"
 #include "flirone_frames.hpp"
 
@@ -120,7 +121,9 @@ TEST_CASE("flirone source: the telemetry counter shows frames skipped in the cam
   test::FrameCollector sink(80, 60);
   std::vector<std::uint64_t> seq;
   run(source, sink, seq);
-  CHECK(seq == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 6, 7, 8});  // only the wire's loss is a gap
+  // Every missing frame leaves a gap: 12 comes 2 after 6 (9 skipped), 24 comes 3 after the
+  // second 15 (21 lost on the wire, 18 skipped). A repeat and a jump leave none.
+  CHECK(seq == std::vector<std::uint64_t>{0, 1, 3, 4, 5, 8, 9, 10});
   CHECK(source.skipped_in_camera() == 2);  // 9 and 18
   CHECK(source.counter_jumps() == 1);
   CHECK(source.stats().duplicates == 1);
@@ -137,8 +140,35 @@ TEST_CASE("flirone source: a skipped duplicate still counts, and a skip after it
   test::FrameCollector sink(80, 60);
   std::vector<std::uint64_t> seq;
   run(source, sink, seq);
-  CHECK(seq == std::vector<std::uint64_t>{0, 1, 2});
+  CHECK(seq == std::vector<std::uint64_t>{0, 1, 3});  // the skipped 9 is a gap, the skipped duplicate none
   CHECK(source.stats().duplicates == 1);
+  CHECK(source.skipped_in_camera() == 1);
+}
+
+TEST_CASE("flirone source: the frame after frames the camera skipped is not corrected against the one before", "[hal][flirone]") {
+  // The core counts 3 per exported frame; it never sent 9. Arrival times stay evenly spaced (as
+  // from a host that polls), so only the sequence can tell the corrector 12 has no predecessor.
+  ScriptedTransport usb;
+  for (std::uint32_t counter : {3u, 6u, 12u, 15u}) usb.frame(test::make_flirone_frame({.frame_counter = counter}));
+  hal::FlirOneSource source(usb, {.clock = hal::FlirOneClock::host});
+  test::FrameCollector out(80, 60);
+  fw::CorrectorConfig config;
+  config.width = 80;
+  config.height = 60;
+  config.tau = {12'000'000, 12'000'000};
+  config.default_exposure_ns = 10'000'000;
+  config.default_readout_ns = 6'000'000;
+  std::vector<fw::Pixel> storage(fw::TwoFrameCorrector::storage_pixels(80, 60));
+  fw::TwoFrameCorrector corrector(config, storage, out);
+  std::vector<std::uint64_t> seq;
+  std::vector<fw::CarryOver> carry_over;
+  while (source.stream_frame(corrector) == hal::StreamStatus::frame) {
+    seq.push_back(out.header().sequence);
+    carry_over.push_back(corrector.last_frame().carry_over);
+  }
+  CHECK(seq == std::vector<std::uint64_t>{0, 1, 3, 4});  // one frame skipped: a step of 2
+  CHECK(carry_over == std::vector<fw::CarryOver>{fw::CarryOver::first_frame, fw::CarryOver::applied,
+                                                 fw::CarryOver::sequence_gap, fw::CarryOver::applied});
   CHECK(source.skipped_in_camera() == 1);
 }
 

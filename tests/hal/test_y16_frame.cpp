@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "../firmware/frame_collector.hpp"
+#include "bolo/firmware/two_frame_corrector.hpp"
 #include "bolo/hal/v4l2_source.hpp"
 #include "bolo/hal/y16_frame.hpp"
 
@@ -197,38 +198,78 @@ TEST_CASE("v4l2 buffers: the telemetry frame counter shows frames skipped in the
   V4l2BufferStream stream(Y16Layout{160, 120, 2, 320});
   SourceStats st;
   bolo::test::FrameCollector sink(160, 120);
-  // (telemetry frame counter, the driver's sequence number) of each buffer, in the order dequeued.
+  // (telemetry frame counter, the driver's sequence number) of each buffer, in the order dequeued;
+  // the delivered header's sequence of each.
   auto stream_frames = [&](std::initializer_list<std::pair<std::uint32_t, std::uint32_t>> frames) {
+    std::vector<std::uint64_t> delivered;
     for (auto [counter, sequence] : frames) {
       const auto bytes = lepton_buffer(320, 100, counter);
       REQUIRE(stream.deliver(filled(bytes, sequence), sink, st) == StreamStatus::frame);
+      delivered.push_back(sink.header().sequence);
     }
+    return delivered;
   };
-  stream_frames({{1001, 0}, {1002, 1}, {1004, 2}});  // 1003 never left the camera: no gap in the driver's numbers
+  // 1003 never left the camera: no gap in the driver's numbers, but one in the delivered sequence.
+  CHECK(stream_frames({{1001, 0}, {1002, 1}, {1004, 2}}) == std::vector<std::uint64_t>{0, 1, 3});
   CHECK(stream.skipped_in_camera() == 1);
   CHECK(st.dropped == 0);
-  stream_frames({{1006, 4}});  // 1005 had the driver's number 3, which it dropped: not the camera's
+  // 1005 had the driver's number 3, which it dropped: not the camera's, the driver's gap is the gap.
+  CHECK(stream_frames({{1006, 4}}) == std::vector<std::uint64_t>{5});
   CHECK(stream.skipped_in_camera() == 1);
   CHECK(st.dropped == 1);
-  stream_frames({{1006, 5}});  // the camera sent 1006 twice: delivered, counted a duplicate
+  CHECK(stream_frames({{1006, 5}}) == std::vector<std::uint64_t>{6});  // sent twice: delivered, no gap
   CHECK(st.duplicates == 1);
-  stream_frames({{1008, 7}, {1007, 6}, {1009, 8}});  // uvcvideo swapped two: nothing lost, nothing twice
+  // uvcvideo swapped two: nothing lost, nothing twice, no gap beyond the swap's own.
+  CHECK(stream_frames({{1008, 7}, {1007, 6}, {1009, 8}}) == std::vector<std::uint64_t>{8, 7, 9});
   CHECK(stream.out_of_order() == 1);
   CHECK(st.dropped == 1);
   CHECK(stream.skipped_in_camera() == 1);
   CHECK(st.duplicates == 1);
-  stream_frames({{1012, 9}, {1013, 10}, {1012, 11}});  // 1010, 1011 skipped; 1012 again after 1013
+  // 1010, 1011 skipped (1012 comes 3 after 1009); 1012 again after 1013.
+  CHECK(stream_frames({{1012, 9}, {1013, 10}, {1012, 11}}) == std::vector<std::uint64_t>{12, 13, 14});
   CHECK(stream.skipped_in_camera() == 3);
   CHECK(st.duplicates == 2);
-  stream_frames({{7, 12}, {8, 13}});  // the core counts from the start again: a jump, no losses
+  // The core counts from the start again: a jump, no losses, no gap.
+  CHECK(stream_frames({{7, 12}, {8, 13}}) == std::vector<std::uint64_t>{15, 16});
   CHECK(stream.counter_jumps() == 1);
   CHECK(stream.skipped_in_camera() == 3);
   CHECK(st.duplicates == 2);
   stream.reopened(Y16Layout{160, 120, 2, 320});  // a replugged camera counts anew
-  stream_frames({{500, 0}, {501, 1}});
+  CHECK(stream_frames({{500, 0}, {501, 1}}) == std::vector<std::uint64_t>{18, 19});  // after 16, with a gap
   CHECK(stream.skipped_in_camera() == 3);
   CHECK(stream.counter_jumps() == 1);
   CHECK(st.frames_delivered == 15);
+}
+
+TEST_CASE("v4l2 buffers: the frame after frames the camera skipped is not corrected against the one before", "[hal][v4l2]") {
+  // Counter 3 never left the camera. The driver's numbers and time stamps run on evenly (it never
+  // saw the frame), so only the sequence can tell the corrector that 4 has no predecessor.
+  V4l2BufferStream stream(Y16Layout{160, 120, 2, 320});
+  SourceStats st;
+  bolo::test::FrameCollector out(160, 120);
+  bolo::fw::CorrectorConfig config;
+  config.width = 160;
+  config.height = 120;
+  config.tau = {12'000'000, 12'000'000};
+  config.default_exposure_ns = 10'000'000;
+  config.default_readout_ns = 6'000'000;
+  std::vector<bolo::fw::Pixel> storage(bolo::fw::TwoFrameCorrector::storage_pixels(160, 120));
+  bolo::fw::TwoFrameCorrector corrector(config, storage, out);
+  std::vector<std::uint64_t> sequence;
+  std::vector<bolo::fw::CarryOver> carry_over;
+  std::uint32_t driver_sequence = 0;
+  for (std::uint32_t counter : {1u, 2u, 4u, 5u}) {
+    const auto bytes = lepton_buffer(320, 100, counter);
+    REQUIRE(stream.deliver(filled(bytes, driver_sequence++), corrector, st) == StreamStatus::frame);
+    sequence.push_back(out.header().sequence);
+    carry_over.push_back(corrector.last_frame().carry_over);
+  }
+  using bolo::fw::CarryOver;
+  CHECK(sequence == std::vector<std::uint64_t>{0, 1, 3, 4});  // one frame skipped: a step of 2
+  CHECK(carry_over == std::vector<CarryOver>{CarryOver::first_frame, CarryOver::applied, CarryOver::sequence_gap,
+                                             CarryOver::applied});
+  CHECK(stream.skipped_in_camera() == 1);
+  CHECK(st.dropped == 0);  // the driver's count stays the driver's
 }
 
 TEST_CASE("v4l2 buffers: a camera exporting every third core frame steps its counter by 3", "[hal][v4l2]") {
@@ -236,10 +277,13 @@ TEST_CASE("v4l2 buffers: a camera exporting every third core frame steps its cou
   SourceStats st;
   bolo::test::FrameCollector sink(160, 120);
   std::uint32_t sequence = 0;
+  std::vector<std::uint64_t> delivered;
   for (std::uint32_t counter : {30u, 33u, 36u, 42u, 42u, 45u}) {  // 39 skipped, 42 sent twice
     const auto bytes = lepton_buffer(320, 100, counter);
     REQUIRE(stream.deliver(filled(bytes, sequence++), sink, st) == StreamStatus::frame);
+    delivered.push_back(sink.header().sequence);
   }
+  CHECK(delivered == std::vector<std::uint64_t>{0, 1, 2, 4, 5, 6});
   CHECK(stream.skipped_in_camera() == 1);
   CHECK(st.duplicates == 1);
   CHECK(stream.counter_jumps() == 0);
@@ -252,6 +296,7 @@ TEST_CASE("v4l2 buffers: without telemetry rows nothing is counted from them", "
   for (std::uint32_t sequence : {0u, 1u, 2u}) {
     const auto bytes = lepton_buffer(320, 100, sequence * 5);  // row 120 is not read
     REQUIRE(stream.deliver(filled(bytes, sequence), sink, st) == StreamStatus::frame);
+    CHECK(sink.header().sequence == sequence);  // the driver's numbers, no gaps from the image
   }
   CHECK(stream.skipped_in_camera() == 0);
   CHECK(st.duplicates == 0);

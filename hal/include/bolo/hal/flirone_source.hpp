@@ -42,8 +42,9 @@ class FlirOneSource final : public FrameSource {
   // frame is still delivered).
   ExtraCounters extra_counters() const override;
   // From the telemetry frame counter (LeptonFrameCounter): frames the core counted but the camera
-  // never sent (those lost on the wire, counted short or corrupt, aside), and steps too large to
-  // be losses. Repeats of the previous frame's counter: stats().duplicates.
+  // never sent (those lost on the wire, counted short or corrupt, aside; each leaves a gap in
+  // FrameHeader::sequence like a lost one), and steps too large to be losses (no gap). Repeats of
+  // the previous frame's counter: stats().duplicates.
   std::uint64_t skipped_in_camera() const { return skipped_in_camera_; }
   std::uint64_t counter_jumps() const { return counter_.jumps(); }
 
@@ -61,7 +62,8 @@ class FlirOneSource final : public FrameSource {
   FlirOneSourceConfig config_;
   FlirOneReassembler reassembler_;
   std::vector<std::uint8_t> transfer_;
-  std::uint64_t sequence_ = 0;  // frames begun, good or lost: a lost frame leaves a gap
+  // Frames begun, good or lost, and frames the camera skipped: a missing frame leaves a gap.
+  std::uint64_t sequence_ = 0;
   bool have_previous_ = false;
   bool connected_ = true;
   std::uint32_t previous_counter_ = 0;

@@ -62,8 +62,8 @@ class SequenceGaps {
 // it synthetic Y16 buffers): the driver's sequence numbers (drops, late frames), the layout
 // check, the header (sequence kept increasing across a reopen, timestamp) and, from Lepton
 // telemetry rows, FFC events, temperatures and the frame counter: frames skipped inside the
-// camera (the driver never saw them, so its numbers show no gap) and frames sent twice
-// (SourceStats::duplicates, delivered all the same).
+// camera (the driver never saw them, so its numbers show no gap; the delivered sequence gets one)
+// and frames sent twice (SourceStats::duplicates, delivered all the same).
 class V4l2BufferStream {
  public:
   struct Buffer {
@@ -79,7 +79,8 @@ class V4l2BufferStream {
   // The device was reopened (with `layout`): the driver numbers from 0 again.
   void reopened(const Y16Layout& layout);
   std::uint64_t out_of_order() const { return gaps_.out_of_order(); }
-  // Frames the telemetry counter stepped over that the driver's numbers do not account for.
+  // Frames the telemetry counter stepped over that the driver's numbers do not account for. Each
+  // leaves a gap in the delivered FrameHeader::sequence (not in the driver's numbers, `dropped`).
   std::uint64_t skipped_in_camera() const { return skipped_in_camera_; }
   // Counter steps too large (or too far back) to be losses: a restarted core, a bad row.
   std::uint64_t counter_jumps() const { return counter_.jumps(); }
@@ -88,15 +89,17 @@ class V4l2BufferStream {
  private:
   void follow_sequence(std::uint32_t sequence, SourceStats& stats);
   fw::FrameHeader header_of(const Buffer& buffer) const;
-  bool read_telemetry(const Y16Frame& frame, fw::FrameHeader& header);
+  void telemetry_to_header(fw::FrameHeader& header);
   void follow_frame_counter(std::uint32_t sequence, SourceStats& stats);
   void push_image(const Y16Frame& frame, const fw::FrameHeader& header, fw::LineSink& sink);
 
   Y16Layout layout_;
   std::vector<std::uint16_t> line_;
   SequenceGaps gaps_;
-  std::uint64_t sequence_offset_ = 0;  // keeps sequences increasing across a reopen
-  std::uint64_t last_sequence_ = 0;
+  // Delivered sequence = the driver's number + this: it keeps sequences increasing across a reopen
+  // and grows by the frames skipped in the camera, so that they leave a gap as the driver's drops do.
+  std::uint64_t sequence_offset_ = 0;
+  std::uint64_t last_sequence_ = 0;  // the delivered sequence of the last buffer
   bool have_ffc_stamp_ = false;
   std::uint32_t last_ffc_ms_ = 0;
   LeptonTelemetry telemetry_;
