@@ -16,7 +16,8 @@ namespace {
 constexpr double kMotionPrior = 0.02;
 constexpr double kConverged = 0.003;  // a level stops when a step gains less than this share
 constexpr std::uint32_t kRefusedStepsToStop = 2;  // at the finest level (see track_frame)
-constexpr double kNegligibleStep = 0.1;            // pixels of the level a refused step may move
+// A step that moves the points by less than this (in the level's pixels) ends the level.
+constexpr double kNegligibleStep = 0.1;
 constexpr std::uint32_t kPixelsPerTrackedPoint = 40;  // share of each translation axis' own information
 
 using Mat8 = Eigen::Matrix<double, 8, 8>;
