@@ -298,9 +298,15 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
       break;
     }
     if (s == hal::StreamStatus::fault || !grab.complete()) {
-      if (++faults_in_a_row > o.max_faults)
+      if (++faults_in_a_row > o.max_faults) {
+        // The source's own counters say what the stream did before it failed (e.g. frames the
+        // camera skipped), next to the faults.
+        const hal::ExtraCounters device_counters = source->extra_counters();
+        const std::string device_part =
+            device_counters.items().empty() ? "" : "; device counters: " + extra_counters_text(device_counters);
         fail(o.device, ": gave up after ", o.max_faults, " faults in a row, ", captured,
-             " frames captured, nothing written (", stats_text(source->stats()), ")");
+             " frames captured, nothing written (", stats_text(source->stats()), device_part, ")");
+      }
       continue;
     }
     faults_in_a_row = 0;
