@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <iomanip>
 #include <numeric>
 #include <sstream>
 
@@ -159,6 +160,117 @@ nlohmann::json locate(const DiagnoseData& d, const std::vector<float>& r, const 
   return j;
 }
 
+namespace {
+
+// The pixel noise of the residual from 2x2 checkerboard differences (r00 - r01 - r10 + r11) / 2
+// of valid pixels: white noise keeps its variance, while anything constant along rows or along
+// columns, or smooth over two pixels, cancels (so bands or stripes do not count as noise here).
+double checkerboard_sigma(const DiagnoseData& d, const std::vector<float>& r) {
+  const int N = d.shape.n, H = d.shape.height, W = d.shape.width;
+  std::vector<float> c;
+  const int step = std::max(1, N / 64);
+  for (int n = 0; n < N; n += step) {
+    const float* rn = d.frame(r, n);
+    const std::uint8_t* v = d.valid_frame(n);
+    for (int y = 0; y + 1 < H; y += 2)
+      for (int x = 0; x + 1 < W; x += 2) {
+        const std::size_t p = std::size_t(y) * W + x;
+        if (!(v[p] && v[p + 1] && v[p + W] && v[p + W + 1])) continue;
+        c.push_back(std::fabs(0.5f * (rn[p] - rn[p + 1] - rn[p + W] + rn[p + W + 1])));
+      }
+  }
+  if (c.size() < 64) return 0.0;
+  return 1.4826 * median_in_place(c);
+}
+
+// 4. A pattern along rows (or columns) that changes from frame to frame: bands that move, line
+// flicker. Per frame, the median of each row of the residual, less that row's median over time
+// (a static row pattern is row_fpn's) and the frame's median over rows (a global change is item
+// 2's). A moving object covers few pixels of a row and leaves its median alone; a band covers the
+// row. Only pixels where the baseline holds still since the previous frame count: a moving
+// horizontal edge spans a row, and the baseline's small misses on it would read as a band. Against
+// white noise of sigma (checkerboard_sigma), a row median over m pixels varies by about
+// pi/2 sigma^2 / m: the excess over that, pooled over frames and rows, is the evidence, and its
+// size (the RMS beyond the noise) must be a visible share of the noise floor.
+bool moving_line_pattern(const DiagnoseData& d, const std::vector<float>& r, bool along_rows, double noise_floor,
+                         Unexplained& u) {
+  const int N = d.shape.n, H = d.shape.height, W = d.shape.width;
+  const int lines = along_rows ? H : W, length = along_rows ? W : H;
+  if (N < 8 || lines < 8 || length < 8) return false;
+  const double sigma = checkerboard_sigma(d, r);
+  if (!(sigma > 0)) return false;
+  constexpr float kMissing = 3.4e38f;
+  std::vector<float> med(std::size_t(N) * lines, kMissing), values;
+  std::vector<double> counted(std::size_t(N) * lines, 0);
+  for (int n = 1; n < N; ++n) {
+    const float* rn = d.frame(r, n);
+    const float *b = d.frame(d.baseline, n), *b0 = d.frame(d.baseline, n - 1);
+    const std::uint8_t* v = d.valid_frame(n);
+    for (int l = 0; l < lines; ++l) {
+      values.clear();
+      for (int k = 0; k < length; ++k) {
+        const std::size_t p = along_rows ? std::size_t(l) * W + k : std::size_t(k) * W + l;
+        if (v[p] && std::fabs(b[p] - b0[p]) < 0.5 * sigma) values.push_back(rn[p]);
+      }
+      if (int(values.size()) * 2 < length) continue;  // mostly masked: no median worth comparing
+      counted[std::size_t(n) * lines + l] = double(values.size());
+      med[std::size_t(n) * lines + l] = median_in_place(values);
+    }
+  }
+  std::vector<float> line_level(lines, 0), frame_level(N, 0);
+  for (int l = 0; l < lines; ++l) {
+    values.clear();
+    for (int n = 0; n < N; ++n) if (med[std::size_t(n) * lines + l] != kMissing) values.push_back(med[std::size_t(n) * lines + l]);
+    line_level[l] = median_in_place(values);
+  }
+  for (int n = 0; n < N; ++n) {
+    values.clear();
+    for (int l = 0; l < lines; ++l)
+      if (med[std::size_t(n) * lines + l] != kMissing) values.push_back(med[std::size_t(n) * lines + l] - line_level[l]);
+    frame_level[n] = median_in_place(values);
+  }
+  double chi2 = 0, dof = 0, ss = 0, noise_ss = 0;
+  std::vector<double> line_excess(lines, 0.0);
+  for (int n = 0; n < N; ++n)
+    for (int l = 0; l < lines; ++l) {
+      const std::size_t i = std::size_t(n) * lines + l;
+      if (med[i] == kMissing) continue;
+      const double dev = med[i] - line_level[l] - frame_level[n];
+      const double expected = M_PI / 2 * sigma * sigma / counted[i];
+      chi2 += dev * dev / expected;
+      dof += 1;
+      ss += dev * dev;
+      noise_ss += expected;
+      line_excess[l] += dev * dev - expected;
+    }
+  if (dof < 64) return false;
+  // Two medians taken out (per line over time, per frame over lines): slightly fewer degrees of
+  // freedom than cells, which only makes the test stricter.
+  const double z = (chi2 - dof) / std::sqrt(2 * dof);
+  const double rms = std::sqrt(std::max(0.0, ss - noise_ss) / dof);  // beyond the noise
+  if (!(z > 12 && rms > 0.2 * noise_floor)) return false;
+  // Where: the lines whose excess is at least a quarter of the largest.
+  const double top = *std::max_element(line_excess.begin(), line_excess.end());
+  int first = lines, last = -1;
+  for (int l = 0; l < lines; ++l)
+    if (line_excess[l] >= 0.25 * top) first = std::min(first, l), last = std::max(last, l);
+  u.where.frames = {{0, N - 1}};
+  u.where.row0 = along_rows ? first : 0;
+  u.where.row1 = along_rows ? last : H - 1;
+  u.where.col0 = along_rows ? 0 : first;
+  u.where.col1 = along_rows ? W - 1 : last;
+  std::ostringstream t;
+  t << (along_rows ? "rows " : "columns ") << first << "-" << last << ": a pattern along the "
+    << (along_rows ? "rows" : "columns") << " that changes from frame to frame (moving bands, line flicker; "
+    << (along_rows ? "row" : "column") << " medians of the residual vary by " << std::setprecision(3) << rms
+    << " RMS beyond a pixel noise of " << sigma << ")";
+  u.where.summary = t.str();
+  u.rms = rms;
+  return true;
+}
+
+}  // namespace
+
 std::vector<Unexplained> find_unexplained(const DiagnoseData& d, const std::vector<float>& r, const Blocks& blocks,
                                           double noise_floor) {
   std::vector<Unexplained> out;
@@ -275,6 +387,10 @@ std::vector<Unexplained> find_unexplained(const DiagnoseData& d, const std::vect
     tiles = {all};
   }
   out.insert(out.end(), tiles.begin(), tiles.end());
+  for (const bool along_rows : {true, false}) {
+    Unexplained u;
+    if (moving_line_pattern(d, r, along_rows, noise_floor, u)) out.push_back(u);
+  }
   return out;
 }
 
