@@ -178,12 +178,13 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
       }
       if (!with_jacobians) continue;
       const Mat8 HA = pair_H * A;
-      s.ba_H.block<8, 8>(8 * ti, 8 * ti) += pair_H;
-      s.ba_H.block<8, 8>(8 * ti, 8 * hi) += HA;
-      s.ba_H.block<8, 8>(8 * hi, 8 * ti) += HA.transpose();
-      s.ba_H.block<8, 8>(8 * hi, 8 * hi) += At * HA;
-      s.ba_b.segment<8>(8 * ti) += pair_b;
-      s.ba_b.segment<8>(8 * hi) += At * pair_b;
+      const Eigen::Index t0 = Eigen::Index{8} * ti, h0 = Eigen::Index{8} * hi;
+      s.ba_H.block<8, 8>(t0, t0) += pair_H;
+      s.ba_H.block<8, 8>(t0, h0) += HA;
+      s.ba_H.block<8, 8>(h0, t0) += HA.transpose();
+      s.ba_H.block<8, 8>(h0, h0) += At * HA;
+      s.ba_b.segment<8>(t0) += pair_b;
+      s.ba_b.segment<8>(h0) += At * pair_b;
     }
   }
   if (drop_outliers)
