@@ -101,6 +101,7 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   std::size_t retired_count = 0;
   std::span<RefPoint> ref;   // tracking reference: the window's active points in the newest keyframe
   std::uint32_t ref_count = 0;
+  double ref_mean_idepth = 0;  // of the reference's points: how far a pose step moves them (tracker)
   bool ref_dirty = true;     // keyframes, poses or depths changed since it was built
   std::span<float> ba_hxr;  // per window point: coupling to the keyframe parameters (BA)
   std::span<std::uint32_t> ba_index;

@@ -148,6 +148,7 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
 
 void build_tracking_reference(State& s) {
   s.ref_count = 0;
+  s.ref_mean_idepth = 0;
   s.ref_dirty = false;
   if (s.kf_count == 0) return;
   const std::uint32_t ref_slot = s.order[s.kf_count - 1];
@@ -185,6 +186,9 @@ void build_tracking_reference(State& s) {
         s.ref[kept++] = s.ref[i];
     s.ref_count = kept;
   }
+  double idepth_sum = 0;
+  for (std::uint32_t i = 0; i < s.ref_count; ++i) idepth_sum += s.ref[i].idepth;
+  s.ref_mean_idepth = s.ref_count > 0 ? idepth_sum / s.ref_count : 0.0;
 }
 
 TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset, std::uint32_t last_level,
@@ -202,12 +206,9 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
   }
   // How far a pose step moves the points in pixels: rotation times f, translation times f and
   // the points' mean inverse depth (level 0 pixels).
-  double idepth_sum = 0;
-  for (std::uint32_t i = 0; i < s.ref_count; ++i) idepth_sum += s.ref[i].idepth;
-  const double mean_idepth = s.ref_count > 0 ? idepth_sum / s.ref_count : 0.0;
   const double focal = camera_at(s.cfg.camera, 0).fx;
   const auto step_pixels = [&](const Vec8& delta) {
-    return focal * (delta.segment<3>(3).norm() + delta.head<3>().norm() * mean_idepth);
+    return focal * (delta.segment<3>(3).norm() + delta.head<3>().norm() * s.ref_mean_idepth);
   };
   for (std::uint32_t l = levels; l-- > last_level;) {
     const int level = static_cast<int>(l);
