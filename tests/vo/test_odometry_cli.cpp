@@ -41,11 +41,23 @@ nlohmann::json evaluate(const fs::path& run) {
   return nlohmann::json::parse(in);
 }
 
+// bolo odometry over `seq` into `run` with `options`; the test stops unless it succeeds.
+void odometry(const fs::path& seq, const fs::path& run, const std::vector<std::string>& options) {
+  std::vector<std::string> args = {"odometry", seq.string(), "--out", run.string()};
+  args.insert(args.end(), options.begin(), options.end());
+  const CliResult r = run_bolo(args);
+  INFO(args.back() << ": " << r.err);
+  REQUIRE(r.code == 0);
+}
+
+nlohmann::json summary_of(const fs::path& run) {
+  std::ifstream in(run / "summary.json");
+  return nlohmann::json::parse(in);
+}
+
 // bolo odometry over `seq` in `mode` into `run`, then bolo evaluate: the evaluation.
 nlohmann::json odometry_evaluated(const fs::path& seq, const fs::path& run, const char* mode) {
-  const CliResult r = run_bolo({"odometry", seq.string(), "--out", run.string(), "--photometric", mode});
-  INFO(mode << ": " << r.err);
-  REQUIRE(r.code == 0);
+  odometry(seq, run, {"--photometric", mode});
   return evaluate(run);
 }
 
@@ -64,9 +76,7 @@ TEST_CASE("odometry tracks a short drive and writes every output", "[vo][cli]") 
   const fs::path& seq = sequence("drive", "0.0002");
   TempDir out;
   const fs::path run = out / "vo";
-  const CliResult r = run_bolo({"odometry", seq.string(), "--out", run.string(), "--photometric", "none"});
-  INFO(r.err);
-  REQUIRE(r.code == 0);
+  odometry(seq, run, {"--photometric", "none"});
   for (const char* file : {"trajectory.tum", "stats.csv", "points.ply", "trajectory.svg", "summary.json"})
     CHECK(fs::exists(run / file));
   const auto poses = odo::read_tum(run / "trajectory.tum");
@@ -82,14 +92,14 @@ TEST_CASE("odometry tracks a short drive and writes every output", "[vo][cli]") 
 TEST_CASE("odometry: --max-keyframes sets the sliding window", "[vo][cli]") {
   const fs::path& seq = sequence("drive", "0.0002");
   TempDir out;
-  const fs::path run = out / "vo";
-  const CliResult r = run_bolo({"odometry", seq.string(), "--out", run.string(), "--max-keyframes", "4"});
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  std::ifstream in(run / "summary.json");
-  const nlohmann::json summary = nlohmann::json::parse(in);
-  CHECK(summary["max_keyframes"].get<int>() == 4);
-  CHECK(summary["arena_bytes"].get<double>() > 0);
+  const fs::path run = out / "vo", full = out / "vo8";
+  odometry(seq, run, {"--max-keyframes", "4"});
+  odometry(seq, full, {});
+  const nlohmann::json four = summary_of(run), eight = summary_of(full);
+  CHECK(four["max_keyframes"].get<int>() == 4);
+  CHECK(eight["max_keyframes"].get<int>() == 8);
+  // The VO is configured with it: half the keyframes' pyramids and points, a smaller arena.
+  CHECK(four["arena_bytes"].get<double>() < 0.75 * eight["arena_bytes"].get<double>());
   const nlohmann::json e = evaluate(run);
   CHECK(e["ate_relative"].get<double>() < 0.10);
 }
