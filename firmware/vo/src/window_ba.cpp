@@ -22,26 +22,44 @@ struct Totals {
   std::uint32_t blocks = 0, inliers = 0;
 };
 
-// Index of each window keyframe's parameter block, by slot.
-struct Window {
-  int index[kMaxKeyframes];
-  std::uint32_t count = 0;
-};
-
-Window window_of(const State& s) {
-  Window w;
-  for (auto& i : w.index) i = -1;
-  for (std::uint32_t k = 0; k < s.kf_count; ++k) w.index[s.order[k]] = static_cast<int>(k);
-  w.count = s.kf_count;
-  return w;
-}
-
 // One point's row in s.ba_hxr (kBaStride floats): the point's own Hessian and gradient, a backup
 // of its inverse depth, its coupling to every keyframe parameter, its host pattern and counts.
 constexpr std::size_t kRowHrr = 0, kRowGr = 1, kRowBackup = 2, kRowCoupling = 3;
 constexpr std::size_t kRowRef = kRowCoupling + kMaxBaParams;
 constexpr std::size_t kRowObserved = kRowRef + kPattern, kRowBad = kRowObserved + 1;
 static_assert(kRowBad < kBaStride, "the BA row layout must fit kBaStride");
+
+// The window of one bundle adjustment: each keyframe's parameter block by slot, and its active
+// points (rows first .. first + points - 1 of s.ba_hxr, s.ba_index naming them), whose host
+// patterns are sampled here once: host images and pixels do not change during the adjustment.
+struct Window {
+  int index[kMaxKeyframes];
+  std::uint32_t count = 0;
+  std::uint32_t first[kMaxKeyframes] = {}, points_of[kMaxKeyframes] = {};
+  std::uint32_t points = 0;
+};
+
+Window window_of(State& s) {
+  Window w;
+  for (auto& i : w.index) i = -1;
+  for (std::uint32_t k = 0; k < s.kf_count; ++k) w.index[s.order[k]] = static_cast<int>(k);
+  w.count = s.kf_count;
+  for (std::uint32_t hs = 0; hs < kMaxKeyframes; ++hs) {
+    const Keyframe& host = s.kf[hs];
+    w.first[hs] = w.points;
+    if (!host.used) continue;
+    for (std::uint32_t i = 0; i < host.count; ++i) {
+      const Point& p = host.points[i];
+      if (p.status != PointStatus::active) continue;
+      float* row = s.ba_hxr.data() + std::size_t{w.points} * kBaStride;
+      s.ba_index[w.points++] = hs << 16 | i;
+      for (std::uint32_t j = 0; j < kPattern; ++j)
+        row[kRowRef + j] = bilinear(host.pyramid.level[0].value, p.u + kPatternX[j], p.v + kPatternY[j]);
+    }
+    w.points_of[hs] = w.points - w.first[hs];
+  }
+  return w;
+}
 
 using Mat8 = Eigen::Matrix<double, 8, 8>;
 using Vec8 = Eigen::Matrix<double, 8, 1>;
@@ -71,31 +89,17 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
     s.ba_H.setZero();
     s.ba_b.setZero();
   }
-  // The window's active points, host by host, with their host patterns.
-  std::uint32_t first[kMaxKeyframes] = {}, count[kMaxKeyframes] = {};
-  std::uint32_t points = 0;
-  for (std::uint32_t hs = 0; hs < kMaxKeyframes; ++hs) {
-    const Keyframe& host = s.kf[hs];
-    first[hs] = points;
-    if (!host.used) continue;
-    for (std::uint32_t i = 0; i < host.count; ++i) {
-      const Point& p = host.points[i];
-      if (p.status != PointStatus::active) continue;
-      float* row = s.ba_hxr.data() + std::size_t{points} * kBaStride;
-      s.ba_index[points++] = hs << 16 | i;
-      // An energy-only pass leaves the system rows alone.
-      if (with_jacobians)
-        for (std::size_t q = 0; q < kRowRef; ++q)
-          if (q != kRowBackup) row[q] = 0;
-      for (std::uint32_t j = 0; j < kPattern; ++j)
-        row[kRowRef + j] = bilinear(host.pyramid.level[0].value, p.u + kPatternX[j], p.v + kPatternY[j]);
-      row[kRowObserved] = row[kRowBad] = 0;
-    }
-    count[hs] = points - first[hs];
+  for (std::uint32_t pi = 0; pi < win.points; ++pi) {
+    float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
+    // An energy-only pass leaves the system rows alone.
+    if (with_jacobians)
+      for (std::size_t q = 0; q < kRowRef; ++q)
+        if (q != kRowBackup) row[q] = 0;
+    row[kRowObserved] = row[kRowBad] = 0;
   }
   for (std::uint32_t hs = 0; hs < kMaxKeyframes; ++hs) {
     const Keyframe& host = s.kf[hs];
-    if (!host.used || count[hs] == 0) continue;
+    if (!host.used || win.points_of[hs] == 0) continue;
     const int hi = win.index[hs];
     for (std::uint32_t ts = 0; ts < kMaxKeyframes; ++ts) {
       const Keyframe& target = s.kf[ts];
@@ -108,8 +112,8 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
       const Level& tl = target.pyramid.level[0];
       Mat8 pair_H = Mat8::Zero();
       Vec8 pair_b = Vec8::Zero();
-      const std::uint32_t end = first[hs] + count[hs];
-      for (std::uint32_t pi = first[hs]; pi < end; ++pi) {
+      const std::uint32_t end = win.first[hs] + win.points_of[hs];
+      for (std::uint32_t pi = win.first[hs]; pi < end; ++pi) {
         float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
         const Point& p = host.points[s.ba_index[pi] & 0xffff];
         const Eigen::Vector3d nv((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0);
@@ -188,7 +192,7 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
     }
   }
   if (drop_outliers)
-    for (std::uint32_t pi = 0; pi < points; ++pi) {
+    for (std::uint32_t pi = 0; pi < win.points; ++pi) {
       const float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
       if (row[kRowObserved] > 0 && row[kRowBad] * 2 > row[kRowObserved])
         s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff].status = PointStatus::leaving;
@@ -219,10 +223,7 @@ void window_bundle_adjustment(State& s) {
   for (int it = 0; it < kIterations && cur.inliers > 0; ++it) {
     BaMatrix& H = s.ba_H;
     BaVector b = s.ba_b;
-    std::uint32_t points = 0;
-    for (const Keyframe& kf : s.kf)
-      if (kf.used)
-        for (std::uint32_t i = 0; i < kf.count; ++i) points += kf.points[i].status == PointStatus::active;
+    const std::uint32_t points = win.points;
     // Schur complement onto the keyframe parameters.
     BaMatrix Hs = H;
     for (std::uint32_t pi = 0; pi < points; ++pi) {
