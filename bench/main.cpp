@@ -19,6 +19,7 @@
 
 #include "harness.hpp"
 #include "scene.hpp"
+#include "size_list.hpp"
 #include "workloads.hpp"
 
 namespace {
@@ -30,12 +31,6 @@ constexpr double kPipelineGoal = 0.25;
 // Bytes each workload moves per frame, in frames of width * height * 2 bytes.
 constexpr double kMemcpyFramesMoved = 2.0;  // 1 read + 1 write
 constexpr double kStageFramesMoved = 3.0;   // current + previous read, 1 written
-
-struct Size {
-  std::uint32_t width = 0;
-  std::uint32_t height = 0;
-  std::string label() const { return std::to_string(width) + "x" + std::to_string(height); }
-};
 
 struct Options {
   bool json = false;
@@ -72,25 +67,6 @@ constexpr const char* kUsage =
     "bad-pixel mask reads are not counted). Goals: corrector >= 0.5, pipeline >= 0.25 of memcpy.\n"
     "Exit status: 0 ok, 1 the run was invalid (carry-over not applied), 2 bad arguments.\n";
 
-bool parse_size(std::string_view text, Size& out) {
-  const std::size_t x = text.find_first_of("xX");
-  if (x == std::string_view::npos || x == 0 || x + 1 >= text.size()) return false;
-  auto parse_dim = [](std::string_view s, std::uint32_t& v) {
-    if (s.empty() || s.size() > 5) return false;
-    std::uint32_t n = 0;
-    for (char c : s) {
-      if (c < '0' || c > '9') return false;
-      n = n * 10 + static_cast<std::uint32_t>(c - '0');
-    }
-    if (n == 0 || n > 16384) return false;
-    v = n;
-    return true;
-  };
-  // At most 2^26 pixels (128 MiB a frame): the bench keeps several frames plus tables.
-  return parse_dim(text.substr(0, x), out.width) && parse_dim(text.substr(x + 1), out.height) &&
-         std::uint64_t{out.width} * out.height <= (std::uint64_t{1} << 26);
-}
-
 // Returns false (after a message on stderr) for a bad command line.
 bool parse_options(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
@@ -111,27 +87,7 @@ bool parse_options(int argc, char** argv, Options& o) {
     } else if (arg == "--sizes") {
       const char* v = value("--sizes");
       if (v == nullptr) return false;
-      o.sizes.clear();
-      std::string_view list = v;
-      while (!list.empty()) {
-        const std::size_t comma = list.find(',');
-        const std::string_view item = list.substr(0, comma);
-        Size s;
-        if (!parse_size(item, s)) {
-          std::fprintf(stderr, "bolo-bench: bad size '%.*s' in --sizes (want WxH, 1..16384 each, at most 2^26 pixels)\n",
-                       static_cast<int>(item.size()), item.data());
-          return false;
-        }
-        const bool seen = std::any_of(o.sizes.begin(), o.sizes.end(), [&](const Size& t) {
-          return t.width == s.width && t.height == s.height;
-        });
-        if (!seen) o.sizes.push_back(s);  // a size twice would be a JSON key twice
-        list = comma == std::string_view::npos ? std::string_view{} : list.substr(comma + 1);
-      }
-      if (o.sizes.empty()) {
-        std::fprintf(stderr, "bolo-bench: --sizes is empty\n");
-        return false;
-      }
+      if (!parse_size_list(v, o.sizes, "bolo-bench")) return false;
     } else if (arg == "--profile") {
       const char* v = value("--profile");
       if (v == nullptr) return false;

@@ -23,6 +23,7 @@
 #include "bolo/sim/scene/renderer.hpp"
 #include "bolo/sim/scene/trajectory.hpp"
 #include "bolo/vo/odometry.hpp"
+#include "size_list.hpp"
 
 namespace {
 
@@ -90,7 +91,8 @@ constexpr const char* kUsage =
 int main(int argc, char** argv) {
   int frames = 120;
   std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;
-  std::string mode_name = "ir", sizes = "160x120,320x256,640x512";
+  std::string mode_name = "ir";
+  std::vector<bench::Size> sizes = {{160, 120}, {320, 256}, {640, 512}};
   for (int i = 1; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
     if (!std::strcmp(argv[i], "--help")) {
@@ -101,7 +103,7 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--mode") && has_value) {
       mode_name = argv[++i];
     } else if (!std::strcmp(argv[i], "--sizes") && has_value) {
-      sizes = argv[++i];
+      if (!bench::parse_size_list(argv[++i], sizes, "bolo-vo-bench")) return 2;
     } else if (!std::strcmp(argv[i], "--max-keyframes") && has_value) {
       max_keyframes = static_cast<std::uint32_t>(std::atoi(argv[++i]));
     } else {
@@ -115,18 +117,21 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bolo-vo-bench: --mode none|affine|ir, --frames >= 10, --max-keyframes 2..8\n");
     return 2;
   }
+  // Sizes the VO refuses (the camera does not matter for that) are refused before any work.
+  for (const bench::Size& size : sizes) {
+    vo::VoConfig cfg;
+    cfg.width = size.width, cfg.height = size.height, cfg.camera = {1, 1, 0, 0}, cfg.max_keyframes = max_keyframes;
+    if (const char* why = vo::invalid_reason(cfg)) {
+      std::fprintf(stderr, "bolo-vo-bench: %s: %s\n", size.label().c_str(), why);
+      return 2;
+    }
+  }
   const double fps = 60;
   std::printf("bolo-vo-bench: VO (%s, %u keyframes) on street/drive, %d frames at 60 Hz, tau 12 ms, one core (thread CPU time)\n",
               mode_name.c_str(), max_keyframes, frames);
   std::printf("%-9s %9s %9s %10s %9s %12s %12s %14s\n", "size", "ms/frame", "fps", "x realtime", "ms/posed", "arena KiB", "peak RSS KiB", "RSS growth KiB");
-  std::size_t start = 0;
-  while (start < sizes.size()) {
-    const std::size_t comma = sizes.find(',', start);
-    const std::string size = sizes.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    start = comma == std::string::npos ? sizes.size() : comma + 1;
-    const auto x = size.find('x');
-    const auto w = static_cast<std::uint32_t>(std::stoul(size.substr(0, x)));
-    const auto h = static_cast<std::uint32_t>(std::stoul(size.substr(x + 1)));
+  for (const bench::Size& size : sizes) {
+    const std::uint32_t w = size.width, h = size.height;
     const Frames f = render(w, h, frames, fps);
     vo::VoConfig cfg;
     cfg.width = w, cfg.height = h, cfg.camera = f.camera, cfg.photometric = mode, cfg.tau_init_s = 0.012f;
@@ -154,7 +159,7 @@ int main(int argc, char** argv) {
     const double seconds = thread_cpu_s() - cpu0;
     const long rss_after = peak_rss_kib();
     std::printf("%-9s %9.2f %9.1f %10.2f %9.2f %12zu %12ld %14ld   (%d of %d frames posed, %d keyframes; wall %.1f ms/frame)\n",
-                size.c_str(), 1e3 * seconds / frames, frames / seconds, frames / seconds / fps,
+                size.label().c_str(), 1e3 * seconds / frames, frames / seconds, frames / seconds / fps,
                 posed ? 1e3 * posed_seconds / posed : 0.0, arena.size() / 1024, rss_after, rss_after - rss_before, posed,
                 frames, keyframes, 1e3 * wall / frames);
   }
