@@ -22,7 +22,12 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
 #pragma GCC diagnostic pop
+#include "nuc_simd.hpp"
 #endif
+
+#include <cstring>
+
+#include "bolo/firmware/nuc_stage.hpp"
 
 namespace bolo::fw {
 namespace {
@@ -70,6 +75,59 @@ void correct_update_portable(const Pixel* current, Pixel* previous, CorrectorCoe
                              Pixel* out, std::size_t width, std::uint32_t& low,
                              std::uint32_t& high) {
   correct_portable<true>(current, previous, c, out, width, low, high);
+}
+
+
+// ---- The Pipeline's fused pass (detail::FusedRows): NUC, flags and the corrector ----
+// The definition: per pixel the NUC value, its flag (mask bit, or stuck), the frame-store update
+// and the corrector's value of (NUC value, predecessor), counted for every pixel; the output is
+// the predecessor where the pixel is flagged (the stage corrects it after its repair).
+BOLO_KERNEL_CLONES
+std::uint64_t fused_rows_portable(const detail::FusedRows& f, std::size_t rows,
+                                  std::size_t in_stride, std::uint32_t& low,
+                                  std::uint32_t& high) {
+  const detail::IngestLine& j = f.intake;
+  const std::size_t width = j.width;
+  const std::size_t flag_bytes = detail::flag_line_bytes(width);
+  const std::uint64_t gain = f.coefficients.gain_q24;
+  const std::uint64_t carry = f.coefficients.carry_q24;
+  std::uint32_t n_low = 0;
+  std::uint32_t n_high = 0;
+  std::uint64_t flagged_rows = 0;
+  for (std::size_t i = 0; i < rows; ++i) {
+    const Pixel* __restrict in = j.in + i * in_stride;
+    const std::uint16_t* __restrict g = j.gain_q14 + i * width;
+    const std::int16_t* __restrict o = j.offset + i * width;
+    Pixel* __restrict out = j.ring + i * width;
+    Pixel* __restrict store = f.store + i * width;
+    std::uint8_t* flags = j.flag_bits + i * flag_bytes;
+    const std::uint8_t* mask = j.mask_bits == nullptr ? nullptr : j.mask_bits + i * flag_bytes;
+    std::uint32_t any = 0;
+    for (std::size_t base = 0; base < width; base += 32) {
+      const std::size_t n = width - base < 32 ? width - base : 32;
+      std::uint32_t bits = 0;
+      if (mask != nullptr) std::memcpy(&bits, mask + base / 8, sizeof bits);
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t x = base + k;
+        const Pixel v = nuc_pixel(in[x], g[x], o[x]);
+        const Pixel prev = store[x];
+        store[x] = v;
+        if (j.detect_stuck && (v == j.stuck_low || v == j.stuck_high)) bits |= 1u << k;
+        const std::uint64_t biased = v * gain + (kBias + kHalf) - prev * carry;
+        const std::int32_t value = static_cast<std::int32_t>(biased >> kShift) - kBiasShifted;
+        n_low += value < 0 ? 1u : 0u;
+        n_high += value > kMaxOut ? 1u : 0u;
+        const std::int32_t clamped = value < 0 ? 0 : (value > kMaxOut ? kMaxOut : value);
+        out[x] = ((bits >> k) & 1u) != 0 ? prev : static_cast<Pixel>(clamped);
+      }
+      std::memcpy(flags + base / 8, &bits, sizeof bits);
+      any |= bits;
+    }
+    flagged_rows |= std::uint64_t{any != 0} << i;
+  }
+  low += n_low;
+  high += n_high;
+  return flagged_rows;
 }
 
 #if BOLO_X86_KERNELS
@@ -339,6 +397,245 @@ BOLO_AVX512_VNNI void correct_avx512_vnni(const Pixel* __restrict current,
     correct_avx512_vnni_loop<kStore, false>(current, previous, k, out, width, low, high);
 }
 
+// ---- The fused pass (detail::FusedRows) with AVX512-VNNI ----
+// Blocks of 4 steps of 32 pixels as avx512_vnni_block, each step: the NUC in 16-bit lanes
+// (nuc_simd::narrow), the frame-store update, the flags (as the intake's), the corrector's
+// unflipped values of (NUC value, predecessor) and the output, the predecessor where flagged. One
+// test per block covers every assumption of that fast way: pixels below 2^14 and gains below 2^15
+// (the 16-bit NUC), NUC values and predecessors below 2^15 (unflipped pairs), values in
+// [0, 65535] (no counts). A block that fails is done again the general way (the NUC in 32-bit
+// lanes, flipped pairs, exact counts) from its input and tables, which are read-only, and the
+// predecessors, still in registers: the frame store is written as each step loads it.
+struct FusedConstants {
+  Avx512Constants c;
+  __m512i nuc_half, low, high;
+  __mmask32 stuck_on;
+};
+
+struct FusedCursor {
+  const Pixel* in;
+  const std::uint16_t* gain;
+  const std::int16_t* offset;
+  const std::uint8_t* mask_bits;
+  Pixel* out;
+  Pixel* store;
+  std::uint8_t* flag_bits;
+};
+
+// With IngestLine::prefetch, as the intake: input and tables asked for 2048 pixels ahead (the
+// address as an integer: it may lie past the arrays; a prefetch never faults).
+constexpr std::size_t kFusedPrefetchPixels = 2048;
+template <class T>
+BOLO_AVX512 inline __attribute__((always_inline)) void fused_prefetch(const T* p) {
+  const std::uintptr_t ahead =
+      reinterpret_cast<std::uintptr_t>(p) + kFusedPrefetchPixels * sizeof(T);
+  _mm_prefetch(reinterpret_cast<const char*>(ahead), _MM_HINT_T0);
+}
+
+// The step's flags (stuck among the pixels selected by `m`, or masked) as a mask register (the
+// mask word loaded straight into one), stored; `any` collects them.
+template <bool kMask>
+BOLO_AVX512 inline __attribute__((always_inline)) __mmask32 fused_flags(
+    const FusedCursor& c, std::size_t x, __m512i v, __mmask32 m, const FusedConstants& k,
+    std::uint32_t& any) {
+  const __mmask32 stuck_m = k.stuck_on & m;
+  __mmask32 flags = _mm512_mask_cmpeq_epi16_mask(stuck_m, v, k.low) |
+                    _mm512_mask_cmpeq_epi16_mask(stuck_m, v, k.high);
+  if constexpr (kMask) {
+    std::uint32_t word;
+    std::memcpy(&word, c.mask_bits + x / 8, sizeof word);  // 0 past the width
+    flags |= _cvtu32_mask32(word);
+  }
+  const std::uint32_t bits = _cvtmask32_u32(flags);
+  std::memcpy(c.flag_bits + x / 8, &bits, sizeof bits);
+  any |= bits;
+  return flags;
+}
+
+// The general step, exact for every input; `prev` is the predecessor (loaded before the store
+// was written); `m` selects the pixels that exist (missing ones load as 0 and count nowhere).
+template <bool kMask, bool kWide>
+BOLO_AVX512_VNNI inline __attribute__((always_inline)) std::uint32_t fused_general_step(
+    const FusedCursor& c, std::size_t x, __mmask32 m, __m512i prev, const FusedConstants& k,
+    std::uint32_t& n_low, std::uint32_t& n_high) {
+  const __m512i in = _mm512_maskz_loadu_epi16(m, c.in + x);
+  const __m512i g = _mm512_maskz_loadu_epi16(m, c.gain + x);
+  const __m512i o = _mm512_maskz_loadu_epi16(m, c.offset + x);
+  const __m512i v = detail::nuc_simd::wide(in, g, o, k.nuc_half);
+  _mm512_mask_storeu_epi16(c.store + x, m, v);
+  std::uint32_t bits = 0;
+  const __mmask32 flags = fused_flags<kMask>(c, x, v, m, k, bits);
+  const __m512i cs = _mm512_xor_si512(v, k.c.flip);
+  const __m512i ps = _mm512_xor_si512(prev, k.c.flip);
+  const __m512i vlo = avx512_vnni_values<kWide>(_mm512_unpacklo_epi16(cs, ps), k.c);
+  const __m512i vhi = avx512_vnni_values<kWide>(_mm512_unpackhi_epi16(cs, ps), k.c);
+  if (_mm512_test_epi32_mask(_mm512_or_si512(vlo, vhi), k.c.above16) != 0) {
+    const __m512i zero = _mm512_setzero_si512();
+    n_low += popcount16(_mm512_cmplt_epi32_mask(vlo, zero)) +
+             popcount16(_mm512_cmplt_epi32_mask(vhi, zero));
+    n_high += popcount16(_mm512_cmpgt_epi32_mask(vlo, k.c.max_out)) +
+              popcount16(_mm512_cmpgt_epi32_mask(vhi, k.c.max_out));
+  }
+  const __m512i out = _mm512_mask_blend_epi16(flags, _mm512_packus_epi32(vlo, vhi), prev);
+  _mm512_mask_storeu_epi16(c.out + x, m, out);
+  return bits;
+}
+
+// kSteps full steps from the cursor the fast way, the block redone the general way if a test
+// fails.
+template <bool kMask, bool kWide, bool kPrefetch, std::size_t kSteps>
+BOLO_AVX512_VNNI inline __attribute__((always_inline)) std::uint32_t fused_block(
+    const FusedCursor& c, const FusedConstants& k, std::uint32_t& n_low, std::uint32_t& n_high) {
+  constexpr std::size_t x = 0;
+  __m512i prev[kSteps];
+  __m512i nuc_range = _mm512_setzero_si512();
+  __m512i inputs = _mm512_setzero_si512();
+  __m512i values = _mm512_setzero_si512();
+  std::uint32_t any = 0;
+  for (std::size_t s = 0; s < kSteps; ++s) {
+    const std::size_t at = x + 32 * s;
+    if constexpr (kPrefetch) {
+      fused_prefetch(c.in + at);
+      fused_prefetch(c.gain + at);
+      fused_prefetch(c.offset + at);
+    }
+    const __m512i in = _mm512_loadu_si512(c.in + at);
+    const __m512i g = _mm512_loadu_si512(c.gain + at);
+    const __m512i o = _mm512_loadu_si512(c.offset + at);
+    // Unsigned saturating 2 in: exactly 2 in below 2^14, bit 15 set for every in >= 2^14.
+    const __m512i in2 = _mm512_adds_epu16(in, in);
+    nuc_range = _mm512_ternarylogic_epi32(nuc_range, in2, g, 0xFE);  // a | b | c
+    // The NUC value where it is in [0, 32767] (the fast way's range): mulhrs gives `scaled`
+    // in [0, 32767] as nuc_simd::narrow, and the wrapping 16-bit sum scaled + offset is the value
+    // when that is in [0, 32767] and has bit 15 set otherwise (a sum below 0, which the NUC
+    // clamps, or at or above 2^15), which the block's input test then catches.
+    const __m512i v = _mm512_add_epi16(_mm512_mulhrs_epi16(in2, g), o);
+    prev[s] = _mm512_loadu_si512(c.store + at);
+    _mm512_storeu_si512(c.store + at, v);
+    inputs = _mm512_ternarylogic_epi32(inputs, v, prev[s], 0xFE);
+    const __mmask32 flags = fused_flags<kMask>(c, at, v, ~__mmask32{0}, k, any);
+    const __m512i vlo =
+        avx512_vnni_unflipped_values<kWide>(_mm512_unpacklo_epi16(v, prev[s]), k.c);
+    const __m512i vhi =
+        avx512_vnni_unflipped_values<kWide>(_mm512_unpackhi_epi16(v, prev[s]), k.c);
+    values = _mm512_ternarylogic_epi32(values, vlo, vhi, 0xFE);
+    _mm512_storeu_si512(c.out + at,
+                        _mm512_mask_blend_epi16(flags, _mm512_packus_epi32(vlo, vhi), prev[s]));
+  }
+  const __mmask32 outside_inputs =
+      _mm512_test_epi16_mask(_mm512_or_si512(nuc_range, inputs), k.c.input_above15);
+  const __mmask32 outside_values = _mm512_test_epi32_mask(values, k.c.above16);
+  if (_kortestz_mask32_u8(outside_inputs, outside_values) == 0) [[unlikely]] {
+    any = 0;
+    for (std::size_t s = 0; s < kSteps; ++s)
+      any |= fused_general_step<kMask, kWide>(c, 32 * s, ~__mmask32{0}, prev[s], k, n_low,
+                                              n_high);
+  }
+  return any;
+}
+
+// `n` pixels from the cursor (one line, or contiguous lines as one); returns their flags ORed.
+template <bool kMask, bool kWide, bool kPrefetch>
+BOLO_AVX512_VNNI inline __attribute__((always_inline)) std::uint32_t fused_span(
+    const FusedCursor& c, std::size_t n, const FusedConstants& k, std::uint32_t& n_low,
+    std::uint32_t& n_high) {
+  std::uint32_t any = 0;
+  FusedCursor at = c;  // stepped along: every address a constant offset from it
+  const auto advance = [&at](std::size_t pixels) {
+    at.in += pixels;
+    at.gain += pixels;
+    at.offset += pixels;
+    if constexpr (kMask) at.mask_bits += pixels / 8;
+    at.out += pixels;
+    at.store += pixels;
+    at.flag_bits += pixels / 8;
+  };
+  std::size_t x = 0;
+  for (; x + 32 * kBlockSteps <= n; x += 32 * kBlockSteps) {
+    any |= fused_block<kMask, kWide, kPrefetch, kBlockSteps>(at, k, n_low, n_high);
+    advance(32 * kBlockSteps);
+  }
+  for (; x + 32 <= n; x += 32) {
+    any |= fused_block<kMask, kWide, false, 1>(at, k, n_low, n_high);
+    advance(32);
+  }
+  if (x < n) {
+    const __mmask32 m = tail_mask(n - x);
+    any |= fused_general_step<kMask, kWide>(at, 0, m, _mm512_maskz_loadu_epi16(m, at.store), k,
+                                            n_low, n_high);
+  }
+  return any;
+}
+
+template <bool kMask, bool kWide, bool kPrefetch>
+BOLO_AVX512_VNNI std::uint64_t fused_rows_vnni_loop(const detail::FusedRows& f, std::size_t rows,
+                                                    std::size_t in_stride,
+                                                    const FusedConstants& k, std::uint32_t& low,
+                                                    std::uint32_t& high) {
+  const detail::IngestLine& j = f.intake;
+  const std::size_t width = j.width;
+  const std::size_t flag_bytes = detail::flag_line_bytes(width);
+  FusedCursor c{j.in, j.gain_q14, j.offset, j.mask_bits, j.ring, f.store, j.flag_bits};
+  std::uint32_t n_low = 0;
+  std::uint32_t n_high = 0;
+  std::uint64_t flagged_rows = 0;
+  if (in_stride == width && width % 32 == 0) {
+    // Every array's lines are back to back (flag words too): the rows are one span, and a row's
+    // flag bit is read back from its flag words.
+    fused_span<kMask, kWide, kPrefetch>(c, rows * width, k, n_low, n_high);
+    for (std::size_t i = 0; i < rows; ++i) {
+      std::uint32_t any = 0;
+      for (std::size_t b = 0; b < flag_bytes; b += 4) {
+        std::uint32_t word;
+        std::memcpy(&word, j.flag_bits + i * flag_bytes + b, sizeof word);
+        any |= word;
+      }
+      flagged_rows |= std::uint64_t{any != 0} << i;
+    }
+  } else {
+    for (std::size_t i = 0; i < rows; ++i) {
+      const std::uint32_t any = fused_span<kMask, kWide, kPrefetch>(c, width, k, n_low, n_high);
+      flagged_rows |= std::uint64_t{any != 0} << i;
+      c.in += in_stride;
+      c.gain += width;
+      c.offset += width;
+      if constexpr (kMask) c.mask_bits += flag_bytes;
+      c.out += width;
+      c.store += width;
+      c.flag_bits += flag_bytes;
+    }
+  }
+  low += n_low;
+  high += n_high;
+  return flagged_rows;
+}
+
+template <bool kWide>
+BOLO_AVX512_VNNI std::uint64_t fused_rows_vnni_wide(const detail::FusedRows& f, std::size_t rows,
+                                                    std::size_t in_stride,
+                                                    const FusedConstants& k, std::uint32_t& low,
+                                                    std::uint32_t& high) {
+  const bool mask = f.intake.mask_bits != nullptr;
+  if (f.intake.prefetch)
+    return mask ? fused_rows_vnni_loop<true, kWide, true>(f, rows, in_stride, k, low, high)
+                : fused_rows_vnni_loop<false, kWide, true>(f, rows, in_stride, k, low, high);
+  return mask ? fused_rows_vnni_loop<true, kWide, false>(f, rows, in_stride, k, low, high)
+              : fused_rows_vnni_loop<false, kWide, false>(f, rows, in_stride, k, low, high);
+}
+
+BOLO_AVX512_VNNI std::uint64_t fused_rows_avx512_vnni(const detail::FusedRows& f,
+                                                      std::size_t rows, std::size_t in_stride,
+                                                      std::uint32_t& low, std::uint32_t& high) {
+  const MaddCoefficients mc = madd_coefficients(f.coefficients);
+  const FusedConstants k{avx512_constants(mc),
+                         _mm512_set1_epi32(1 << (kNucGainFractionBits - 1)),
+                         _mm512_set1_epi16(static_cast<short>(f.intake.stuck_low)),
+                         _mm512_set1_epi16(static_cast<short>(f.intake.stuck_high)),
+                         f.intake.detect_stuck ? ~__mmask32{0} : __mmask32{0}};
+  return mc.digit2x16 != 0 ? fused_rows_vnni_wide<true>(f, rows, in_stride, k, low, high)
+                           : fused_rows_vnni_wide<false>(f, rows, in_stride, k, low, high);
+}
+
 // ---- AVX2: the same multiply-add scheme on 256-bit vectors, 16 pixels per step ----
 struct Avx2Constants {
   __m256i flip, d0, d1, d2, k_high, k_low, above16, max_out;
@@ -544,6 +841,36 @@ CorrectUpdateFn correct_update_kernel(KernelPath path) {
 #endif
   }
   return nullptr;
+}
+
+FusedRowsFn fused_rows_kernel(KernelPath path) {
+  if (!kernel_path_available(path)) return nullptr;
+  switch (path) {
+    case KernelPath::portable: return fused_rows_portable;
+#if BOLO_X86_KERNELS
+    case KernelPath::avx512_vnni: return fused_rows_avx512_vnni;
+#endif
+    default: break;
+  }
+  return nullptr;
+}
+
+KernelPath fused_rows_path() {
+  return kernel_path_available(KernelPath::avx512_vnni) ? KernelPath::avx512_vnni
+                                                        : KernelPath::portable;
+}
+
+std::uint64_t fused_rows(const FusedRows& first, std::size_t rows, std::size_t in_stride,
+                         std::uint32_t& low, std::uint32_t& high) {
+  static const FusedRowsFn chosen = fused_rows_kernel(fused_rows_path());  // once; no allocation
+  return chosen(first, rows, in_stride, low, high);
+}
+
+Pixel correct_pixel(Pixel current, Pixel previous, CorrectorCoefficients c, std::uint32_t& low,
+                    std::uint32_t& high) {
+  Pixel out = 0;
+  correct_portable<false>(&current, &previous, c, &out, 1, low, high);
+  return out;
 }
 
 }  // namespace detail
