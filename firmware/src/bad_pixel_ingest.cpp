@@ -18,7 +18,6 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
 #pragma GCC diagnostic pop
-#include "nuc_simd.hpp"
 #endif
 
 namespace bolo::fw::detail {
@@ -138,21 +137,44 @@ std::uint64_t ingest_rows_portable(const IngestLine& first, std::size_t rows,
 #if BOLO_X86_KERNELS
 #define BOLO_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq,avx2")))
 
-// The NUC in 32-bit lanes (general) or 16-bit lanes (pixels below 2^14, gains below 2.0): see
-// nuc_simd.hpp.
+// NUC, general case: mulhi/mullo give the u32 product in*gain as two halves; unpacklo/hi_epi16
+// assemble it in 32-bit lanes (pixels 8j+0..3 and 8j+4..7 of each 128-bit lane), the offset is
+// sign-extended the same way, and packus_epi32 (within 128-bit lanes again) restores pixel
+// order while saturating the int32 sum to [0, 65535]: exactly nuc_pixel's clamp. in*gain + 2^13
+// < 2^32, so the logical shift is exact. The usual case (pixels below 2^14, gains below 2.0) stays
+// in 16-bit lanes: see nuc_avx512_narrow.
 struct Avx512IngestConstants {
   __m512i half, low, high, flip;
   __mmask32 stuck_on;
 };
 
+// The general case: the u32 product and the offset in 32-bit lanes (see above).
 BOLO_AVX512 inline __attribute__((always_inline)) __m512i nuc_avx512_wide(
     __m512i v, __m512i g, __m512i o, const Avx512IngestConstants& k) {
-  return nuc_simd::wide(v, g, o, k.half);
+  const __m512i hi = _mm512_mulhi_epu16(v, g);
+  const __m512i lo = _mm512_mullo_epi16(v, g);
+  const __m512i sign = _mm512_srai_epi16(o, 15);
+  const __m512i v0 = _mm512_add_epi32(
+      _mm512_srli_epi32(_mm512_add_epi32(_mm512_unpacklo_epi16(lo, hi), k.half),
+                        kNucGainFractionBits),
+      _mm512_unpacklo_epi16(o, sign));
+  const __m512i v1 = _mm512_add_epi32(
+      _mm512_srli_epi32(_mm512_add_epi32(_mm512_unpackhi_epi16(lo, hi), k.half),
+                        kNucGainFractionBits),
+      _mm512_unpackhi_epi16(o, sign));
+  return _mm512_packus_epi32(v0, v1);
 }
 
+// The usual case in 16-bit lanes, valid when the pixel is below 2^14 and the gain below 2^15
+// (Q2.14 gains under 2.0); `in2` is 2 in. Then 2 in and gain are non-negative int16 and mulhrs
+// gives (2 in * gain + 2^14) >> 15 = (in * gain + 2^13) >> 14, exactly nuc_pixel's `scaled`, at
+// most 32767. Biased by -32768 (bit 15 flipped) it is in [-32768, -1]; a signed saturating add
+// of the offset is then exactly the clamp to [0, 65535] once the bias is flipped back (the sum
+// cannot exceed 32766, and everything at or below -32768 is 0).
 BOLO_AVX512 inline __attribute__((always_inline)) __m512i nuc_avx512_narrow(
     __m512i in2, __m512i g, __m512i o, const Avx512IngestConstants& k) {
-  return nuc_simd::narrow(in2, g, o, k.flip);
+  const __m512i scaled = _mm512_mulhrs_epi16(in2, g);
+  return _mm512_xor_si512(_mm512_adds_epi16(_mm512_xor_si512(scaled, k.flip), o), k.flip);
 }
 
 // One line's pointers, stepped along a run of lines.

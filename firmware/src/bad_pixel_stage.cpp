@@ -49,18 +49,12 @@ BadPixelStage::BadPixelStage(const BadPixelConfig& config, const NucTables& inpu
   nuc_ = &nuc_tables_;
 }
 
-void BadPixelStage::fuse_corrector(TwoFrameCorrector& corrector) {
-  if (nuc_ != nullptr) fused_corrector_ = &corrector;
-}
-
 void BadPixelStage::begin_frame(const FrameHeader& header) {
   active_ = width_ != 0 && header.width == width_ && header.height == height_;
   nuc_frame_ = active_ && nuc_ != nullptr;
   rows_in_ = 0;
   stats_ = BadPixelFrameStats{};
   next().begin_frame(header);
-  // After the corrector has judged the frame: whether it takes corrected rows from here.
-  fused_frame_ = nuc_frame_ && fused_corrector_ != nullptr && fused_corrector_->fused_access(fused_);
 }
 
 namespace {
@@ -137,7 +131,7 @@ void BadPixelStage::push_lines(std::uint32_t first_row, std::uint32_t count, con
     ingest_run(row, end - row + 1, pixels + std::size_t{row - first_row} * stride, stride);
     if (flushes_after(end)) {
       repair_rows(ready, end - ready);
-      hand_on(ready, end - ready);
+      next().push_lines(ready, end - ready, ring_line(ready), width_, width_);
       ready = end;
     }
     row = end + 1;
@@ -159,10 +153,6 @@ detail::IngestLine BadPixelStage::ingest_job(std::uint32_t row, const Pixel* inp
 }
 
 void BadPixelStage::ingest(std::uint32_t row, const Pixel* line) {
-  if (fused_frame_) {
-    ingest_run(row, 1, line, width_);
-    return;
-  }
   const detail::IngestLine job = ingest_job(row, line);
   const std::uint64_t bit = std::uint64_t{1} << (row & (ring_rows_ - 1));
   row_flagged_ = detail::ingest_line(job) ? row_flagged_ | bit : row_flagged_ & ~bit;
@@ -176,16 +166,7 @@ void BadPixelStage::ingest_run(std::uint32_t row, std::uint32_t count, const Pix
   const std::uint32_t slot = row & (ring_rows_ - 1);
   const std::uint64_t lines_mask = (count == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << count) - 1)
                                    << slot;
-  std::uint64_t flagged = 0;
-  if (fused_frame_) {
-    const detail::FusedRows fused{job, fused_.store + std::size_t{row} * width_,
-                                  fused_.coefficients};
-    flagged = detail::fused_rows(fused, count, stride, *fused_.saturated_low,
-                                 *fused_.saturated_high);
-  } else {
-    flagged = detail::ingest_rows(job, count, stride);
-  }
-  flagged <<= slot;
+  const std::uint64_t flagged = detail::ingest_rows(job, count, stride) << slot;
   row_flagged_ = (row_flagged_ & ~lines_mask) | flagged;
   rows_in_ = row + count;
 }
@@ -193,19 +174,7 @@ void BadPixelStage::ingest_run(std::uint32_t row, std::uint32_t count, const Pix
 void BadPixelStage::emit(std::uint32_t row) {
   repair_row(row);
   // The ring line itself goes on: it is not touched before the next push.
-  if (fused_frame_) {
-    fused_corrector_->push_corrected_line(row, ring_line(row));
-    return;
-  }
   next().push_line(row, LineView(ring_line(row), width_));
-}
-
-void BadPixelStage::hand_on(std::uint32_t first, std::uint32_t count) {
-  if (fused_frame_) {
-    fused_corrector_->push_corrected_lines(first, count, ring_line(first));
-    return;
-  }
-  next().push_lines(first, count, ring_line(first), width_, width_);
 }
 
 // Repairs in place in the ring: a repaired pixel is flagged, and flagged pixels are never read as
@@ -241,9 +210,7 @@ void BadPixelStage::repair(std::uint32_t row, std::uint32_t x) {
   std::uint32_t sum = 0;
   std::uint32_t count = 0;
   for (std::uint32_t r = first; r <= last; ++r) {
-    // The NUC values: in the ring, or (fused pass) in the corrector's frame store.
-    const Pixel* values =
-        fused_frame_ ? fused_.store + std::size_t{r} * width_ : ring_line(r);
+    const Pixel* values = ring_line(r);
     const std::uint8_t* flags = ring_flags(r);
     for (std::uint32_t c = x0; c <= x1; ++c) {
       if (!flagged(flags, c)) {
@@ -252,36 +219,12 @@ void BadPixelStage::repair(std::uint32_t row, std::uint32_t x) {
       }
     }
   }
-  const Pixel value = count == 0 ? 0 : static_cast<Pixel>(divide_small(sum + count / 2, count));  // nearest, ties up
   if (count == 0) {
     ++stats_.unrepairable;  // passed through unchanged
   } else {
+    ring_line(row)[x] = static_cast<Pixel>(divide_small(sum + count / 2, count));  // nearest, ties up
     ++stats_.replaced;
   }
-  if (fused_frame_) {
-    correct_repaired(row, x, count != 0, value);
-  } else if (count != 0) {
-    ring_line(row)[x] = value;
-  }
-}
-
-// The fused pass left the pixel's NUC value in the frame store, its predecessor in the ring, and
-// counted the saturation of the correction of that NUC value. The pixel's input to the corrector
-// is the repaired value (or the NUC value, unrepairable): its correction replaces the
-// predecessor in the ring and the NUC value's count is taken back.
-void BadPixelStage::correct_repaired(std::uint32_t row, std::uint32_t x, bool repaired,
-                                     Pixel value) {
-  Pixel& stored = fused_.store[std::size_t{row} * width_ + x];
-  Pixel& out = ring_line(row)[x];
-  const Pixel previous = out;
-  std::uint32_t low = 0;
-  std::uint32_t high = 0;
-  detail::correct_pixel(stored, previous, fused_.coefficients, low, high);
-  *fused_.saturated_low -= low;
-  *fused_.saturated_high -= high;
-  if (repaired) stored = value;
-  out = detail::correct_pixel(stored, previous, fused_.coefficients, *fused_.saturated_low,
-                              *fused_.saturated_high);
 }
 
 // A line the neighbourhood rule does not take: unchanged, or only through the NUC where a

@@ -1,7 +1,5 @@
 #include "bolo/firmware/pipeline.hpp"
 
-#include "bolo/firmware/detail/kernels.hpp"
-
 namespace bolo::fw {
 
 namespace {
@@ -47,11 +45,6 @@ Pipeline::Pipeline(const PipelineConfig& config, std::span<Pixel> arena, LineSin
     if (fuse_nuc_into_bad_pixels(config)) {
       bad_pixels_.emplace(bad, config.nuc, take(BadPixelStage::storage_pixels(w, h)), *input_);
       input_ = &*bad_pixels_;
-      // The fast path for this composition: NUC, bad pixels and corrector in one pass.
-      if (config.fast_path == FastPath::fused ||
-          (config.fast_path == FastPath::automatic &&
-           detail::fused_rows_path() != detail::KernelPath::portable))
-        bad_pixels_->fuse_corrector(*corrector_);
       return;
     }
     bad_pixels_.emplace(bad, take(BadPixelStage::storage_pixels(w, h)), *input_);

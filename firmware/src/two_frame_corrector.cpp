@@ -218,32 +218,6 @@ void TwoFrameCorrector::push_lines(std::uint32_t first_row, std::uint32_t count,
   }
 }
 
-bool TwoFrameCorrector::fused_access(FusedAccess& access) {
-  if (mode_ != Mode::full || !frame_ok_ || frame_broken_ || lines_seen_ != 0) return false;
-  access.store = store_.data();
-  access.coefficients = frame_stats_.coefficients;
-  access.saturated_low = &frame_stats_.saturated_low;
-  access.saturated_high = &frame_stats_.saturated_high;
-  return true;
-}
-
-void TwoFrameCorrector::push_corrected_lines(std::uint32_t first_row, std::uint32_t count,
-                                             const Pixel* lines) {
-  const std::size_t width = config_.width;
-  const std::uint32_t chunk = static_cast<std::uint32_t>(out_line_.size() / width);
-  for (std::uint32_t done = 0; done < count;) {
-    const std::uint32_t rows = std::min(chunk, count - done);
-    lines_seen_ += rows;
-    next().push_lines(first_row + done, rows, lines + std::size_t{done} * width, width, width);
-    done += rows;
-  }
-}
-
-void TwoFrameCorrector::push_corrected_line(std::uint32_t row, const Pixel* line) {
-  ++lines_seen_;
-  next().push_line(row, LineView(line, config_.width));
-}
-
 void TwoFrameCorrector::end_frame() {
   if (in_frame_) {
     // A frame of the configured size that broke mid-way is an incomplete predecessor (not

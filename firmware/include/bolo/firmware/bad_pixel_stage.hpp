@@ -15,7 +15,6 @@
 
 #include "bolo/firmware/nuc_stage.hpp"
 #include "bolo/firmware/stage.hpp"
-#include "bolo/firmware/two_frame_corrector.hpp"
 
 namespace bolo::fw {
 
@@ -79,17 +78,6 @@ class BadPixelStage final : public Stage {
 
   const BadPixelFrameStats& last_frame() const { return stats_; }
 
-  // The Pipeline's fused pass (see Pipeline, FastPath): `corrector` must be this stage's next
-  // sink, and the stage must apply a NUC on input. Then, in every frame the corrector takes
-  // corrected rows for (TwoFrameCorrector::fused_access), rows are NUC-corrected, flagged and
-  // run through the corrector in one pass (detail::fused_rows): the ring receives the corrected
-  // rows, the corrector's frame store the NUC values. A flagged pixel keeps its predecessor in
-  // the ring until its repair (from the NUC values in the frame store), which corrects it and
-  // fixes the counts. The rows leave, in the same calls and runs as otherwise, straight to the
-  // corrector's next sink. The output is the same as without (tests/firmware/test_fused_pass.cpp).
-  void fuse_corrector(TwoFrameCorrector& corrector);
-  bool fused_with_corrector() const { return fused_corrector_ != nullptr; }
-
  private:
   Pixel* ring_line(std::uint32_t row) {
     return ring_.data() + std::size_t{row & (ring_rows_ - 1)} * width_;
@@ -106,10 +94,6 @@ class BadPixelStage final : public Stage {
   void repair_rows(std::uint32_t first, std::uint32_t count);
   void repair_flagged_row(std::uint32_t row);
   void emit(std::uint32_t row);
-  // Rows first ... first + count - 1 (repaired, consecutive ring lines) to the next stage.
-  void hand_on(std::uint32_t first, std::uint32_t count);
-  // The fused pass's repair of flagged pixel x: the output from the repaired value.
-  void correct_repaired(std::uint32_t row, std::uint32_t x, bool repaired, Pixel value);
   // Replaces flagged pixel x of `row` by the rounded mean of its good 3x3 neighbours.
   [[gnu::noinline]] void repair(std::uint32_t row, std::uint32_t x);
   void pass_through(std::uint32_t row, LineView line);
@@ -127,9 +111,6 @@ class BadPixelStage final : public Stage {
   std::uint64_t row_flagged_ = 0;  // bit i: ring line i has a flagged pixel
   bool active_ = false;
   BadPixelFrameStats stats_{};
-  TwoFrameCorrector* fused_corrector_ = nullptr;  // set by fuse_corrector
-  bool fused_frame_ = false;  // this frame takes the fused pass (fused_ is then valid)
-  TwoFrameCorrector::FusedAccess fused_{};
 };
 
 }  // namespace bolo::fw

@@ -14,22 +14,12 @@
 
 namespace bolo::fw {
 
-// Whether NUC, bad pixels and the corrector run as one pass (the NUC inside the bad-pixel
-// stage's intake is always on when both are enabled). The fused pass needs NUC, bad pixels and
-// carry-over in the frame; every other frame runs the stages one after another either way.
-enum class FastPath : std::uint8_t {
-  automatic,  // fused where this CPU has a SIMD version of the pass (detail::fused_rows_path)
-  off,        // never: the stages one after another (what the fused pass is tested against)
-  fused,      // wherever the configuration allows (the portable kernel on other CPUs)
-};
-
 struct PipelineConfig {
   CorrectorConfig corrector;  // its width/height are the frame size
   bool use_nuc = false;
   NucTables nuc;
   bool use_bad_pixels = false;
   BadPixelConfig bad_pixels;  // width/height are taken from the corrector
-  FastPath fast_path = FastPath::automatic;  // the same output whatever it is
 };
 
 class Pipeline {
@@ -44,8 +34,6 @@ class Pipeline {
   LineSink& input() { return *input_; }
   TwoFrameCorrector& corrector() { return *corrector_; }
   const BadPixelStage* bad_pixels() const { return bad_pixels_ ? &*bad_pixels_ : nullptr; }
-  // Whether the fused NUC -> bad pixels -> corrector pass is set up (see FastPath).
-  bool fused_pass() const { return bad_pixels_ && bad_pixels_->fused_with_corrector(); }
 
  private:
   std::optional<TwoFrameCorrector> corrector_;

@@ -103,25 +103,6 @@ class TwoFrameCorrector final : public Stage {
   const CorrectorFrameStats& last_frame() const { return frame_stats_; }
   const CorrectorTotals& totals() const { return totals_; }
 
-  // ---- The Pipeline's fused pass (see Pipeline, FastPath) ----
-  // The bad-pixel stage in front corrects a frame's rows itself, in the pass that takes them in:
-  // it updates this stage's frame store and saturation counts as push_line would, and hands the
-  // corrected rows on through push_corrected_lines / push_corrected_line.
-  struct FusedAccess {
-    Pixel* store = nullptr;  // the frame store, row-major, width apart
-    CorrectorCoefficients coefficients;
-    std::uint32_t* saturated_low = nullptr;  // this frame's counts
-    std::uint32_t* saturated_high = nullptr;
-  };
-  // After begin_frame: whether this frame's rows may come corrected from upstream (a frame of the
-  // configured size with carry-over, no row broken yet); if so, `access` is set.
-  bool fused_access(FusedAccess& access);
-  // Rows first_row ... first_row + count - 1 (the next rows due), corrected upstream, `lines`
-  // width apart: handed on as push_lines hands on the rows it corrects (in chunks of run_rows()).
-  void push_corrected_lines(std::uint32_t first_row, std::uint32_t count, const Pixel* lines);
-  // One row the same way, as push_line hands it on.
-  void push_corrected_line(std::uint32_t row, const Pixel* line);
-
  private:
   CarryOver judge_predecessor(const FrameHeader& header) const;
   std::uint32_t learned_period_ns() const;

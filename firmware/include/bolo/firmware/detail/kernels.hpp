@@ -71,36 +71,6 @@ using IngestRowsFn = std::uint64_t (*)(const IngestLine& first, std::size_t rows
 IngestRowsFn ingest_rows_kernel(KernelPath path);
 std::uint64_t ingest_rows(const IngestLine& first, std::size_t rows, std::size_t in_stride);
 
-// The Pipeline's fused pass (see Pipeline, FastPath): NUC, flags and the two-frame corrector in
-// one pass over `rows` consecutive lines. Line i is the intake of `intake` advanced as in
-// ingest_rows (`gain_q14` and `offset` are required), `store` advanced by i * width, with `ring`
-// receiving the corrector's output instead of the NUC values. Per pixel, with v the NUC value
-// and prev the store's:
-//   store = v; flag as ingest_line (mask, or stuck v); the corrector's value of (v, prev) is
-//   computed and counted into low / high like correct_line_update's, for every pixel;
-//   ring = flagged ? prev : that value (clamped), so that a flagged pixel's predecessor is kept
-//   for the correction after its repair (the stage patches those pixels and their counts).
-// Bit i of the result: line i has a flagged pixel.
-struct FusedRows {
-  IngestLine intake;
-  Pixel* store;
-  CorrectorCoefficients coefficients;
-};
-using FusedRowsFn = std::uint64_t (*)(const FusedRows& first, std::size_t rows,
-                                      std::size_t in_stride, std::uint32_t& low,
-                                      std::uint32_t& high);
-// Portable (the definition) or avx512_vnni; nullptr for a path not available or without its own
-// version.
-FusedRowsFn fused_rows_kernel(KernelPath path);
-// The path fused_rows runs: avx512_vnni where the CPU has it, else portable.
-KernelPath fused_rows_path();
-std::uint64_t fused_rows(const FusedRows& first, std::size_t rows, std::size_t in_stride,
-                         std::uint32_t& low, std::uint32_t& high);
-// The corrector's value of one pixel, clamped, its saturation counted into low / high:
-// correct_line of a one-pixel line.
-Pixel correct_pixel(Pixel current, Pixel previous, CorrectorCoefficients c, std::uint32_t& low,
-                    std::uint32_t& high);
-
 // Bytes of one line's flag words (and of its mask bits): ceil(width / 32) 32-bit words.
 constexpr std::size_t flag_line_bytes(std::size_t width) { return (width + 31) / 32 * 4; }
 // A line of a byte mask (non-zero = bad) as bits in the flag-word layout, bits past the width 0:
