@@ -3,6 +3,8 @@
 // and `bolo diagnose` run on them, the result read back through read_diagnosis_json.
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -10,6 +12,7 @@
 
 #include "../cli/cli_test_support.hpp"
 #include "bolo/diagnose/diagnose.hpp"
+#include "bolo/recording/recording.hpp"
 
 namespace bolo::test {
 
@@ -37,6 +40,32 @@ inline fs::path simulate(const TempDir& tmp, const std::string& name, const std:
   return rec;
 }
 
+// Adds offset(n, y, x) to every pixel of a recording's frames.npy (uint16, rounded and clamped):
+// an effect made by hand, outside the simulator.
+template <typename Offset>
+void add_to_frames(const fs::path& rec, Offset offset) {
+  const fs::path file = rec / "frames.npy";
+  const rec::NpyHeader h = rec::read_npy_header(file);
+  const std::uint64_t N = h.shape[0], H = h.shape[1], W = h.shape[2];
+  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+  std::vector<unsigned char> row(W * 2);
+  for (std::uint64_t n = 0; n < N; ++n)
+    for (std::uint64_t y = 0; y < H; ++y) {
+      const auto at = static_cast<std::streamoff>(h.data_offset + ((n * H + y) * W) * 2);
+      f.seekg(at);
+      f.read(reinterpret_cast<char*>(row.data()), static_cast<std::streamsize>(row.size()));
+      for (std::uint64_t x = 0; x < W; ++x) {
+        const double v = double(row[2 * x] | (row[2 * x + 1] << 8)) + offset(n, y, x);
+        const auto u = static_cast<unsigned>(std::lround(std::clamp(v, 0.0, 65535.0)));
+        row[2 * x] = static_cast<unsigned char>(u & 0xFF);
+        row[2 * x + 1] = static_cast<unsigned char>(u >> 8);
+      }
+      f.seekp(at);
+      f.write(reinterpret_cast<const char*>(row.data()), static_cast<std::streamsize>(row.size()));
+    }
+  REQUIRE(f.good());
+}
+
 inline nlohmann::json diagnose(const fs::path& rec, const fs::path& out) {
   const CliResult r = run_bolo({"diagnose", rec.string(), "--out", out.string(), "--no-progress"});
   INFO(r.err);
@@ -44,6 +73,13 @@ inline nlohmann::json diagnose(const fs::path& rec, const fs::path& out) {
   const std::string text = read_text(out / "diagnosis.json");
   diag::read_diagnosis_json(text);  // the contract's shape, or it throws naming the field
   return nlohmann::json::parse(text);
+}
+
+// How many unexplained entries have `text` in their summary.
+inline int unexplained_with(const nlohmann::json& d, const std::string& text) {
+  int n = 0;
+  for (const auto& u : d["unexplained"]) n += u["where"]["summary"].get<std::string>().find(text) != std::string::npos;
+  return n;
 }
 
 inline std::vector<std::string> found(const nlohmann::json& d) {

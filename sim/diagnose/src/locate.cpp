@@ -1,4 +1,5 @@
 #include "locate.hpp"
+#include "noisy_pixels.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -271,6 +272,67 @@ bool moving_line_pattern(const DiagnoseData& d, const std::vector<float>& r, boo
 
 }  // namespace
 
+namespace {
+
+// The frames in which a pattern of the time-averaged residual (pixel_mean over where's box) is
+// present: each frame's residual projected onto the pattern (1 where the pattern is at its mean
+// strength), smoothed over a few frames. All frames when the pattern holds throughout; the
+// ranges where it is when it comes and goes (an object missing from the scene for a while).
+std::vector<std::pair<int, int>> pattern_frames(const DiagnoseData& d, const std::vector<float>& r, const Where& where,
+                                                const std::vector<double>& pixel_mean) {
+  const int N = d.shape.n, W = d.shape.width;
+  const std::vector<std::pair<int, int>> all = {{0, N - 1}};
+  std::vector<double> strength(N, 0.0);
+  for (int n = 0; n < N; ++n) {
+    const float* rn = d.frame(r, n);
+    const std::uint8_t* v = d.valid_frame(n);
+    double rm = 0, mm = 0;
+    for (int y = where.row0; y <= where.row1; ++y)
+      for (int x = where.col0; x <= where.col1; ++x) {
+        const std::size_t p = std::size_t(y) * W + x;
+        if (!v[p]) continue;
+        rm += double(rn[p]) * pixel_mean[p];
+        mm += pixel_mean[p] * pixel_mean[p];
+      }
+    strength[n] = mm > 0 ? rm / mm : 0.0;
+  }
+  const int w = std::max(1, N / 50);
+  std::vector<double> smooth(N, 0.0);
+  for (int n = 0; n < N; ++n) {
+    double s = 0, c = 0;
+    for (int m = std::max(0, n - w); m <= std::min(N - 1, n + w); ++m) { s += strength[m]; c += 1; }
+    smooth[n] = s / c;
+  }
+  const double peak = *std::max_element(smooth.begin(), smooth.end());
+  if (!(peak > 0)) return all;
+  std::vector<std::pair<int, int>> ranges;
+  double inside = 0, outside = 0;
+  int in_count = 0;
+  for (int n = 0; n < N; ++n) {
+    if (smooth[n] < 0.5 * peak) { outside += strength[n]; continue; }
+    inside += strength[n];
+    ++in_count;
+    if (!ranges.empty() && n - ranges.back().second <= w + 1) ranges.back().second = n;
+    else ranges.push_back({n, n});
+  }
+  // Only a clear on/off: present in at most 80 % of the frames, in few ranges, and at most a
+  // quarter as strong elsewhere.
+  const int out_count = N - in_count;
+  if (ranges.empty() || ranges.size() > 4 || in_count > 0.8 * N || out_count == 0) return all;
+  if (outside / out_count > 0.25 * inside / in_count) return all;
+  return ranges;
+}
+
+const std::string kStaticPattern = "static pattern in the time-averaged residual";
+
+std::string frames_text(const std::vector<std::pair<int, int>>& ranges) {
+  std::ostringstream t;
+  for (std::size_t i = 0; i < ranges.size(); ++i) t << (i ? ", " : "") << ranges[i].first << "-" << ranges[i].second;
+  return t.str();
+}
+
+}  // namespace
+
 std::vector<Unexplained> find_unexplained(const DiagnoseData& d, const std::vector<float>& r, const Blocks& blocks,
                                           double noise_floor) {
   std::vector<Unexplained> out;
@@ -363,7 +425,7 @@ std::vector<Unexplained> find_unexplained(const DiagnoseData& d, const std::vect
         u.where.row0 = ty; u.where.row1 = std::min(H, ty + th) - 1;
         u.where.col0 = tx; u.where.col1 = std::min(W, tx + tw) - 1;
         std::ostringstream t;
-        t << "static pattern in the time-averaged residual, rows " << u.where.row0 << "-" << u.where.row1 << ", cols "
+        t << kStaticPattern << ", rows " << u.where.row0 << "-" << u.where.row1 << ", cols "
           << u.where.col0 << "-" << u.where.col1;
         u.where.summary = t.str();
         u.rms = std::sqrt(ms / m);
@@ -381,16 +443,24 @@ std::vector<Unexplained> find_unexplained(const DiagnoseData& d, const std::vect
       all.rms = std::max(all.rms, t.rms);
     }
     std::ostringstream t;
-    t << "static pattern in the time-averaged residual over " << tiles.size() << " of 64 tiles, rows "
+    t << kStaticPattern << " over " << tiles.size() << " of 64 tiles, rows "
       << all.where.row0 << "-" << all.where.row1 << ", cols " << all.where.col0 << "-" << all.where.col1;
     all.where.summary = t.str();
     tiles = {all};
+  }
+  for (Unexplained& t : tiles) {
+    t.where.frames = pattern_frames(d, r, t.where, s.pixel_mean);
+    if (t.where.frames.size() == 1 && t.where.frames[0] == std::pair<int, int>{0, N - 1}) continue;
+    // Present only for a while: not static. Its size is still the time average's.
+    t.where.summary = "pattern in the residual present only in frames " + frames_text(t.where.frames) +
+                      t.where.summary.substr(kStaticPattern.size());
   }
   out.insert(out.end(), tiles.begin(), tiles.end());
   for (const bool along_rows : {true, false}) {
     Unexplained u;
     if (moving_line_pattern(d, r, along_rows, noise_floor, u)) out.push_back(u);
   }
+  if (Unexplained u; noisy_pixels(d, r, u)) out.push_back(u);
   return out;
 }
 

@@ -30,7 +30,10 @@ DiagnoseData load_for_diagnosis(const std::filesystem::path& recording);
 BaselineFit fit_baseline(DiagnoseData& data);  // fills data.baseline, data.input, data.valid
 
 // Temporal noise of one pixel from frame-to-frame differences where the baseline does not move,
-// after removing each frame's common shift (robust: median absolute deviation).
-double noise_floor(const DiagnoseData& data);
+// after removing each frame's common shift (outliers cut at five robust spreads). With
+// `without_line_patterns`, each row's and column's median of those differences is taken out too
+// when that lowers the figure by more than 5 %: the floor the findings must reach and the report
+// shows. The baseline's masks use the plain figure, a conservative scale for what a large miss is.
+double noise_floor(const DiagnoseData& data, bool without_line_patterns = true);
 
 }  // namespace bolo::diag
