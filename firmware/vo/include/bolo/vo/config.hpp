@@ -43,7 +43,7 @@ const char* invalid_reason(const VoConfig& config);
 
 inline constexpr std::uint32_t kMaxLevels = 6;
 inline constexpr std::uint32_t kMaxKeyframes = 8;
-inline constexpr std::uint32_t kPattern = 8;
-inline constexpr std::uint32_t kMaxDefaultPointsPerKeyframe = 500;  // the cap of points_per_keyframe = 0  // pixels in each point's residual pattern
+inline constexpr std::uint32_t kPattern = 8;  // pixels in each point's residual pattern
+inline constexpr std::uint32_t kMaxDefaultPointsPerKeyframe = 500;  // the cap of points_per_keyframe = 0
 
 }  // namespace bolo::vo
