@@ -61,6 +61,23 @@ TEST_CASE("SE(3) exp and log are inverse", "[vo][board]") {
   CHECK((vo::from_quaternion(q.x(), q.y(), q.z(), q.w()) - T.R).norm() < 1e-9);
 }
 
+TEST_CASE("the default point budget is one per 40 pixels, 100 to 500 a keyframe", "[vo][board]") {
+  // 500, not 800: at 320x256 the window BA and the depth search cost 1.5x as much with 800 for no
+  // better accuracy (docs/odometry-study.md, "Speed, second round"); 160x120 keeps its 480.
+  const auto points = [](std::uint32_t w, std::uint32_t h) {
+    vo::VoConfig c;
+    c.width = w, c.height = h, c.camera = camera();
+    return vo::resolved(c).points_per_keyframe;
+  };
+  CHECK(points(64, 48) == 100);
+  CHECK(points(160, 120) == 480);
+  CHECK(points(320, 256) == 500);
+  CHECK(points(640, 512) == 500);
+  vo::VoConfig explicit_budget;
+  explicit_budget.width = 320, explicit_budget.height = 256, explicit_budget.points_per_keyframe = 800;
+  CHECK(vo::resolved(explicit_budget).points_per_keyframe == 800);
+}
+
 TEST_CASE("configurations the VO cannot run with are refused", "[vo][board]") {
   vo::VoConfig c;
   c.width = kW, c.height = kH, c.camera = camera();

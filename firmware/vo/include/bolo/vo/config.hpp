@@ -30,7 +30,7 @@ struct VoConfig {
   bool estimate_tau = true;    // false: tau_init_s is known and kept
   std::uint32_t levels = 0;    // pyramid levels; 0 = until the coarsest is ~20 px high
   std::uint32_t max_keyframes = 8;
-  std::uint32_t points_per_keyframe = 0;  // 0 = ~1 per 40 pixels, 100 to 800
+  std::uint32_t points_per_keyframe = 0;  // 0 = ~1 per 40 pixels, 100 to kMaxDefaultPointsPerKeyframe
   float huber_counts = 16.0f;  // residual where the Huber weight starts to drop
   float gradient_c = 40.0f;    // gradient weight c^2 / (c^2 + |grad|^2)
   bool window_ba = true;       // sliding-window bundle adjustment at every keyframe
@@ -44,5 +44,6 @@ const char* invalid_reason(const VoConfig& config);
 inline constexpr std::uint32_t kMaxLevels = 6;
 inline constexpr std::uint32_t kMaxKeyframes = 8;
 inline constexpr std::uint32_t kPattern = 8;  // pixels in each point's residual pattern
+inline constexpr std::uint32_t kMaxDefaultPointsPerKeyframe = 500;  // the cap of points_per_keyframe = 0
 
 }  // namespace bolo::vo
