@@ -1,5 +1,4 @@
 #include "locate.hpp"
-#include "noisy_pixels.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +6,9 @@
 #include <iomanip>
 #include <numeric>
 #include <sstream>
+#include <string_view>
 
+#include "noisy_pixels.hpp"
 #include "stats.hpp"
 
 namespace bolo::diag {
@@ -270,10 +271,6 @@ bool moving_line_pattern(const DiagnoseData& d, const std::vector<float>& r, boo
   return true;
 }
 
-}  // namespace
-
-namespace {
-
 // The frames in which a pattern of the time-averaged residual (pixel_mean over where's box) is
 // present: each frame's residual projected onto the pattern (1 where the pattern is at its mean
 // strength), smoothed over a few frames. All frames when the pattern holds throughout; the
@@ -323,7 +320,7 @@ std::vector<std::pair<int, int>> pattern_frames(const DiagnoseData& d, const std
   return ranges;
 }
 
-const std::string kStaticPattern = "static pattern in the time-averaged residual";
+constexpr std::string_view kStaticPattern = "static pattern in the time-averaged residual";
 
 std::string frames_text(const std::vector<std::pair<int, int>>& ranges) {
   std::ostringstream t;
