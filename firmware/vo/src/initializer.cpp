@@ -198,7 +198,7 @@ Solved refine(State& s, Se3& M) {
 }
 
 // The inverse depths of the warm solve while the fresh one runs: BA scratch past the rows that
-// accumulate() writes (ba_hxr holds at least max_keyframes * points_per_keyframe * kBaStride).
+// accumulate() writes (odometry.cpp sizes ba_hxr for both).
 float* depth_backup(State& s) { return s.ba_hxr.data() + std::size_t{s.cfg.points_per_keyframe} * 8; }
 
 // The warm start (last solution, constant velocity) keeps whatever basin the first frames chose,
