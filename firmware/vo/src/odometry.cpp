@@ -58,7 +58,8 @@ State* lay_out(const VoConfig& config, Arena& arena) {
     s.kf[k].points = arena.take<Point>(ppk);
   }
   s.retired = arena.take<WorldPoint>(std::size_t{c.max_keyframes} * ppk);  // a restart retires all
-  s.ba_hxr = arena.take<float>(std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8));
+  // The window BA's rows, or the initialiser's 8 floats a point plus its depth backup.
+  s.ba_hxr = arena.take<float>(std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 9));
   s.ba_index = arena.take<std::uint32_t>(std::size_t{c.max_keyframes} * ppk);
   s.ref = arena.take<RefPoint>(std::size_t{c.max_keyframes} * ppk);
   s.tau.h = s.tau.c = c.tau_init_s;

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "moving_edges.hpp"
 #include "noisy_pixels.hpp"
 #include "stats.hpp"
 
@@ -458,6 +459,7 @@ std::vector<Unexplained> find_unexplained(const DiagnoseData& d, const std::vect
     if (moving_line_pattern(d, r, along_rows, noise_floor, u)) out.push_back(u);
   }
   if (Unexplained u; noisy_pixels(d, r, u)) out.push_back(u);
+  if (Unexplained u; moving_edge_residual(d, r, noise_floor, u)) out.push_back(u);
   return out;
 }
 

@@ -65,6 +65,37 @@ double effective_samples(const DiagnoseData& d, const std::vector<float>& r, con
   return std::max(1.0, total / inflation);
 }
 
+// The residual's variance about each pixel's own mean, over pixels where the baseline holds still
+// in every frame (unbiased per pixel). The frame-difference noise floor understates the noise
+// variance where the noise is correlated from frame to frame (an in-core filter keeps part of the
+// previous frame's noise: the floor sees sigma^2 (1 - rho)); this is the other side of it. 0 when
+// fewer than 100 pixels hold still throughout.
+double still_pixel_variance(const DiagnoseData& d, const std::vector<float>& r) {
+  const int N = d.shape.n;
+  const std::size_t P = d.shape.pixels();
+  std::vector<double> sum(P, 0.0), squares(P, 0.0), count(P, 0.0);
+  std::vector<char> still(P, 1);
+  for (int n = 0; n < N; ++n) {
+    const float *b = d.frame(d.baseline, n), *f = d.frame(r, n);
+    const float* b0 = n > 0 ? d.frame(d.baseline, n - 1) : b;
+    const std::uint8_t* v = d.valid_frame(n);
+    for (std::size_t p = 0; p < P; ++p) {
+      if (!still[p]) continue;
+      if (std::fabs(b[p] - b0[p]) >= 1e-3f + 1e-6f * std::fabs(b[p])) { still[p] = 0; continue; }
+      if (!v[p]) continue;
+      sum[p] += f[p], squares[p] += double(f[p]) * f[p], count[p] += 1;
+    }
+  }
+  double ss = 0, dof = 0, pixels = 0;
+  for (std::size_t p = 0; p < P; ++p) {
+    if (!still[p] || count[p] < 8) continue;
+    ss += squares[p] - sum[p] * sum[p] / count[p];
+    dof += count[p] - 1;
+    pixels += 1;
+  }
+  return pixels >= 100 && dof > 0 ? ss / dof : 0.0;
+}
+
 struct Scored {
   Evidence evidence;
   double sse_before_all = 0, sse_after_all = 0, count_all = 0;  // every held-out frame (for RMS)
@@ -211,6 +242,11 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
     }
     int best = -1;
     Scored best_score;
+    // The share rule needs a simulation to be measured against: without a scene the background
+    // is the recording's own median, every pixel counts as still, and the moving objects the mask
+    // lets through are most of the "mismatch".
+    const double noise_variance =
+        data.has_scene ? std::max(result.noise_floor_rms * result.noise_floor_rms, still_pixel_variance(data, r)) : 0.0;
     for (std::size_t i = 0; i < candidates.size(); ++i) {
       if (used[i]) continue;
       report("round " + std::to_string(round + 1) + " " + candidates[i]->id(), int(i), int(candidates.size()));
@@ -222,10 +258,16 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       result.scores.push_back(cs);
       // Practical floor: what the effect explains must be a visible share of the noise, or a
       // tiny imperfection of the baseline pooled over millions of samples would count.
-      const double explained = (s.evidence.sse_before - s.evidence.sse_after) / std::max(1.0, s.evidence.count);
+      const double samples = std::max(1.0, s.evidence.count);
+      const double explained = (s.evidence.sse_before - s.evidence.sse_after) / samples;
       const double floor = options.min_explained_share * result.noise_floor_rms;
-      if (s.fitted && explained < floor * floor) result.scores.back().note = "below the practical floor";
-      const bool passes = s.fitted && explained >= floor * floor && s.evidence.delta_bic > options.min_delta_bic &&
+      // Material: a fifth of what is there to explain (Options::min_mismatch_share).
+      const double mismatch = s.evidence.sse_before / samples - noise_variance;
+      const bool visible = explained >= floor * floor;
+      const bool material = !data.has_scene || explained >= options.min_mismatch_share * mismatch;
+      if (s.fitted && !visible) result.scores.back().note = "below the practical floor";
+      else if (s.fitted && !material) result.scores.back().note = "a small share of the mismatch";
+      const bool passes = s.fitted && visible && material && s.evidence.delta_bic > options.min_delta_bic &&
                           s.evidence.block_z > options.min_block_z && s.evidence.sse_after < s.evidence.sse_before;
       if (passes && (best < 0 || s.evidence.delta_bic > best_score.evidence.delta_bic)) {
         best = int(i);

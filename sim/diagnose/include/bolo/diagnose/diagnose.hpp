@@ -27,6 +27,11 @@ struct Options {
   double min_block_z = 1.0;
   // ... and must explain at least this share of the noise floor (RMS over all held-out samples).
   double min_explained_share = 0.03;
+  // ... and at least this share of the mismatch it is scored on (its held-out mean square above
+  // the noise floor's). A candidate that takes a sliver of a larger structure leans on something
+  // else the baseline misses (motion within the exposure, an effect outside the catalogue): that
+  // structure is reported as unexplained, not named after the candidate.
+  double min_mismatch_share = 0.2;
 };
 
 // delta_bic and log_likelihood_ratio of an effect that leaves no held-out residual at all (a
