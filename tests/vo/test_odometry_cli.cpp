@@ -33,6 +33,17 @@ const fs::path& sequence(const char* name, const char* tau) {
   return made[key];
 }
 
+// A street sequence at 60 Hz, 160x120, noise 3, rendered over each pixel's area (3 x 3 rays).
+fs::path street_ss3(const fs::path& seq, const char* trajectory, const char* frames, const char* tau,
+                    const char* seed) {
+  const CliResult r = run_bolo({"simulate", seq.string(), "--scene", "street", "--trajectory", trajectory, "--fps",
+                                "60", "--frames", frames, "--size", "160x120", "--tau", tau, "--noise", "3", "--seed",
+                                seed, "--supersample", "3"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  return seq;
+}
+
 nlohmann::json evaluate(const fs::path& run) {
   const CliResult r = run_bolo({"evaluate", run.string(), "--json", (run / "eval.json").string()});
   INFO(r.err);
@@ -128,11 +139,7 @@ TEST_CASE("the ir modes track a ghosting drive and estimate tau", "[vo][cli][tau
   // change moves these numbers) while still failing on any real regression; the 10 % goal is
   // measured by the study.
   TempDir tmp;
-  const fs::path seq = tmp / "drive-ss3";
-  const CliResult sim = run_bolo({"simulate", seq.string(), "--scene", "street", "--trajectory", "drive", "--fps",
-                                  "60", "--frames", "150", "--size", "160x120", "--tau", "0.012", "--noise", "3",
-                                  "--seed", "1", "--supersample", "3"});
-  REQUIRE(sim.code == 0);
+  const fs::path seq = street_ss3(tmp / "drive-ss3", "drive", "150", "0.012", "1");
   for (const char* mode : {"ir", "ir-loop"}) {
     const nlohmann::json e = odometry_evaluated(seq, tmp / mode, mode);
     INFO(e.dump(2));
@@ -151,11 +158,7 @@ TEST_CASE("the tau estimate does not depend on its start (handheld, tau 8 ms)", 
   // 9.9 / 12.8 ms after 2 s (24 / 60 % off). With the poses and depths marginalised out of the
   // fit (tau_estimator.cpp), measured when written: 8.67 / 8.68 ms.
   TempDir tmp;
-  const fs::path seq = tmp / "handheld-ss3";
-  const CliResult sim = run_bolo({"simulate", seq.string(), "--scene", "street", "--trajectory", "handheld", "--fps",
-                                  "60", "--frames", "150", "--size", "160x120", "--tau", "0.008", "--noise", "3",
-                                  "--seed", "5", "--supersample", "3"});
-  REQUIRE(sim.code == 0);
+  const fs::path seq = street_ss3(tmp / "handheld-ss3", "handheld", "150", "0.008", "5");
   double tau_2s[2] = {0, 0};
   int i = 0;
   for (const char* start : {"0.010", "0.015"}) {
@@ -178,11 +181,7 @@ TEST_CASE("the ir modes initialise on a handheld walk within a fifth of a second
   // ir never posed 3 frames and ir-loop posed 11 of 60; after, both initialise at frame 12 and
   // pose 48 with ATE ~1 % of the path.
   TempDir tmp;
-  const fs::path seq = tmp / "handheld-ss3";
-  const CliResult sim = run_bolo({"simulate", seq.string(), "--scene", "street", "--trajectory", "handheld", "--fps",
-                                  "60", "--frames", "60", "--size", "160x120", "--tau", "0.015", "--noise", "3",
-                                  "--seed", "1", "--supersample", "3"});
-  REQUIRE(sim.code == 0);
+  const fs::path seq = street_ss3(tmp / "handheld-ss3", "handheld", "60", "0.015", "1");
   for (const char* mode : {"ir", "ir-loop"}) {
     const nlohmann::json e = odometry_evaluated(seq, tmp / mode, mode);
     INFO(mode << ": " << e.dump(2));
