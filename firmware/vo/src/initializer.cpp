@@ -199,7 +199,7 @@ Solved refine(State& s, Se3& M) {
 
 // The inverse depths of the warm solve while the fresh one runs: BA scratch past the rows that
 // accumulate() writes (odometry.cpp sizes ba_hxr for both).
-float* depth_backup(State& s) { return s.ba_hxr.data() + std::size_t{s.cfg.points_per_keyframe} * 8; }
+float* depth_backup(State& s) { return s.ba_hxr.subspan(std::size_t{s.cfg.points_per_keyframe} * 8).data(); }
 
 // The warm start (last solution, constant velocity) keeps whatever basin the first frames chose,
 // when the translation was not observable yet: with forward motion and hand shake it often
