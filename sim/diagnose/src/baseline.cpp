@@ -446,7 +446,7 @@ double noise_floor(const DiagnoseData& d, bool without_line_patterns) {
     const std::uint8_t *v = d.valid_frame(n), *v0 = d.valid_frame(n - 1);
     still.clear();
     for (std::size_t p = 0; p < P; ++p) {
-      used[p] = v[p] && v0[p] && std::fabs(b[p] - b0[p]) < 1e-3f + 1e-6f * std::fabs(b[p]);
+      used[p] = v[p] && v0[p] && holds_still(b[p], b0[p]);
       frame_diff[p] = y[p] - y0[p];
       kept[p] = 1.0;
       if (used[p]) still.push_back(frame_diff[p]);

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <sstream>
 
+#include "stats.hpp"
+
 namespace bolo::diag {
 
 namespace {
@@ -29,7 +31,6 @@ bool moving_edge_residual(const DiagnoseData& d, const std::vector<float>& r, do
   auto readable = [&](int n) {
     return all.empty() ? d.unclipped.data() + std::size_t(n) * P : all.data();
   };
-  std::vector<double> frame_excess(N, 0.0);
   std::vector<Moments> per_frame(N);
   int row0 = H, row1 = -1, col0 = W, col1 = -1;
   for (int n = 1; n < N; ++n) {
@@ -42,10 +43,9 @@ bool moving_edge_residual(const DiagnoseData& d, const std::vector<float>& r, do
     const std::uint8_t* fitted = d.valid_frame(n);
     for (std::size_t p = 0; p < P; ++p) {
       if (!v[p] || !v0[p]) continue;
-      const double change = std::fabs(double(b[p]) - b0[p]);
-      if (change < 1e-3 + 1e-6 * std::fabs(b[p])) {
+      if (holds_still(b[p], b0[p])) {
         still.add(rn[p]);
-      } else if (change > step) {
+      } else if (std::fabs(double(b[p]) - b0[p]) > step) {
         changing.add(rn[p]);
         masked += fitted[p] ? 0 : 1;
         per_frame[n].add(rn[p]);

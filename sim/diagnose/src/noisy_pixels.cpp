@@ -34,7 +34,7 @@ bool noisy_pixels(const DiagnoseData& d, const std::vector<float>& r, Unexplaine
   auto still = [&](int n, std::size_t p) {
     if (n == 0 || !d.valid_frame(n)[p] || !d.valid_frame(n - 1)[p]) return false;
     const float b = d.frame(d.baseline, n)[p], b0 = d.frame(d.baseline, n - 1)[p];
-    return std::fabs(b - b0) < 1e-3f + 1e-6f * std::fabs(b);
+    return holds_still(b, b0);
   };
   std::vector<PixelSpread> spread(P);
   std::vector<double> mean(P, 0.0), largest(P, 0.0), second(P, 0.0);

@@ -81,7 +81,7 @@ double still_pixel_variance(const DiagnoseData& d, const std::vector<float>& r) 
     const std::uint8_t* v = d.valid_frame(n);
     for (std::size_t p = 0; p < P; ++p) {
       if (!still[p]) continue;
-      if (std::fabs(b[p] - b0[p]) >= 1e-3f + 1e-6f * std::fabs(b[p])) { still[p] = 0; continue; }
+      if (!holds_still(b[p], b0[p])) { still[p] = 0; continue; }
       if (!v[p]) continue;
       sum[p] += f[p], squares[p] += double(f[p]) * f[p], count[p] += 1;
     }

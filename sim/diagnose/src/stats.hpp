@@ -20,6 +20,12 @@ T median_in_place(std::vector<T>& v) {
 template <typename T>
 T median_of(std::vector<T> v) { return median_in_place(v); }
 
+// The baseline holds still at a pixel from one frame to the next: it changes by less than float
+// rounding of its level (the test every "where the baseline holds still" selection uses).
+inline bool holds_still(float b, float b_previous) {
+  return std::fabs(b - b_previous) < 1e-3f + 1e-6f * std::fabs(b);
+}
+
 // A parameter value as the simulator's effect text takes it (six significant digits).
 inline std::string number(double v) {
   std::ostringstream s;
