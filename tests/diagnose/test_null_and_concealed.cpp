@@ -201,3 +201,20 @@ TEST_CASE("clipped readings stay out of the fits: the baseline's tau survives an
   CHECK(d["baseline"]["heldout_rms"].get<double>() < 1.2 * d["noise_floor_rms"].get<double>());
   for (const auto& f : d["findings"]) CHECK(f["effect"] == "agc");
 }
+
+// Rows read 2 us apart (0.12 ms top to bottom) on the demo disc, which moves 6-7 pixels a frame:
+// the delay shows only at its edges, at 0.5-1 noise sigma. The frame difference smears each edge
+// over its whole sweep, and crosstalk's Laplacian fitted better (named instead, epsilon 3e-3,
+// before the rate along the scene's motion); the exposure's share of the sweep, along the flow,
+// is where the delay acts.
+TEST_CASE("a rolling readout that shows only at fast moving edges is named with its line time", "[diagnose][concealed]") {
+  TempDir tmp;
+  const nlohmann::json d = diagnose(simulate(tmp, "rolling", {"rolling_readout:line_time_s=2e-6"}, 1), tmp / "rolling.d");
+  INFO(d["findings"].dump());
+  const nlohmann::json* f = finding(d, "rolling_readout");
+  REQUIRE(f);
+  CHECK(found(d).front() == "rolling_readout");
+  CHECK_FALSE(finding(d, "crosstalk"));
+  CHECK((*f)["params"]["line_time_s"].get<double>() == Approx(2e-6).epsilon(0.3));
+  CHECK((*f)["heldout_rms_after"].get<double>() < 0.92 * (*f)["heldout_rms_before"].get<double>());
+}

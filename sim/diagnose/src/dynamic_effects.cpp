@@ -8,6 +8,7 @@
 #include "dynamic_effects.hpp"
 #include "stats.hpp"
 #include "pooled.hpp"
+#include "scene_flow.hpp"
 
 namespace bolo::diag {
 namespace {
@@ -117,6 +118,14 @@ class TauTemperature final : public PooledLinear {
   std::string summary() const override { return "transients whose time constant grows with the pixel's level"; }
 };
 
+// Row k is read k * line_time later: it sees the input a little later, and the residual is that
+// delay (about the middle row: the rows' common delay is the baseline's timing shift) times the
+// input's rate of change, carried on through the two-frame response. Three estimates of the
+// rate, scored as alternatives: the baseline's central and forward frame differences (right for
+// motion that is slow against the edges' widths), and the input's change over one exposure along
+// the scene's own motion, divided by the exposure (d/d(delay) of an exposure-long average). A
+// frame difference spreads a fast sharp edge's change over its whole frame-to-frame sweep; the
+// exposure's share of the sweep sits where the delay acts.
 class RollingReadout final : public PooledLinear {
  public:
   bool refits_tau() const override { return true; }
@@ -124,24 +133,22 @@ class RollingReadout final : public PooledLinear {
   int parameter_count() const override { return 1; }
 
  protected:
-  int alternatives() const override { return 2; }  // central or forward difference in time
+  int alternatives() const override { return 3; }
+  // The second regressor lets the baseline's timing shift move with the effect (its share of
+  // the rows' common delay), as refits_tau lets tau move: d(baseline)/d(shift) is the baseline's
+  // central frame difference. Not counted as a parameter, like tau.
+  int regressor_count() const override { return 2; }
   bool regressors(int alt, Regressors& X) const override {
     const DiagnoseData& d = *data_;
     if (!d.has_scene || d.shape.n < 3) return false;
+    X.assign(2, std::vector<float>(d.shape.size(), 0.0f));
     const std::size_t P = d.shape.pixels();
-    const int W = d.shape.width;
-    X.assign(1, std::vector<float>(d.shape.size(), 0.0f));
-    for (int n = 0; n < d.shape.n; ++n) {
-      const int a = alt == 0 ? std::max(0, n - 1) : n, b = std::min(d.shape.n - 1, n + 1);
-      if (a == b) continue;
-      const double dt = d.t_s[b] - d.t_s[a];
-      const float *fa = d.frame(d.baseline, a), *fb = d.frame(d.baseline, b);
-      float* x = X[0].data() + std::size_t(n) * P;
-      // About the middle row: the rows' common delay is the baseline's timing shift already.
-      const double middle = 0.5 * (d.shape.height - 1);
-      for (std::size_t p = 0; p < P; ++p) x[p] = static_cast<float>((double(p / W) - middle) * (fb[p] - fa[p]) / dt);
+    for (int n = 1; n + 1 < d.shape.n; ++n) {
+      const float *next = d.frame(d.baseline, n + 1), *prev = d.frame(d.baseline, n - 1);
+      float* out = X[1].data() + std::size_t(n) * P;
+      for (std::size_t p = 0; p < P; ++p) out[p] = 0.5f * (next[p] - prev[p]);
     }
-    return true;
+    return alt < 2 ? frame_difference_rate(alt == 1, X[0]) : exposure_rate_along_flow(X[0]);
   }
   nlohmann::json params_of(int, const Eigen::VectorXd& beta) const override { return {{"line_time_s", beta[0]}}; }
   // Rows are read after one another: a positive line time, all rows within one frame period.
@@ -152,6 +159,37 @@ class RollingReadout final : public PooledLinear {
     return beta[0] > 0 ? "rolling_readout:line_time_s=" + number(beta[0]) : "";
   }
   std::string summary() const override { return "residual proportional to row index x temporal derivative (moving edges sheared)"; }
+
+ private:
+  double row_from_middle(std::size_t p) const {
+    return double(p / std::size_t(data_->shape.width)) - 0.5 * (data_->shape.height - 1);
+  }
+
+  bool frame_difference_rate(bool forward, std::vector<float>& x) const {
+    const DiagnoseData& d = *data_;
+    const std::size_t P = d.shape.pixels();
+    for (int n = 0; n < d.shape.n; ++n) {
+      const int a = forward ? n : std::max(0, n - 1), b = std::min(d.shape.n - 1, n + 1);
+      if (a == b) continue;
+      const double dt = d.t_s[b] - d.t_s[a];
+      const float *fa = d.frame(d.baseline, a), *fb = d.frame(d.baseline, b);
+      float* out = x.data() + std::size_t(n) * P;
+      for (std::size_t p = 0; p < P; ++p) out[p] = static_cast<float>(row_from_middle(p) * (fb[p] - fa[p]) / dt);
+    }
+    return true;
+  }
+
+  bool exposure_rate_along_flow(std::vector<float>& x) const {
+    const DiagnoseData& d = *data_;
+    std::vector<float> response;
+    if (!delay_response(d, d.tau_c_s, response)) return false;
+    const std::size_t P = d.shape.pixels();
+    // Here the common delay is the effect's too: the baseline's timing shift, on frame differences,
+    // cannot hold a delay of edges that cross pixels within an exposure.
+    const int W = d.shape.width;
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<float>(d.gain * double((i % P) / W) * response[i]);
+    return true;
+  }
 };
 
 class Crosstalk final : public PooledLinear {

@@ -5,6 +5,7 @@
 
 #include "bolo/diagnose/diagnose.hpp"
 #include "locate.hpp"
+#include "scene_flow.hpp"
 #include "stats.hpp"
 
 namespace bolo::diag {
@@ -200,6 +201,8 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
   report("baseline", 0, 1);
   result.baseline = fit_baseline(data);
   data.tau_c_s = data.has_scene ? result.baseline.tau_c_s : 0.0;
+  data.gain = result.baseline.gain;
+  if (data.has_scene) ensure_input_flow(data);  // for the candidates' rates of change along the scene's motion
   const int N = data.shape.n;
   const std::size_t P = data.shape.pixels();
   // A shutter frame reads the shutter, not the scene.
@@ -310,9 +313,10 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       data.recorded.resize(r.size());
       for (std::size_t i = 0; i < r.size(); ++i) data.recorded[i] = r[i] + data.baseline[i];
       const std::vector<float> kept_baseline = data.baseline;
-      const double kept_tau = data.tau_c_s;
+      const double kept_tau = data.tau_c_s, kept_gain = data.gain;
       const BaselineFit refit = fit_baseline(data);
       data.tau_c_s = refit.tau_c_s;
+      data.gain = refit.gain;
       std::vector<float> refit_r(r.size());
       for (std::size_t i = 0; i < r.size(); ++i) refit_r[i] = data.recorded[i] - data.baseline[i];
       data.recorded = std::move(original);
@@ -330,6 +334,7 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       } else {
         data.baseline = kept_baseline;
         data.tau_c_s = kept_tau;
+        data.gain = kept_gain;
         f.baseline_refit = nullptr;
       }
     }

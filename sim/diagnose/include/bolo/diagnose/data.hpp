@@ -31,8 +31,12 @@ struct DiagnoseData {
   std::vector<std::uint8_t> flagged_event;  // frames.csv ffc == 1
   std::vector<std::optional<double>> fpa_temp_c;
   bool has_scene = false;
+  // The input's frame-to-frame motion in whole pixels (scene_flow.hpp), N*P each; filled once
+  // by diagnose() after the baseline; empty without a scene.
+  std::vector<std::int8_t> input_flow_dy, input_flow_dx;
   double fps = 0;
   double tau_c_s = 0;    // the baseline's fitted cooling time constant (0: none)
+  double gain = 1;       // the baseline's gain: recording units per input unit
   double level_mid = 0;  // a typical level of the baseline (for nonlinearity and tau_temperature)
   std::string units;
   std::string name;
