@@ -32,6 +32,28 @@ FrameSse frame_sse(const DiagnoseData& d, const std::vector<float>& r) {
   return s;
 }
 
+// (r + B) ~ gain B + offset over the valid pixel-frames: the baseline B rescaled to the
+// recording minus what the findings explain.
+struct GainOffset {
+  double gain = 1, offset = 0, sse_before = 0, sse_after = 0;
+};
+GainOffset refit_gain_offset(const DiagnoseData& d, const std::vector<float>& r) {
+  double n = 0, sb = 0, sy = 0, sbb = 0, sby = 0, syy = 0, srr = 0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    if (!d.valid[i]) continue;
+    const double b = d.baseline[i], y = double(r[i]) + b;
+    n += 1; sb += b; sy += y; sbb += b * b; sby += b * y; syy += y * y; srr += double(r[i]) * r[i];
+  }
+  GainOffset g;
+  g.sse_before = g.sse_after = srr;
+  const double vb = sbb - sb * sb / n, cby = sby - sb * sy / n, vy = syy - sy * sy / n;
+  if (!(n > 2) || !(vb > 1e-12 * std::max(1.0, sbb))) return g;
+  g.gain = cby / vb;
+  g.offset = (sy - g.gain * sb) / n;
+  g.sse_after = std::max(0.0, vy - g.gain * cby);
+  return g;
+}
+
 // How many independent samples the valid pixel-frames are worth: a residual shared by all
 // pixels of a frame, or carried from frame to frame, counts less (design effect).
 double effective_samples(const DiagnoseData& d, const std::vector<float>& r, const FrameSse& s) {
@@ -200,6 +222,7 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
   result.recording = data.name;
   report("baseline", 0, 1);
   result.baseline = fit_baseline(data);
+  nlohmann::json baseline_params = result.baseline.to_json()["params"];  // as refitted after findings
   data.tau_c_s = data.has_scene ? result.baseline.tau_c_s : 0.0;
   data.gain = result.baseline.gain;
   if (data.has_scene) ensure_input_flow(data);  // for the candidates' rates of change along the scene's motion
@@ -331,11 +354,28 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       if (std::isfinite(refit_total) && refit_total <= kept_total) {
         r = std::move(refit_r);
         f.baseline_refit = refit.to_json()["params"];
+        baseline_params = f.baseline_refit;
       } else {
         data.baseline = kept_baseline;
         data.tau_c_s = kept_tau;
         data.gain = kept_gain;
         f.baseline_refit = nullptr;
+        // Gain and offset alone, by least squares on the pixel-frames the residual is measured on,
+        // can only lower it: a gain the finding's signature had pulled must not be left for the
+        // next candidate's free gain (agc's) to collect.
+        const GainOffset g = refit_gain_offset(data, r);
+        if (g.sse_after < g.sse_before) {
+          for (std::size_t i = 0; i < r.size(); ++i) {
+            const float b = data.baseline[i];
+            data.baseline[i] = static_cast<float>(g.gain * b + g.offset);
+            r[i] += b - data.baseline[i];
+          }
+          data.gain *= g.gain;
+          baseline_params["gain"] = data.gain;
+          baseline_params["offset"] = g.gain * baseline_params.value("offset", 0.0) + g.offset;
+          f.baseline_refit = baseline_params;
+          f.baseline_refit["refit"] = "gain and offset only";
+        }
       }
     }
     result.findings.push_back(std::move(f));
