@@ -218,3 +218,18 @@ TEST_CASE("a rolling readout that shows only at fast moving edges is named with 
   CHECK((*f)["params"]["line_time_s"].get<double>() == Approx(2e-6).epsilon(0.3));
   CHECK((*f)["heldout_rms_after"].get<double>() < 0.92 * (*f)["heldout_rms_before"].get<double>());
 }
+
+// The rolling readout's edges pull the baseline's gain (0.99946 for 1.0 here); the full refit
+// after the finding fitted worse and was dropped, and agc's free global gain took the rest as a
+// second finding until gain and offset were refitted alone.
+TEST_CASE("after a finding the baseline's gain is refitted: no agc behind a rolling readout", "[diagnose][concealed]") {
+  TempDir tmp;
+  const nlohmann::json d = diagnose(
+      simulate(tmp, "rolling", {"rolling_readout:line_time_s=1.4e-6"}, 1, {"--size", "96x72", "--frames", "200"}),
+      tmp / "rolling.d");
+  INFO(d["findings"].dump());
+  CHECK(found(d) == std::vector<std::string>{"rolling_readout"});
+  const nlohmann::json* f = finding(d, "rolling_readout");
+  REQUIRE(f);
+  CHECK((*f)["baseline_refit"]["refit"] == "gain and offset only");
+}
