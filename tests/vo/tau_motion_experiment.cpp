@@ -158,6 +158,8 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
   const double pose_dt = pose_dt_s == "eff" ? tmean : std::atof(pose_dt_s.c_str());
 
   // The exposure-weighted scene of the frame starting at t.
+  const double blur_scale = env_num("BLUR_SCALE", 1);
+  const Eigen::Vector3d const_velocity = (seq.trajectory.pose(1.001).position - seq.trajectory.pose(0.999).position) / 0.002;
   std::vector<double> hb;  // the latest exposure's box-filtered high-resolution image (EXACT)
   const auto exposure = [&](double t) {
     std::vector<double> u(n, 0.0);
@@ -178,9 +180,16 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
     }
     for (int k = 0; k < substeps; ++k) {
       const double ts = t + (k + 0.5) * d;
-      const double t_cam = mode == "scene" || mode == "between" ? t + te / 2 : ts;
+      const double t_cam = mode == "scene" || mode == "between" ? t + te / 2 : t + te / 2 + blur_scale * (ts - t - te / 2);
       const double t_scene = mode == "camera" ? t + te / 2 : ts;
-      const std::vector<float> kel = seq.renderer.render(seq.trajectory.pose(t_cam), t_scene);
+      sim::scene::Pose pose = seq.trajectory.pose(t_cam);
+      if (mode == "constblur") {
+        // The camera at mid-exposure, moved within the exposure by one fixed velocity (every frame
+        // the same blur).
+        pose = seq.trajectory.pose(t + te / 2);
+        pose.position += const_velocity * (ts - t - te / 2);
+      }
+      const std::vector<float> kel = seq.renderer.render(pose, t_scene);
       for (std::size_t i = 0; i < n; ++i) u[i] += wk[static_cast<std::size_t>(k)] * (8000.0 + 40.0 * (kel[i] - 300.0));
     }
     // BLUR px: a fixed horizontal box blur of that width on every frame (no change between frames).
@@ -233,9 +242,12 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
     return noise_sigma * (sum - 6.0);
   };
   const std::string interp = env_str("INTERP", "bilinear");
+  const bool symmetric = env_num("SYM", 0) != 0;
+  const bool depth_check = env_num("DEPTHCHECK", 0) != 0;
   const auto sample = [&](const std::vector<double>& img, double x, double yy) {
     return interp == "cubic" ? bicubic(img, w, x, yy) : interp == "equal" ? equalised(img, w, x, yy) : bilin(img, w, x, yy);
   };
+  double disp_sum = 0, disp_n = 0, disp_bb = 0;
   double bin_ab[3] = {}, bin_bb[3] = {}, bin_n[3] = {};
   double sab = 0, sbb = 0, sdb = 0, xab = 0, xbb = 0, xdb = 0;
   const double xsign = env_num("XSIGN", 1), xscale = env_num("XSCALE", 1);
@@ -311,13 +323,30 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
         const double uq = kc.fx * Xq.x() / Xq.z() + kc.cx, vq = kc.fy * Xq.y() / Xq.z() + kc.cy;
         if (ui < 8 || vi < 8 || up < 8 || vp < 8 || ui > w - 9 || up > w - 9 || vi > seq.height - 9 || vp > seq.height - 9) continue;
         if (ui < 4 || vi < 4 || up < 4 || vp < 4 || ui > w - 5 || up > w - 5 || vi > seq.height - 5 || vp > seq.height - 5) continue;
+        // SYM: both frames' samples moved by the same sub-pixel shift so that their phases mirror
+        // (phi_i + phi_{i-1} = 1): bilinear interpolation then smooths both alike.
+        double sx = 0, sy = 0;
+        if (symmetric) {
+          const auto mirror_shift = [](double a, double b) {
+            double d = 0.5 * (1 - (a - std::floor(a)) - (b - std::floor(b)));
+            return d - 0.5 * std::round(2 * d);  // |d| <= 1/4; a shift by 1/2 keeps the mirror
+          };
+          sx = mirror_shift(ui, up), sy = mirror_shift(vi, vp);
+        }
         for (std::uint32_t j = 0; j < vo::kPattern; ++j) {
-          const double xi = ui + vo::kPatternX[j], yi = vi + vo::kPatternY[j];
-          const double xp = up + vo::kPatternX[j], yp = vp + vo::kPatternY[j];
+          const double xi = ui + sx + vo::kPatternX[j], yi = vi + sy + vo::kPatternY[j];
+          const double xp = up + sx + vo::kPatternX[j], yp = vp + sy + vo::kPatternY[j];
+          if (depth_check) {
+            // Only pattern pixels on the centre's surface (no occlusion edge within the pattern).
+            const double zc = 1.0 / p.idepth, zj = seq.depth(t + pose_dt, xi, yi);
+            if (!(zj > 0) || std::fabs(zj / zc - 1) > 0.05) continue;
+          }
           const double A = sample(y, xi, yi) - sample(y1, xp, yp);
           const double B = sample(y1, xi, yi) - sample(y2, xp, yp);
           const double D = sample(u, xi, yi) - sample(u1, xp, yp);
           sab += A * B, sbb += B * B, sdb += beta * D * B;
+          const double disp = std::hypot(ui - up, vi - vp);
+          disp_sum += disp, disp_n += 1, disp_bb += disp * B * B;
           if (m > 0 && k > 2) {
             const auto hx = [&](double x) { return x * m + (m - 1) / 2; };
             const double eA = bilin(hy, W, hx(xi), hx(yi)) - bilin(hy1, W, hx(xp), hx(yp));
@@ -338,6 +367,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
     }
   }
   const double a_plain = sab / sbb;
+  std::printf("displacement between frames: mean %.2f px, B^2-weighted %.2f px\n", disp_sum / disp_n, disp_bb / sbb);
   if (m > 0)
     std::printf("EXACT %d: sum B^2 (bilinear) %.3g, (area) %.3g, of the bilinear error %.3g; error A.B / B.B %.3f, error corr %.3f\n", m, sbb, ebb, err_bb,
                 err_ab / err_bb, err_ab / std::sqrt(err_aa * err_bb));
