@@ -25,14 +25,6 @@
 // 2 s depended on its start by up to 2.7 ms on handheld sequences (tau 8 ms from 10 / 15 ms: 9.2 /
 // 12.1 ms); with it by under 1 ms.
 //
-// Sampling phases. A and B sample frames i and i-1 at the same two sub-pixel positions, so a
-// bilinear interpolation error that depends on the position (its smoothing, phi (1 - phi) of the
-// second derivative per axis) is nearly the same in A and in B where consecutive frames look alike,
-// and pulls alpha towards 1. Both positions are moved by one common sub-pixel shift (at most a
-// quarter pixel, a neighbouring scene point in both frames) that mirrors their phases
-// (phi_i + phi_{i-1} = 1): the two samples are then smoothed alike and that error cancels in
-// A - alpha B.
-//
 // tau_h is not observable here: with a constant exposure it only scales u, a gain the photometric
 // model absorbs (the static level (1 - alpha) / beta * y does not depend on it when t_e = t_r).
 // It is kept equal to tau_c.
@@ -65,12 +57,6 @@ float grad_x(const Image& img, float x, float y) {
 float grad_y(const Image& img, float x, float y) {
   return 0.5f * (bilinear(img, x, y + 1.0f) - bilinear(img, x, y - 1.0f));
 }
-// The common shift (one axis) that mirrors the sub-pixel phases of a and b, |shift| <= 1/4.
-float mirroring_shift(float a, float b) {
-  const float d = 0.5f * (1.0f - (a - std::floor(a)) - (b - std::floor(b)));
-  return d - 0.5f * std::round(2.0f * d);  // a half-pixel step keeps the phases mirrored
-}
-
 // d pixel / d (translation, rotation) of a left perturbation of the camera pose (the tracker's
 // convention); X is the point in the camera times its inverse depth.
 Mat26 pixel_jacobian(const Scaled& k, const Eigen::Vector3f& X, float idepth) {
@@ -113,10 +99,8 @@ void refine_tau(State& s) {
       const Eigen::Vector3f n((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0f);
       const Eigen::Vector3f Xi = Ri * n + ti * p.idepth, Xp = Rp * n + tp * p.idepth;
       if (Xi.z() <= 1e-4f || Xp.z() <= 1e-4f) continue;
-      float ui = k.fx * Xi.x() / Xi.z() + k.cx, vi = k.fy * Xi.y() / Xi.z() + k.cy;
-      float up = k.fx * Xp.x() / Xp.z() + k.cx, vp = k.fy * Xp.y() / Xp.z() + k.cy;
-      const float shift_x = mirroring_shift(ui, up), shift_y = mirroring_shift(vi, vp);
-      ui += shift_x, up += shift_x, vi += shift_y, vp += shift_y;
+      const float ui = k.fx * Xi.x() / Xi.z() + k.cx, vi = k.fy * Xi.y() / Xi.z() + k.cy;
+      const float up = k.fx * Xp.x() / Xp.z() + k.cx, vp = k.fy * Xp.y() / Xp.z() + k.cy;
       // The pattern reaches 2 pixels out, its gradients one more.
       if (!inside(y0, ui, vi, 4.0f) || !inside(y0, up, vp, 4.0f)) continue;
       Vec5 sr = Vec5::Zero();
