@@ -213,7 +213,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
   std::vector<double> y(n), y1(n), y2(n), u(n), u1(n);
   vo::Se3 T_prev2;
   std::vector<double> hy, hy1, hy2;  // the chain on the box-filtered high-resolution images
-  const double t0 = 1.0;
+  const double t0 = env_num("T0", 1.0);
   {
     const auto us = exposure(t0 - 1 / fps);
     for (std::size_t i = 0; i < n; ++i) y[i] = us[i];
@@ -262,6 +262,16 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
     }
     return sum;
   };
+  const double idepth_noise = env_num("IDEPTH_NOISE", 0), rot_noise = env_num("ROT_NOISE", 0);
+  std::uint32_t geo_state = 777;
+  const auto noise_unit = [&]() {  // ~N(0, 1)
+    double sum = 0;
+    for (int q = 0; q < 12; ++q) {
+      geo_state = geo_state * 1664525u + 1013904223u;
+      sum += static_cast<double>(geo_state >> 8) / 16777216.0;
+    }
+    return sum - 6.0;
+  };
   bool have_keyframe = false;
   const vo::Scaled kc = vo::camera_at(cfg.camera, 0);
   for (int k = 0; k <= frames; ++k) {
@@ -286,6 +296,12 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
     s->T_prev = s->T_cw;
     s->prev_posed = k > 0;
     s->T_cw = seq.T_cw(t + pose_dt);
+    if (rot_noise > 0) {
+      // Tracking-like pose errors: a small random rotation per frame (rad, per axis).
+      const Eigen::Vector3d w(rot_noise * noise_unit(), rot_noise * noise_unit(), rot_noise * noise_unit());
+      s->T_cw.R = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * s->T_cw.R;
+      s->T_cw.t = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * s->T_cw.t;
+    }
     if (k % 12 == 0) {
       for (std::size_t i = 0; i < n; ++i) s->frame.level[0].value.data[i] = s->raw[i];
       vo::build_frame_images(*s);
@@ -296,7 +312,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
         vo::Point& p = kf.points[i];
         const double z = seq.depth(t + pose_dt, p.u, p.v);
         p.status = z > 0 && z < 150 ? vo::PointStatus::active : vo::PointStatus::empty;
-        p.idepth = static_cast<float>(1 / z);
+        p.idepth = static_cast<float>((1 / z) * (1 + idepth_noise * noise_unit()));
         p.inlier = true;
       }
       have_keyframe = true;
