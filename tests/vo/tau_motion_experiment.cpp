@@ -1,10 +1,19 @@
 // Experiment harness (hidden test, [tau-experiment]): the tau estimate with true geometry on
-// frames whose exposure integrates K scene samples, each option from the environment.
-//   TAU (s), START (s), K sub-steps, WEIGHT exp|box, MODE both|camera|scene|between,
-//   POSE_DT (s, added to the frame time for the truth pose/depth; "eff" = the exposure's
-//   weighted mean time), NOISE (counts), TRAJ drive|handheld, SS rays per axis, FRAMES.
-// Prints the estimator's tau, the plain (unmarginalised) least-squares tau over all pairs, and the
-// plain fit's bias split into the scene-difference term.
+// frames whose exposure integrates K scene samples; every option from the environment:
+//   TAU, START (s); K sub-steps; WEIGHT exp|box; MODE both|camera|scene|between|constblur;
+//   BLUR_SCALE (camera path within the exposure scaled about its middle); POSE_DT (s added to the
+//   frame time for the truth pose and depth, "eff" = the exposure's weighted mean time);
+//   NOISE (counts); TRAJ drive|handheld|side|forward|yaw (SPEED m/s, RATE rad/s for the synthetic
+//   constant-velocity ones); SS rays per axis; FRAMES; T0 (s); BLUR (px, fixed horizontal box);
+//   IDEPTH_NOISE (relative), ROT_NOISE (rad per frame) on the truth geometry.
+// Besides the estimator's tau it prints a plain least-squares fit over the same pairs (no pose or
+// depth elimination) with: its scene-difference term (A - alpha B = beta D exactly), the fit with
+// each frame's samples smeared along the other frame's exposure path, per sub-pixel phase
+// difference bins, with INTERP bilinear|cubic|equal and SYM=1 (mirrored phases), DEPTHCHECK=1
+// (pattern pixels on the centre's surface only), and EXACT=m: frames rendered at m x m the pixels
+// (one ray each) whose box means are the frames and whose box-filtered image gives area means at
+// any sub-pixel position (the fit without interpolation error).
+//   TAU=0.008 K=4 ./test_vo_core "[tau-experiment]" -s
 
 #include <cmath>
 #include <cstdint>
