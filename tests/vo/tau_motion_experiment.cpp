@@ -1,0 +1,407 @@
+// Experiment harness (hidden test, [tau-experiment]): the tau estimate with true geometry on
+// frames whose exposure integrates K scene samples; every option from the environment:
+//   TAU, START (s); K sub-steps; WEIGHT exp|box; MODE both|camera|scene|between|constblur;
+//   BLUR_SCALE (camera path within the exposure scaled about its middle); POSE_DT (s added to the
+//   frame time for the truth pose and depth, "eff" = the exposure's weighted mean time);
+//   NOISE (counts); TRAJ drive|handheld|side|forward|yaw (SPEED m/s, RATE rad/s for the synthetic
+//   constant-velocity ones); SS rays per axis; FRAMES; T0 (s); BLUR (px, fixed horizontal box);
+//   IDEPTH_NOISE (relative), ROT_NOISE (rad per frame) on the truth geometry.
+// Besides the estimator's tau it prints a plain least-squares fit over the same pairs (no pose or
+// depth elimination) with: its scene-difference term (A - alpha B = beta D exactly), the fit with
+// each frame's samples smeared along the other frame's exposure path, per sub-pixel phase
+// difference bins, with INTERP bilinear|cubic|equal and SYM=1 (mirrored phases), DEPTHCHECK=1
+// (pattern pixels on the centre's surface only), and EXACT=m: frames rendered at m x m the pixels
+// (one ray each) whose box means are the frames and whose box-filtered image gives area means at
+// any sub-pixel position (the fit without interpolation error).
+//   TAU=0.008 K=4 ./test_vo_core "[tau-experiment]" -s
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "bolo/vo/arena.hpp"
+#include "rendered_pair.hpp"
+#include "state.hpp"
+
+using namespace bolo;
+
+namespace {
+
+double env_num(const char* name, double fallback) {
+  const char* v = std::getenv(name);
+  return v != nullptr && *v != 0 ? std::atof(v) : fallback;
+}
+std::string env_str(const char* name, const char* fallback) {
+  const char* v = std::getenv(name);
+  return v != nullptr && *v != 0 ? v : fallback;
+}
+
+double bilin(const std::vector<double>& img, std::uint32_t w, double x, double y) {
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const double fx = x - x0, fy = y - y0;
+  const auto at = [&](int xx, int yy) { return img[static_cast<std::size_t>(yy) * w + static_cast<std::size_t>(xx)]; };
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+}
+
+// Keys' cubic convolution (a = -0.5), 4 x 4 pixels.
+double keys(double t) {
+  t = std::fabs(t);
+  if (t < 1) return (1.5 * t - 2.5) * t * t + 1;
+  if (t < 2) return ((-0.5 * t + 2.5) * t - 4) * t + 2;
+  return 0;
+}
+double bicubic(const std::vector<double>& img, std::uint32_t w, double x, double y) {
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  double sum = 0;
+  for (int j = -1; j <= 2; ++j)
+    for (int i = -1; i <= 2; ++i)
+      sum += keys(x - (x0 + i)) * keys(y - (y0 + j)) * img[static_cast<std::size_t>(y0 + j) * w + static_cast<std::size_t>(x0 + i)];
+  return sum;
+}
+
+// Bilinear followed by a 3-tap [c, 1 - 2c, c] per axis with c = (1/4 - phi (1 - phi)) / 2: every
+// sample, whatever its phase, is smoothed like a half-pixel bilinear sample (kernel variance 1/4).
+void equal_taps(double phi, double tap[4]) {
+  const double c = 0.5 * (0.25 - phi * (1 - phi));
+  const double b[2] = {1 - phi, phi}, k3[3] = {c, 1 - 2 * c, c};
+  for (int i = 0; i < 4; ++i) tap[i] = 0;
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 3; ++j) tap[i + j] += b[i] * k3[j];
+}
+double equalised(const std::vector<double>& img, std::uint32_t w, double x, double y) {
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  double tx[4], ty[4];
+  equal_taps(x - x0, tx), equal_taps(y - y0, ty);
+  double sum = 0;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i)
+      sum += tx[i] * ty[j] * img[static_cast<std::size_t>(y0 - 1 + j) * w + static_cast<std::size_t>(x0 - 1 + i)];
+  return sum;
+}
+
+}  // namespace
+
+TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
+  const double tau = env_num("TAU", 0.008), start = env_num("START", 0.010);
+  const int substeps = static_cast<int>(env_num("K", 4));
+  const std::string weight = env_str("WEIGHT", "exp"), mode = env_str("MODE", "both"),
+                    traj = env_str("TRAJ", "drive"), pose_dt_s = env_str("POSE_DT", "0");
+  const double noise_sigma = env_num("NOISE", 0);
+  const auto ss = static_cast<unsigned>(env_num("SS", 3));
+  const int frames = static_cast<int>(env_num("FRAMES", 120));
+
+  const bool synthetic = traj == "side" || traj == "forward" || traj == "yaw";
+  test::RenderedSequence seq{"street", synthetic ? "drive" : traj.c_str(), 160, 120, ss};
+  if (synthetic) {
+    // Constant-velocity motions from the drive's pose at t = 1 s: every scene point's image velocity
+    // is constant in time for "side" (lateral translation), not for "forward" (zoom) or "yaw".
+    const sim::scene::Pose p0 = seq.trajectory.pose(1.0);
+    const double speed = env_num("SPEED", 10.0), rate = env_num("RATE", 0.5);
+    seq.trajectory = sim::scene::Trajectory(traj, "street", 10.0, [=](double t) {
+      sim::scene::Pose p = p0;
+      const Eigen::Vector3d axis = p0.orientation * (traj == "side" ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitZ());
+      if (traj == "yaw")
+        p.orientation = p0.orientation * Eigen::AngleAxisd(rate * (t - 1.0), Eigen::Vector3d::UnitY());
+      else
+        p.position = p0.position + speed * (t - 1.0) * axis;
+      return p;
+    });
+  }
+  // EXACT m : render m x m times the pixels with one ray each; the frames are their m x m
+  // box means (as SS m), and the plain fit is repeated on the box-filtered high-resolution images,
+  // whose bilinear interpolation at a sub-pixel position is the area mean there to 1/m pixel.
+  const int m = static_cast<int>(env_num("EXACT", 0));
+  const std::uint32_t W = seq.width * static_cast<std::uint32_t>(std::max(1, m)), H = seq.height * static_cast<std::uint32_t>(std::max(1, m));
+  test::RenderedSequence hseq{"street", synthetic ? "drive" : traj.c_str(), W, H, 1};
+  if (synthetic) hseq.trajectory = seq.trajectory;
+  const auto box_filter = [&](const std::vector<double>& hi) {
+    // Output c (x) is the mean over hi-res pixels c - m/2 + 1 .. c + m/2 (rows likewise), clamped.
+    std::vector<double> tmp(hi.size()), out(hi.size());
+    for (std::uint32_t r = 0; r < H; ++r)
+      for (std::uint32_t c = 0; c < W; ++c) {
+        double sum = 0;
+        for (int q = -((m - 1) / 2); q <= m - 1 - (m - 1) / 2; ++q)
+          sum += hi[std::size_t{r} * W + static_cast<std::size_t>(std::clamp(static_cast<int>(c) + q, 0, static_cast<int>(W) - 1))];
+        tmp[std::size_t{r} * W + c] = sum / m;
+      }
+    for (std::uint32_t r = 0; r < H; ++r)
+      for (std::uint32_t c = 0; c < W; ++c) {
+        double sum = 0;
+        for (int q = -((m - 1) / 2); q <= m - 1 - (m - 1) / 2; ++q)
+          sum += tmp[static_cast<std::size_t>(std::clamp(static_cast<int>(r) + q, 0, static_cast<int>(H) - 1)) * W + c];
+        out[std::size_t{r} * W + c] = sum / m;
+      }
+    return out;
+  };
+  vo::VoConfig cfg;
+  cfg.width = seq.width, cfg.height = seq.height;
+  cfg.camera = seq.intrinsics();
+  cfg.photometric = vo::Photometric::ir;
+  cfg.tau_init_s = static_cast<float>(start);
+  std::vector<std::byte> memory(vo::Odometry::arena_bytes(cfg));
+  vo::Arena arena(memory);
+  vo::State* s = vo::lay_out(cfg, arena);
+  REQUIRE(s != nullptr);
+
+  const double fps = 60, te = 0.5 / fps, tr = 0.5 / fps;
+  const double alpha = std::exp(-tr / tau), beta = 1 - std::exp(-te / tau);
+  const std::size_t n = std::size_t{seq.width} * seq.height;
+  const std::uint32_t w = seq.width;
+  // Sub-step weights as the bolometer array integrates them (exponential heating), normalised.
+  const double d = te / substeps, keep = std::exp(-d / tau);
+  std::vector<double> wk(static_cast<std::size_t>(substeps));
+  double wsum = 0, tmean = 0;
+  for (int k = 0; k < substeps; ++k) {
+    wk[static_cast<std::size_t>(k)] = weight == "box" ? 1.0 : (1 - keep) * std::pow(keep, substeps - 1 - k);
+    wsum += wk[static_cast<std::size_t>(k)];
+  }
+  for (int k = 0; k < substeps; ++k) {
+    wk[static_cast<std::size_t>(k)] /= wsum;
+    tmean += wk[static_cast<std::size_t>(k)] * (k + 0.5) * d;
+  }
+  const double pose_dt = pose_dt_s == "eff" ? tmean : std::atof(pose_dt_s.c_str());
+
+  // The exposure-weighted scene of the frame starting at t.
+  const double blur_scale = env_num("BLUR_SCALE", 1);
+  const Eigen::Vector3d const_velocity = (seq.trajectory.pose(1.001).position - seq.trajectory.pose(0.999).position) / 0.002;
+  std::vector<double> hb;  // the latest exposure's box-filtered high-resolution image (EXACT)
+  const auto exposure = [&](double t) {
+    std::vector<double> u(n, 0.0);
+    if (m > 0) {
+      std::vector<double> hi(std::size_t{W} * H, 0.0);
+      for (int k = 0; k < substeps; ++k) {
+        const double ts = t + (k + 0.5) * d;
+        const double t_cam = mode == "scene" || mode == "between" ? t + te / 2 : ts;
+        const double t_scene = mode == "camera" ? t + te / 2 : ts;
+        const std::vector<float> kel = hseq.renderer.render(hseq.trajectory.pose(t_cam), t_scene);
+        for (std::size_t i = 0; i < hi.size(); ++i) hi[i] += wk[static_cast<std::size_t>(k)] * (8000.0 + 40.0 * (kel[i] - 300.0));
+      }
+      hb = box_filter(hi);
+      for (std::uint32_t r = 0; r < seq.height; ++r)
+        for (std::uint32_t c = 0; c < seq.width; ++c)
+          u[std::size_t{r} * seq.width + c] = hb[static_cast<std::size_t>(r * m + (m - 1) / 2) * W + c * m + (m - 1) / 2];
+      return u;
+    }
+    for (int k = 0; k < substeps; ++k) {
+      const double ts = t + (k + 0.5) * d;
+      const double t_cam = mode == "scene" || mode == "between" ? t + te / 2 : t + te / 2 + blur_scale * (ts - t - te / 2);
+      const double t_scene = mode == "camera" ? t + te / 2 : ts;
+      sim::scene::Pose pose = seq.trajectory.pose(t_cam);
+      if (mode == "constblur") {
+        // The camera at mid-exposure, moved within the exposure by one fixed velocity (every frame
+        // the same blur).
+        pose = seq.trajectory.pose(t + te / 2);
+        pose.position += const_velocity * (ts - t - te / 2);
+      }
+      const std::vector<float> kel = seq.renderer.render(pose, t_scene);
+      for (std::size_t i = 0; i < n; ++i) u[i] += wk[static_cast<std::size_t>(k)] * (8000.0 + 40.0 * (kel[i] - 300.0));
+    }
+    // BLUR px: a fixed horizontal box blur of that width on every frame (no change between frames).
+    const int blur = static_cast<int>(env_num("BLUR", 0));
+    if (blur > 1) {
+      std::vector<double> b(n);
+      for (std::uint32_t r = 0; r < seq.height; ++r)
+        for (std::uint32_t c = 0; c < w; ++c) {
+          double sum = 0;
+          for (int q = 0; q < blur; ++q) {
+            const int cc = std::min<int>(static_cast<int>(w) - 1, std::max(0, static_cast<int>(c) + q - blur / 2));
+            sum += u[std::size_t{r} * w + static_cast<std::size_t>(cc)];
+          }
+          b[std::size_t{r} * w + c] = sum / blur;
+        }
+      u = b;
+    }
+    return u;
+  };
+
+  std::vector<double> y(n), y1(n), y2(n), u(n), u1(n);
+  vo::Se3 T_prev2;
+  std::vector<double> hy, hy1, hy2;  // the chain on the box-filtered high-resolution images
+  const double t0 = env_num("T0", 1.0);
+  {
+    const auto us = exposure(t0 - 1 / fps);
+    for (std::size_t i = 0; i < n; ++i) y[i] = us[i];
+    u = us;
+    hy = hb;
+  }
+  if (m > 0) {
+    const std::vector<float> ref = test::RenderedSequence{"street", "drive", 160, 120, static_cast<unsigned>(m)}.renderer.render(seq.trajectory.pose(t0), t0);
+    const std::vector<float> hr = hseq.renderer.render(seq.trajectory.pose(t0), t0);
+    std::vector<double> hd(hr.begin(), hr.end());
+    const auto hbx = box_filter(hd);
+    double worst = 0;
+    for (std::uint32_t r = 0; r < seq.height; ++r)
+      for (std::uint32_t c = 0; c < seq.width; ++c)
+        worst = std::max(worst, std::fabs(40.0 * (hbx[static_cast<std::size_t>(r * m + (m - 1) / 2) * W + c * m + (m - 1) / 2] - ref[std::size_t{r} * seq.width + c])));
+    std::printf("EXACT %d: box means against the %d x %d-ray render: worst %.3g counts\n", m, m, m, worst);
+  }
+  double eab = 0, ebb = 0, err_bb = 0, err_ab = 0, err_aa = 0;
+  std::uint32_t noise_state = 12345;
+  const auto noise = [&]() {
+    double sum = 0;
+    for (int q = 0; q < 12; ++q) {
+      noise_state = noise_state * 1664525u + 1013904223u;
+      sum += static_cast<double>(noise_state >> 8) / 16777216.0;
+    }
+    return noise_sigma * (sum - 6.0);
+  };
+  const std::string interp = env_str("INTERP", "bilinear");
+  const bool symmetric = env_num("SYM", 0) != 0;
+  const bool depth_check = env_num("DEPTHCHECK", 0) != 0;
+  const auto sample = [&](const std::vector<double>& img, double x, double yy) {
+    return interp == "cubic" ? bicubic(img, w, x, yy) : interp == "equal" ? equalised(img, w, x, yy) : bilin(img, w, x, yy);
+  };
+  double disp_sum = 0, disp_n = 0, disp_bb = 0;
+  double bin_ab[3] = {}, bin_bb[3] = {}, bin_n[3] = {};
+  double sab = 0, sbb = 0, sdb = 0, xab = 0, xbb = 0, xdb = 0;
+  const double xsign = env_num("XSIGN", 1), xscale = env_num("XSCALE", 1);
+  // Centred exposure offsets (fractions of the frame period) and their weights.
+  std::vector<double> xoff(static_cast<std::size_t>(substeps));
+  for (int q = 0; q < substeps; ++q) xoff[static_cast<std::size_t>(q)] = ((q + 0.5) * d - tmean) * fps * xscale;
+  const auto smear = [&](const std::vector<double>& img, double x, double yy, double mx, double my) {
+    double sum = 0;
+    for (int q = 0; q < substeps; ++q) {
+      const double o = xsign * xoff[static_cast<std::size_t>(q)];
+      sum += wk[static_cast<std::size_t>(q)] * bilin(img, w, x - mx * o, yy - my * o);
+    }
+    return sum;
+  };
+  const double idepth_noise = env_num("IDEPTH_NOISE", 0), rot_noise = env_num("ROT_NOISE", 0);
+  std::uint32_t geo_state = 777;
+  const auto noise_unit = [&]() {  // ~N(0, 1)
+    double sum = 0;
+    for (int q = 0; q < 12; ++q) {
+      geo_state = geo_state * 1664525u + 1013904223u;
+      sum += static_cast<double>(geo_state >> 8) / 16777216.0;
+    }
+    return sum - 6.0;
+  };
+  bool have_keyframe = false;
+  const vo::Scaled kc = vo::camera_at(cfg.camera, 0);
+  for (int k = 0; k <= frames; ++k) {
+    const double t = t0 + k / fps;
+    y2 = y1, y1 = y, u1 = u;
+    u = exposure(t);
+    if (m > 0) {
+      hy2 = hy1, hy1 = hy;
+      for (std::size_t i = 0; i < hy.size(); ++i) hy[i] = alpha * hy[i] + beta * hb[i];
+    }
+    std::swap(s->raw_prev, s->raw_prev2);
+    std::swap(s->raw, s->raw_prev);
+    for (std::size_t i = 0; i < n; ++i) {
+      y[i] = alpha * y[i] + beta * u[i];
+      s->raw[i] = static_cast<float>(y[i] + noise());
+    }
+    s->have_prev = k > 0;
+    s->chain_ok_prev = k > 1;
+    s->chain_ok = k > 0;
+    s->exposure_s = te, s->readout_prev_s = tr, s->t_s = t;
+    T_prev2 = s->T_prev;
+    s->T_prev = s->T_cw;
+    s->prev_posed = k > 0;
+    s->T_cw = seq.T_cw(t + pose_dt);
+    if (rot_noise > 0) {
+      // Tracking-like pose errors: a small random rotation per frame (rad, per axis).
+      const Eigen::Vector3d w(rot_noise * noise_unit(), rot_noise * noise_unit(), rot_noise * noise_unit());
+      s->T_cw.R = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * s->T_cw.R;
+      s->T_cw.t = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * s->T_cw.t;
+    }
+    if (k % 12 == 0) {
+      for (std::size_t i = 0; i < n; ++i) s->frame.level[0].value.data[i] = s->raw[i];
+      vo::build_frame_images(*s);
+      const std::uint32_t slot = vo::new_keyframe_slot(*s);
+      vo::make_keyframe(*s, slot, true);
+      vo::Keyframe& kf = s->kf[slot];
+      for (std::uint32_t i = 0; i < kf.count; ++i) {
+        vo::Point& p = kf.points[i];
+        const double z = seq.depth(t + pose_dt, p.u, p.v);
+        p.status = z > 0 && z < 150 ? vo::PointStatus::active : vo::PointStatus::empty;
+        p.idepth = static_cast<float>((1 / z) * (1 + idepth_noise * noise_unit()));
+        p.inlier = true;
+      }
+      have_keyframe = true;
+    }
+    if (!have_keyframe) continue;
+    vo::refine_tau(*s);
+    if (k < 2) continue;
+    // The plain fit over the same pairs, noise-free images, and its scene-difference term
+    // D = u_i(p_i) - u_{i-1}(p_{i-1}) (A - alpha B = beta D exactly).
+    for (std::uint32_t slot = 0; slot < vo::kMaxKeyframes; ++slot) {
+      const vo::Keyframe& host = s->kf[slot];
+      if (!host.used) continue;
+      const vo::Se3 Mi = s->T_cw * host.T_cw.inverse(), Mp = s->T_prev * host.T_cw.inverse();
+      const vo::Se3 Mq = T_prev2 * host.T_cw.inverse();
+      for (std::uint32_t i = 0; i < host.count; ++i) {
+        const vo::Point& p = host.points[i];
+        if (p.status != vo::PointStatus::active) continue;
+        const Eigen::Vector3d nrm((p.u - kc.cx) / kc.fx, (p.v - kc.cy) / kc.fy, 1.0);
+        const Eigen::Vector3d Xi = Mi.R * nrm + Mi.t * p.idepth, Xp = Mp.R * nrm + Mp.t * p.idepth;
+        if (Xi.z() <= 1e-4 || Xp.z() <= 1e-4) continue;
+        const double ui = kc.fx * Xi.x() / Xi.z() + kc.cx, vi = kc.fy * Xi.y() / Xi.z() + kc.cy;
+        const double up = kc.fx * Xp.x() / Xp.z() + kc.cx, vp = kc.fy * Xp.y() / Xp.z() + kc.cy;
+        const Eigen::Vector3d Xq = Mq.R * nrm + Mq.t * p.idepth;
+        const double uq = kc.fx * Xq.x() / Xq.z() + kc.cx, vq = kc.fy * Xq.y() / Xq.z() + kc.cy;
+        if (ui < 8 || vi < 8 || up < 8 || vp < 8 || ui > w - 9 || up > w - 9 || vi > seq.height - 9 || vp > seq.height - 9) continue;
+        if (ui < 4 || vi < 4 || up < 4 || vp < 4 || ui > w - 5 || up > w - 5 || vi > seq.height - 5 || vp > seq.height - 5) continue;
+        // SYM: both frames' samples moved by the same sub-pixel shift so that their phases mirror
+        // (phi_i + phi_{i-1} = 1): bilinear interpolation then smooths both alike.
+        double sx = 0, sy = 0;
+        if (symmetric) {
+          const auto mirror_shift = [](double a, double b) {
+            double d = 0.5 * (1 - (a - std::floor(a)) - (b - std::floor(b)));
+            return d - 0.5 * std::round(2 * d);  // |d| <= 1/4; a shift by 1/2 keeps the mirror
+          };
+          sx = mirror_shift(ui, up), sy = mirror_shift(vi, vp);
+        }
+        for (std::uint32_t j = 0; j < vo::kPattern; ++j) {
+          const double xi = ui + sx + vo::kPatternX[j], yi = vi + sy + vo::kPatternY[j];
+          const double xp = up + sx + vo::kPatternX[j], yp = vp + sy + vo::kPatternY[j];
+          if (depth_check) {
+            // Only pattern pixels on the centre's surface (no occlusion edge within the pattern).
+            const double zc = 1.0 / p.idepth, zj = seq.depth(t + pose_dt, xi, yi);
+            if (!(zj > 0) || std::fabs(zj / zc - 1) > 0.05) continue;
+          }
+          const double A = sample(y, xi, yi) - sample(y1, xp, yp);
+          const double B = sample(y1, xi, yi) - sample(y2, xp, yp);
+          const double D = sample(u, xi, yi) - sample(u1, xp, yp);
+          sab += A * B, sbb += B * B, sdb += beta * D * B;
+          const double disp = std::hypot(ui - up, vi - vp);
+          disp_sum += disp, disp_n += 1, disp_bb += disp * B * B;
+          if (m > 0 && k > 2) {
+            const auto hx = [&](double x) { return x * m + (m - 1) / 2; };
+            const double eA = bilin(hy, W, hx(xi), hx(yi)) - bilin(hy1, W, hx(xp), hx(yp));
+            const double eB = bilin(hy1, W, hx(xi), hx(yi)) - bilin(hy2, W, hx(xp), hx(yp));
+            eab += eA * eB, ebb += eB * eB;
+            err_bb += (B - eB) * (B - eB), err_aa += (A - eA) * (A - eA), err_ab += (A - eA) * (B - eB);
+          }
+          const auto wrap = [](double a) { return a - std::round(a); };
+          const double dphi = std::max(std::fabs(wrap(ui - up)), std::fabs(wrap(vi - vp)));
+          const int bin = dphi < 0.1 ? 0 : dphi < 0.25 ? 1 : 2;
+          bin_ab[bin] += A * B, bin_bb[bin] += B * B, bin_n[bin] += 1;
+          const double XA = smear(y, xi, yi, up - uq, vp - vq) - smear(y1, xp, yp, ui - up, vi - vp);
+          const double XB = smear(y1, xi, yi, up - uq, vp - vq) - smear(y2, xp, yp, ui - up, vi - vp);
+          const double XD = smear(u, xi, yi, up - uq, vp - vq) - smear(u1, xp, yp, ui - up, vi - vp);
+          xab += XA * XB, xbb += XB * XB, xdb += beta * XD * XB;
+        }
+      }
+    }
+  }
+  const double a_plain = sab / sbb;
+  std::printf("displacement between frames: mean %.2f px, B^2-weighted %.2f px\n", disp_sum / disp_n, disp_bb / sbb);
+  if (m > 0)
+    std::printf("EXACT %d: sum B^2 (bilinear) %.3g, (area) %.3g, of the bilinear error %.3g; error A.B / B.B %.3f, error corr %.3f\n", m, sbb, ebb, err_bb,
+                err_ab / err_bb, err_ab / std::sqrt(err_aa * err_bb));
+  if (m > 0) std::printf("EXACT %d: plain fit on area means at the sub-pixel positions: %.2f ms\n", m, -tr / std::log(eab / ebb) * 1e3);
+  for (int b = 0; b < 3; ++b)
+    std::printf("phase-diff bin %d (%.0f pairs, B^2 share %.2f): plain %.2f ms\n", b, bin_n[b], bin_bb[b] / sbb, -tr / std::log(bin_ab[b] / bin_bb[b]) * 1e3);
+  std::printf("cross-smeared plain %.2f ms (dalpha %.4f); ", -tr / std::log(xab / xbb) * 1e3, xdb / xbb);
+  std::printf("tau %.1f K %d %s mode %s pose_dt %.2f ms traj %s noise %.1f ss %u: estimator %.2f ms, plain %.2f ms (bias term dalpha %.4f, alpha %.4f)\n",
+              tau * 1e3, substeps, weight.c_str(), mode.c_str(), pose_dt * 1e3, traj.c_str(), noise_sigma, ss,
+              s->tau.c * 1e3, -tr / std::log(a_plain) * 1e3, sdb / sbb, alpha);
+  CHECK(s->tau.c > 0);
+}
