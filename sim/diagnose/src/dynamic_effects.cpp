@@ -119,13 +119,14 @@ class TauTemperature final : public PooledLinear {
 };
 
 // Row k is read k * line_time later: it sees the input a little later, and the residual is that
-// delay (about the middle row: the rows' common delay is the baseline's timing shift) times the
-// input's rate of change, carried on through the two-frame response. Three estimates of the
-// rate, scored as alternatives: the baseline's central and forward frame differences (right for
-// motion that is slow against the edges' widths), and the input's change over one exposure along
-// the scene's own motion, divided by the exposure (d/d(delay) of an exposure-long average). A
-// frame difference spreads a fast sharp edge's change over its whole frame-to-frame sweep; the
-// exposure's share of the sweep sits where the delay acts.
+// delay times the input's rate of change, carried on through the two-frame response. Three
+// estimates of the rate, scored as alternatives: the baseline's central and forward frame
+// differences (right for motion that is slow against the edges' widths; rows counted from the
+// middle, as the rows' common delay is then the baseline's timing shift), and the input's change
+// over one exposure along the scene's own motion, divided by the exposure (d/d(delay) of an
+// exposure-long average; rows counted from row 0). A frame difference spreads a fast sharp edge's
+// change over its whole frame-to-frame sweep; the exposure's share of the sweep sits where the
+// delay acts.
 class RollingReadout final : public PooledLinear {
  public:
   bool refits_tau() const override { return true; }
