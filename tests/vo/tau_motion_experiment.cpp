@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@
 #include "bolo/vo/arena.hpp"
 #include "rendered_pair.hpp"
 #include "state.hpp"
+#include "tau_truth_feed.hpp"
 
 using namespace bolo;
 
@@ -241,15 +243,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
     std::printf("EXACT %d: box means against the %d x %d-ray render: worst %.3g counts\n", m, m, m, worst);
   }
   double eab = 0, ebb = 0, err_bb = 0, err_ab = 0, err_aa = 0;
-  std::uint32_t noise_state = 12345;
-  const auto noise = [&]() {
-    double sum = 0;
-    for (int q = 0; q < 12; ++q) {
-      noise_state = noise_state * 1664525u + 1013904223u;
-      sum += static_cast<double>(noise_state >> 8) / 16777216.0;
-    }
-    return noise_sigma * (sum - 6.0);
-  };
+  test::ApproxNormal pixel_noise(12345);
   const std::string interp = env_str("INTERP", "bilinear");
   const bool symmetric = env_num("SYM", 0) != 0;
   const bool depth_check = env_num("DEPTHCHECK", 0) != 0;
@@ -272,15 +266,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
     return sum;
   };
   const double idepth_noise = env_num("IDEPTH_NOISE", 0), rot_noise = env_num("ROT_NOISE", 0);
-  std::uint32_t geo_state = 777;
-  const auto noise_unit = [&]() {  // ~N(0, 1)
-    double sum = 0;
-    for (int q = 0; q < 12; ++q) {
-      geo_state = geo_state * 1664525u + 1013904223u;
-      sum += static_cast<double>(geo_state >> 8) / 16777216.0;
-    }
-    return sum - 6.0;
-  };
+  test::ApproxNormal noise_unit(777);
   bool have_keyframe = false;
   const vo::Scaled kc = vo::camera_at(cfg.camera, 0);
   for (int k = 0; k <= frames; ++k) {
@@ -291,20 +277,13 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
       hy2 = hy1, hy1 = hy;
       for (std::size_t i = 0; i < hy.size(); ++i) hy[i] = alpha * hy[i] + beta * hb[i];
     }
-    std::swap(s->raw_prev, s->raw_prev2);
-    std::swap(s->raw, s->raw_prev);
-    for (std::size_t i = 0; i < n; ++i) {
-      y[i] = alpha * y[i] + beta * u[i];
-      s->raw[i] = static_cast<float>(y[i] + noise());
-    }
-    s->have_prev = k > 0;
-    s->chain_ok_prev = k > 1;
-    s->chain_ok = k > 0;
-    s->exposure_s = te, s->readout_prev_s = tr, s->t_s = t;
     T_prev2 = s->T_prev;
-    s->T_prev = s->T_cw;
-    s->prev_posed = k > 0;
-    s->T_cw = seq.T_cw(t + pose_dt);
+    test::push_truth_frame(*s, k, te, tr, t, seq.T_cw(t + pose_dt), [&](std::span<float> raw) {
+      for (std::size_t i = 0; i < n; ++i) {
+        y[i] = alpha * y[i] + beta * u[i];
+        raw[i] = static_cast<float>(y[i] + noise_sigma * pixel_noise());
+      }
+    });
     if (rot_noise > 0) {
       // Tracking-like pose errors: a small random rotation per frame (rad, per axis).
       const Eigen::Vector3d w(rot_noise * noise_unit(), rot_noise * noise_unit(), rot_noise * noise_unit());
@@ -312,18 +291,8 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
       s->T_cw.t = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * s->T_cw.t;
     }
     if (k % 12 == 0) {
-      for (std::size_t i = 0; i < n; ++i) s->frame.level[0].value.data[i] = s->raw[i];
-      vo::build_frame_images(*s);
-      const std::uint32_t slot = vo::new_keyframe_slot(*s);
-      vo::make_keyframe(*s, slot, true);
-      vo::Keyframe& kf = s->kf[slot];
-      for (std::uint32_t i = 0; i < kf.count; ++i) {
-        vo::Point& p = kf.points[i];
-        const double z = seq.depth(t + pose_dt, p.u, p.v);
-        p.status = z > 0 && z < 150 ? vo::PointStatus::active : vo::PointStatus::empty;
-        p.idepth = static_cast<float>((1 / z) * (1 + idepth_noise * noise_unit()));
-        p.inlier = true;
-      }
+      test::keyframe_at_true_depth(*s, [&](double pu, double pv) { return seq.depth(t + pose_dt, pu, pv); },
+                                   [&](double z) { return (1 / z) * (1 + idepth_noise * noise_unit()); });
       have_keyframe = true;
     }
     if (!have_keyframe) continue;

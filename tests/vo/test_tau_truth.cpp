@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -17,6 +18,7 @@
 #include "bolo/vo/arena.hpp"
 #include "rendered_pair.hpp"
 #include "state.hpp"
+#include "tau_truth_feed.hpp"
 
 using namespace bolo;
 
@@ -43,46 +45,21 @@ double estimate_after_2s(unsigned supersample, double tau, double tau_start) {
     const auto u = seq.frame(t0 - 1 / fps);
     for (std::size_t i = 0; i < n; ++i) y[i] = u[i];  // settled
   }
-  std::uint32_t noise_state = 12345;
-  const auto noise = [&]() {  // ~N(0, 3^2): sum of 12 uniforms
-    double sum = 0;
-    for (int q = 0; q < 12; ++q) {
-      noise_state = noise_state * 1664525u + 1013904223u;
-      sum += static_cast<double>(noise_state >> 8) / 16777216.0;
-    }
-    return 3.0 * (sum - 6.0);
-  };
+  test::ApproxNormal normal(12345);
   bool have_keyframe = false;
   for (int k = 0; k <= 120; ++k) {
     const double t = t0 + k / fps;
     const auto u = seq.frame(t);
-    std::swap(s->raw_prev, s->raw_prev2);
-    std::swap(s->raw, s->raw_prev);
-    for (std::size_t i = 0; i < n; ++i) {
-      y[i] = alpha * y[i] + beta * u[i];
-      s->raw[i] = static_cast<float>(y[i] + noise());
-    }
-    s->have_prev = k > 0;
-    s->chain_ok_prev = k > 1;
-    s->chain_ok = k > 0;
-    s->exposure_s = te, s->readout_prev_s = tr, s->t_s = t;
-    s->T_prev = s->T_cw;
-    s->prev_posed = k > 0;
-    s->T_cw = seq.T_cw(t);
+    test::push_truth_frame(*s, k, te, tr, t, seq.T_cw(t), [&](std::span<float> raw) {
+      for (std::size_t i = 0; i < n; ++i) {
+        y[i] = alpha * y[i] + beta * u[i];
+        raw[i] = static_cast<float>(y[i] + 3.0 * normal());
+      }
+    });
     if (k % 12 == 0) {
       // A new keyframe every 12 frames, its points at their true depth.
-      for (std::size_t i = 0; i < n; ++i) s->frame.level[0].value.data[i] = s->raw[i];
-      vo::build_frame_images(*s);
-      const std::uint32_t slot = vo::new_keyframe_slot(*s);
-      vo::make_keyframe(*s, slot, true);
-      vo::Keyframe& kf = s->kf[slot];
-      for (std::uint32_t i = 0; i < kf.count; ++i) {
-        vo::Point& p = kf.points[i];
-        const double z = seq.depth(t, p.u, p.v);
-        p.status = z > 0 && z < 150 ? vo::PointStatus::active : vo::PointStatus::empty;
-        p.idepth = static_cast<float>(1 / z);
-        p.inlier = true;
-      }
+      test::keyframe_at_true_depth(*s, [&](double pu, double pv) { return seq.depth(t, pu, pv); },
+                                   [](double z) { return 1 / z; });
       have_keyframe = true;
     }
     if (have_keyframe) vo::refine_tau(*s);

@@ -1,0 +1,65 @@
+#pragma once
+// Feeding the tau estimator with ground truth: raw frames pushed into the VO state with their
+// true poses, and keyframes whose points sit at their true depth. Shared by the [tau] tests and
+// the hidden tau experiment harness.
+
+#include <cstdint>
+#include <utility>
+
+#include "state.hpp"
+
+namespace bolo::test {
+
+// Approximately N(0, 1): the sum of 12 uniforms from a fixed LCG, the same on every platform.
+class ApproxNormal {
+ public:
+  explicit ApproxNormal(std::uint32_t seed) : state_(seed) {}
+  double operator()() {
+    double sum = 0;
+    for (int q = 0; q < 12; ++q) {
+      state_ = state_ * 1664525u + 1013904223u;
+      sum += static_cast<double>(state_ >> 8) / 16777216.0;
+    }
+    return sum - 6.0;
+  }
+
+ private:
+  std::uint32_t state_;
+};
+
+// Frame k of an unbroken chain: the raw buffers move back one, fill_raw(s.raw) writes the new
+// frame, and the frame's pose becomes T_cw (the previous one T_prev).
+template <typename FillRaw>
+void push_truth_frame(vo::State& s, int k, double exposure_s, double readout_s, double t_s, const vo::Se3& T_cw,
+                      FillRaw fill_raw) {
+  std::swap(s.raw_prev, s.raw_prev2);
+  std::swap(s.raw, s.raw_prev);
+  fill_raw(s.raw);
+  s.have_prev = k > 0;
+  s.chain_ok_prev = k > 1;
+  s.chain_ok = k > 0;
+  s.exposure_s = exposure_s, s.readout_prev_s = readout_s, s.t_s = t_s;
+  s.T_prev = s.T_cw;
+  s.prev_posed = k > 0;
+  s.T_cw = T_cw;
+}
+
+// A keyframe made from the current raw frame, its points active at inverse depth
+// idepth_of(true depth) where depth_at(u, v) is in (0, 150) m, dropped elsewhere.
+template <typename DepthAt, typename IdepthOf>
+void keyframe_at_true_depth(vo::State& s, DepthAt depth_at, IdepthOf idepth_of) {
+  for (std::size_t i = 0; i < s.raw.size(); ++i) s.frame.level[0].value.data[i] = s.raw[i];
+  vo::build_frame_images(s);
+  const std::uint32_t slot = vo::new_keyframe_slot(s);
+  vo::make_keyframe(s, slot, true);
+  vo::Keyframe& kf = s.kf[slot];
+  for (std::uint32_t i = 0; i < kf.count; ++i) {
+    vo::Point& p = kf.points[i];
+    const double z = depth_at(p.u, p.v);
+    p.status = z > 0 && z < 150 ? vo::PointStatus::active : vo::PointStatus::empty;
+    p.idepth = static_cast<float>(idepth_of(z));
+    p.inlier = true;
+  }
+}
+
+}  // namespace bolo::test
