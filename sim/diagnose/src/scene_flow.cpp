@@ -74,8 +74,7 @@ void advance_along_flow(const DiagnoseData& d, int n, double fraction, float* ou
 
 }  // namespace
 
-void ensure_input_flow(DiagnoseData& d, int max_shift) {
-  if (d.input_flow_dy.size() == d.shape.size() && d.input_flow_dx.size() == d.shape.size()) return;
+void fill_input_flow(DiagnoseData& d, int max_shift) {
   const int N = d.shape.n, H = d.shape.height, W = d.shape.width;
   const std::size_t P = d.shape.pixels();
   d.input_flow_dy.assign(d.shape.size(), 0);

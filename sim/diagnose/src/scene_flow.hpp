@@ -9,12 +9,12 @@
 
 namespace bolo::diag {
 
-// Fills d.input_flow_dy/dx (once; kept while their size matches): input[n + 1](x) ~
+// Fills d.input_flow_dy/dx: input[n + 1](x) ~
 // input[n](x - (dy, dx)) in whole pixels, 0 where nothing changes and in the last frame. Block
 // matching, coarse to fine (a search up to `max_shift` pixels on 2x2 bins, 10x10-pixel windows,
 // then +-1 pixel at full resolution on 7x7 windows), only where the input changes; ties go to
 // the smallest displacement.
-void ensure_input_flow(DiagnoseData& d, int max_shift = 12);
+void fill_input_flow(DiagnoseData& d, int max_shift = 12);
 
 // d/d(delay) of the input averaged over an exposure that starts `delay` late: the input's change
 // over one exposure along the flow, divided by the exposure, (input[n](x - f v) - input[n](x)) /
