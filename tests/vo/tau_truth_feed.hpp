@@ -28,7 +28,9 @@ class ApproxNormal {
 };
 
 // Frame k of an unbroken chain: the raw buffers move back one, fill_raw(s.raw) writes the new
-// frame, and the frame's pose becomes T_cw (the previous one T_prev).
+// frame, and the frame's pose becomes T_cw (the previous one T_prev). As Odometry::process() in
+// `ir` mode, the tracking image is the scene estimate made with the current tau and the pixel
+// noise is measured.
 template <typename FillRaw>
 void push_truth_frame(vo::State& s, int k, double exposure_s, double readout_s, double t_s, const vo::Se3& T_cw,
                       FillRaw fill_raw) {
@@ -38,18 +40,26 @@ void push_truth_frame(vo::State& s, int k, double exposure_s, double readout_s, 
   s.have_prev = k > 0;
   s.chain_ok_prev = k > 1;
   s.chain_ok = k > 0;
+  s.exposure_prev_s = s.exposure_s;
   s.exposure_s = exposure_s, s.readout_prev_s = readout_s, s.t_s = t_s;
   s.T_prev = s.T_cw;
   s.prev_posed = k > 0;
   s.T_cw = T_cw;
+  float* level0 = s.frame.level[0].value.data;
+  if (s.chain_ok) {
+    const vo::CarryCoefficients c = vo::carry_coefficients(s.tau, readout_s, exposure_s);
+    for (std::size_t i = 0; i < s.raw.size(); ++i) level0[i] = static_cast<float>((s.raw[i] - c.alpha * s.raw_prev[i]) / c.beta);
+  } else {
+    for (std::size_t i = 0; i < s.raw.size(); ++i) level0[i] = s.raw[i];
+  }
+  vo::build_frame_images(s);
+  if (s.chain_ok && s.chain_ok_prev) vo::update_noise_variance(s);
 }
 
-// A keyframe made from the current raw frame, its points active at inverse depth
+// A keyframe made from the current frame's tracking image, its points active at inverse depth
 // idepth_of(true depth) where depth_at(u, v) is in (0, 150) m, dropped elsewhere.
 template <typename DepthAt, typename IdepthOf>
 void keyframe_at_true_depth(vo::State& s, DepthAt depth_at, IdepthOf idepth_of) {
-  for (std::size_t i = 0; i < s.raw.size(); ++i) s.frame.level[0].value.data[i] = s.raw[i];
-  vo::build_frame_images(s);
   const std::uint32_t slot = vo::new_keyframe_slot(s);
   vo::make_keyframe(s, slot, true);
   vo::Keyframe& kf = s.kf[slot];

@@ -48,6 +48,9 @@ State* lay_out(const VoConfig& config, Arena& arena) {
   s.raw = arena.take<float>(plane(c));
   s.raw_prev = arena.take<float>(plane(c));
   s.raw_prev2 = arena.take<float>(plane(c));
+  s.noise_scratch = arena.take<float>(noise_block_count(c.width, c.height));
+  auto previous_texels = arena.take<Texel>(texel_count(c.width, c.height, 1));
+  if (!previous_texels.empty()) make_texels(previous_texels, c.width, c.height, 1, &s.previous_texels);
   s.occupied = arena.take<std::uint8_t>(plane(c));
   s.candidates = arena.take<PixelPoint>(ppk);
   s.selector.block_threshold = arena.take<float>(selector_block_count(c.width, c.height));
@@ -205,6 +208,7 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
 }
 
 void build_frame_images(State& s) {
+  std::swap(s.frame_texels[0], s.previous_texels);
   build_pyramid(s.frame);
   fill_texels(s.frame, s.frame_texels);
 }
@@ -218,6 +222,8 @@ std::size_t Odometry::arena_bytes(const VoConfig& config) {
   bytes += pyr * (1 + c.max_keyframes);
   bytes += texel_count(c.width, c.height, c.levels) * sizeof(Texel) + 16;
   bytes += 4 * (plane(c) * sizeof(float) + 16) + plane(c) + 16;
+  bytes += noise_block_count(c.width, c.height) * sizeof(float) + 16;
+  bytes += texel_count(c.width, c.height, 1) * sizeof(Texel) + 16;
   bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + std::size_t{64} * 2 + 16;
   bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
   bytes += std::size_t{c.max_keyframes} * ppk * sizeof(WorldPoint) + 16;
@@ -272,6 +278,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.T_prev = s.T_cw;
   s.prev_posed = s.posed;
   s.posed = false;
+  s.exposure_prev_s = s.exposure_s;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
   const bool ir = c.photometric == Photometric::ir || c.photometric == Photometric::ir_loop;
 
@@ -391,7 +398,10 @@ FrameResult Odometry::process(const FrameInput& in) {
   out.has_pose = true;
   s.posed = true;
 
-  if (ir && c.estimate_tau) refine_tau(s);
+  if (ir && c.estimate_tau) {
+    if (s.chain_ok && s.chain_ok_prev) update_noise_variance(s);
+    refine_tau(s);
+  }
   search_immature_points(s);
 
   // Keyframe: enough parallax, a large rotation, or the tracked points thinning out; never two

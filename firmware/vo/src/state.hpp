@@ -92,6 +92,7 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
 
   Pyramid frame;                    // tracking image of the current frame
   TexelImage frame_texels[8];       // the same, value and gradients interleaved (tracker, depth search)
+  TexelImage previous_texels;       // level 0 of the previous build_frame_images() (tau estimator)
   std::span<float> raw, raw_prev, raw_prev2;  // raw counts of this and the two previous frames
   bool have_prev = false;
   std::span<std::uint8_t> occupied;
@@ -125,10 +126,14 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   // Tau (ir modes): estimate and the sums it is solved from (tau_estimator.cpp)
   Tau tau;
   double tau_sab = 0, tau_sbb = 0, tau_sbbr = 0;
+  double tau_sbb_total = 0;  // tau_sbb before the noise correction
+  double noise_var = 0;      // temporal pixel noise, counts^2 (0 until measured; noise_estimator.cpp)
+  std::span<float> noise_scratch;
   CarryCoefficients carry;  // of the current frame
   bool chain_ok = false;       // raw_prev is this frame's predecessor on the sensor
   bool chain_ok_prev = false;  // raw_prev2 is raw_prev's predecessor
   double exposure_s = 0, readout_prev_s = 0, t_s = 0;
+  double exposure_prev_s = 0;  // the previous frame's
 };
 
 // Lays the whole state out over an arena (odometry.cpp); nullptr when it does not fit.
@@ -168,6 +173,10 @@ void window_bundle_adjustment(State& s);
 // place in s.order. What window_bundle_adjustment() solves; exposed for tests.
 double window_system(State& s);
 void refine_tau(State& s);
+// Updates noise_var from the current and the two previous raw frames (noise_estimator.cpp);
+// noise_scratch holds noise_block_count() floats.
+std::size_t noise_block_count(std::uint32_t width, std::uint32_t height);
+void update_noise_variance(State& s);
 std::uint32_t new_keyframe_slot(State& s);
 // Appends a keyframe's active points (world coordinates) to the retired-points output.
 void retire_points(State& s, const Keyframe& old);

@@ -25,6 +25,26 @@
 // 2 s depended on its start by up to 2.7 ms on handheld sequences (tau 8 ms from 10 / 15 ms: 9.2 /
 // 12.1 ms); with it by under 1 ms.
 //
+// Three things the pairs need besides (measured on 12 street sequences at 60 Hz, 3 x 3 rays, tau
+// 8 / 12 / 15 ms, noise 3, in the full VO: tau at 2 s within 10 % in 7 before, 10 after):
+// * The pixel noise's share is subtracted. Noise in B biases alpha low (errors in variables), and
+//   the elimination makes it matter: B's carry-over signal has the shape of a displacement of the
+//   pattern, so eliminating the poses and depths removes most of it and leaves the noise a larger
+//   share (with true geometry, street/drive at 15 ms: 17.1 / 15.8 / 12.6 ms at 0 / 3 / 6 counts of
+//   noise, where the plain ratio without the elimination hardly moves, 16.9 / 16.6 / 16.4). Each
+//   sample's noise variance in B and covariance with r follow from its interpolation weights and
+//   the measured noise (noise_estimator.cpp); their weighted sums, less what the inverse depth's
+//   elimination removes with it (its leverage), come off alpha's entries before the elimination.
+// * A and B are sampled with Keys' cubic, not bilinear: interpolation errors that depend on the
+//   sub-pixel position are nearly the same in consecutive frames, so they enter A and B alike and
+//   pull alpha towards 1 (in the full VO on noise-free renders bilinear read 1.1-2.6 ms higher).
+// * Every active point counts, not only the tracker's inliers: the tracker judges a point by its
+//   residual on the image made with the current tau, so its inliers favour pairs that agree with
+//   the current alpha (the Huber weight here bounds real outliers).
+// The d r / d p Jacobians are the tracking images' gradients (beta grad u of this frame and of the
+// previous one), which the pyramid already holds, rather than central differences of the raw
+// frames (16 samples a pattern pixel).
+//
 // tau_h is not observable here: with a constant exposure it only scales u, a gain the photometric
 // model absorbs (the static level (1 - alpha) / beta * y does not depend on it when t_e = t_r).
 // It is kept equal to tau_c.
@@ -41,6 +61,9 @@ namespace {
 constexpr double kForget = 0.995;      // per frame: a drifting tau is followed over ~200 frames
 constexpr double kPriorWeight = 1e4;   // sum of B^2 the starting tau counts for (counts^2)
 constexpr double kMinInformation = 1e6;  // sum of B^2 before the estimate moves (counts^2)
+// ... and the share of it that is not pixel noise: below, the pairs hold too little carry-over
+// to correct for the noise reliably (no carry-over at all: tau ~ 0).
+constexpr double kMinSignalShare = 0.1;
 
 using Vec5 = Eigen::Matrix<double, 5, 1>;
 using Mat5 = Eigen::Matrix<double, 5, 5>;
@@ -50,15 +73,24 @@ using Vec13 = Eigen::Matrix<double, 13, 1>;
 using Mat13 = Eigen::Matrix<double, 13, 13>;
 using Mat26 = Eigen::Matrix<double, 2, 6>;
 
-// Central differences of the bilinear image one pixel either side.
-float grad_x(const Image& img, float x, float y) {
-  return 0.5f * (bilinear(img, x + 1.0f, y) - bilinear(img, x - 1.0f, y));
-}
-float grad_y(const Image& img, float x, float y) {
-  return 0.5f * (bilinear(img, x, y + 1.0f) - bilinear(img, x, y - 1.0f));
-}
 // d pixel / d (translation, rotation) of a left perturbation of the camera pose (the tracker's
 // convention); X is the point in the camera times its inverse depth.
+// Per pattern sample: its weight, B's noise variance, the covariance of r's and B's noise, and
+// d r / d inverse depth (the slope the depth's elimination follows).
+struct PatternNoise {
+  double weight, var_b, cov_rb, slope;
+};
+double sum_of_squares(const CubicTaps& t) { return double{t.w[0]} * t.w[0] + double{t.w[1]} * t.w[1] + double{t.w[2]} * t.w[2] + double{t.w[3]} * t.w[3]; }
+// Sum over pixels of the product of two samples' weights along one axis.
+double overlap(const CubicTaps& a, const CubicTaps& b) {
+  double sum = 0;
+  for (int i = 0; i < 4; ++i) {
+    const std::int32_t k = a.first + i - b.first;
+    if (k >= 0 && k < 4) sum += double{a.w[i]} * b.w[k];
+  }
+  return sum;
+}
+
 Mat26 pixel_jacobian(const Scaled& k, const Eigen::Vector3f& X, float idepth) {
   const double x = X.x() / X.z(), y = X.y() / X.z(), iz = idepth / X.z();
   Mat26 D;
@@ -78,15 +110,18 @@ void refine_tau(State& s) {
   const double readout = s.readout_prev_s;
   if (!(readout > 0)) return;
   const double alpha_now = std::exp(-readout / s.tau.c);
-  const float ac = static_cast<float>(alpha_now);
+  const double beta_now = carry_coefficients(s.tau, readout, s.exposure_s).beta;
+  const double beta_prev = carry_coefficients(s.tau, readout, s.exposure_prev_s).beta;
   // Normal equations of r = A - alpha B in x = (pose of frame i, pose of frame i-1, alpha), the
   // points' inverse depths already eliminated; linearised at the tracked poses and alpha_now.
   // A pattern pixel's Jacobian is T v with v = (d r / d p_i, d r / d p_{i-1}, -B), where
   // d r / d p_i = grad(y_i - alpha y_{i-1}) at p_i, d r / d p_{i-1} = -grad(y_{i-1} - alpha y_{i-2})
   // at p_{i-1}, and T holds the centre pixel's projection Jacobians (as in the tracker): each point
   // sums the 5x5 S = sum w v v^T and maps it once.
+  const double noise_var = s.noise_var;
   Mat13 H = Mat13::Zero();
   Vec13 g = Vec13::Zero();
+  double noise_bb = 0;  // the noise's share of alpha's information, as eliminated below
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
     const Keyframe& host = s.kf[slot];
     if (!host.used) continue;
@@ -95,30 +130,44 @@ void refine_tau(State& s) {
     const Eigen::Vector3f ti = Mi.t.cast<float>(), tp = Mp.t.cast<float>();
     for (std::uint32_t i = 0; i < host.count; ++i) {
       const Point& p = host.points[i];
-      if (p.status != PointStatus::active || !p.inlier) continue;
+      if (p.status != PointStatus::active) continue;
       const Eigen::Vector3f n((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0f);
       const Eigen::Vector3f Xi = Ri * n + ti * p.idepth, Xp = Rp * n + tp * p.idepth;
       if (Xi.z() <= 1e-4f || Xp.z() <= 1e-4f) continue;
       const float ui = k.fx * Xi.x() / Xi.z() + k.cx, vi = k.fy * Xi.y() / Xi.z() + k.cy;
       const float up = k.fx * Xp.x() / Xp.z() + k.cx, vp = k.fy * Xp.y() / Xp.z() + k.cy;
-      // The pattern reaches 2 pixels out, its gradients one more.
+      // The pattern reaches 2 pixels out, its gradients and the cubic taps 2 more.
       if (!inside(y0, ui, vi, 4.0f) || !inside(y0, up, vp, 4.0f)) continue;
+      // d p_i / d inverse depth and d p_{i-1} / d inverse depth.
+      const Eigen::Vector2d c_px(k.fx * (ti.x() * Xi.z() - Xi.x() * ti.z()) / (Xi.z() * Xi.z()),
+                                 k.fy * (ti.y() * Xi.z() - Xi.y() * ti.z()) / (Xi.z() * Xi.z()));
+      const Eigen::Vector2d c_pp(k.fx * (tp.x() * Xp.z() - Xp.x() * tp.z()) / (Xp.z() * Xp.z()),
+                                 k.fy * (tp.y() * Xp.z() - Xp.y() * tp.z()) / (Xp.z() * Xp.z()));
       Vec5 sr = Vec5::Zero();
       Mat5 S = Mat5::Zero();
+      PatternNoise noise[kPattern];
       for (std::uint32_t j = 0; j < kPattern; ++j) {
         const float oi_x = ui + kPatternX[j], oi_y = vi + kPatternY[j];
         const float op_x = up + kPatternX[j], op_y = vp + kPatternY[j];
-        const double A = bilinear(y0, oi_x, oi_y) - bilinear(y1, op_x, op_y);
-        const double B = bilinear(y1, oi_x, oi_y) - bilinear(y2, op_x, op_y);
+        const CubicTaps ix = cubic_taps(oi_x), iy = cubic_taps(oi_y), px = cubic_taps(op_x), py = cubic_taps(op_y);
+        const double A = cubic(y0, ix, iy) - cubic(y1, px, py);
+        const double B = cubic(y1, ix, iy) - cubic(y2, px, py);
         const double r0 = A - alpha_now * B;
         const double wt = huber_weight(static_cast<float>(r0), hub);
+        // B's noise variance, and its covariance with r0's: A's y_{i-1} at p_{i-1} and B's at p_i
+        // share pixels when the two positions are within two pixels.
+        const double var_b = noise_var * (sum_of_squares(ix) * sum_of_squares(iy) + sum_of_squares(px) * sum_of_squares(py));
+        const double cov_ab = -noise_var * overlap(ix, px) * overlap(iy, py);
+        noise[j] = {wt, var_b, cov_ab - alpha_now * var_b, 0.0};
+        // d r / d p_i = grad(y_i - alpha y_{i-1}) = beta grad u_i, the tracking image's gradient,
+        // and d r / d p_{i-1} = -beta grad u_{i-1}, the previous frame's.
+        const Sample now = bilinear_with_gradient(s.frame_texels[0], oi_x, oi_y);
+        const Sample before = bilinear_with_gradient(s.previous_texels, op_x, op_y);
         Vec5 v;
-        v << grad_x(y0, oi_x, oi_y) - ac * grad_x(y1, oi_x, oi_y),
-            grad_y(y0, oi_x, oi_y) - ac * grad_y(y1, oi_x, oi_y),
-            -(grad_x(y1, op_x, op_y) - ac * grad_x(y2, op_x, op_y)),
-            -(grad_y(y1, op_x, op_y) - ac * grad_y(y2, op_x, op_y)), -B;
+        v << beta_now * now.gx, beta_now * now.gy, -beta_prev * before.gx, -beta_prev * before.gy, -B;
         S.selfadjointView<Eigen::Upper>().rankUpdate(v, wt);
         sr += (wt * r0) * v;
+        noise[j].slope = v.head<4>().dot(Eigen::Vector4d(c_px.x(), c_px.y(), c_pp.x(), c_pp.y()));
       }
       S.triangularView<Eigen::StrictlyLower>() = S.triangularView<Eigen::StrictlyUpper>().transpose();
       Eigen::Matrix<double, 13, 5> T = Eigen::Matrix<double, 13, 5>::Zero();
@@ -126,12 +175,20 @@ void refine_tau(State& s) {
       T.block<6, 2>(0, 0) = Di.transpose();
       T.block<6, 2>(6, 2) = Dp.transpose();
       T(12, 4) = 1.0;
-      // d (p_i, p_{i-1}) / d inverse depth, in v's coordinates.
       Vec5 c;
-      c << k.fx * (ti.x() * Xi.z() - Xi.x() * ti.z()) / (Xi.z() * Xi.z()),
-          k.fy * (ti.y() * Xi.z() - Xi.y() * ti.z()) / (Xi.z() * Xi.z()),
-          k.fx * (tp.x() * Xp.z() - Xp.x() * tp.z()) / (Xp.z() * Xp.z()),
-          k.fy * (tp.y() * Xp.z() - Xp.y() * tp.z()) / (Xp.z() * Xp.z()), 0.0;
+      c << c_px.x(), c_px.y(), c_pp.x(), c_pp.y(), 0.0;
+      // The noise's expected share of S's and sr's alpha entries, less the part the inverse
+      // depth's elimination removes with it (its leverage), taken out before that elimination.
+      double e_bb = 0, e_br = 0, lev = 0, lev_bb = 0, lev_br = 0;
+      for (const PatternNoise& q : noise) {
+        const double wq2 = q.weight * q.slope * q.slope;
+        e_bb += q.weight * q.var_b, e_br += q.weight * q.cov_rb;
+        lev += wq2, lev_bb += q.weight * wq2 * q.var_b, lev_br += q.weight * wq2 * q.cov_rb;
+      }
+      if (lev > 0) e_bb -= lev_bb / lev, e_br -= lev_br / lev;
+      S(4, 4) -= e_bb;
+      sr(4) += e_br;
+      noise_bb += e_bb;
       // The point's inverse depth eliminated: S - S c c^T S / (c^T S c), sr likewise.
       const Vec5 Sc = S * c;
       const double hdd = c.dot(Sc);
@@ -152,14 +209,17 @@ void refine_tau(State& s) {
   const Vec12 x = ldlt.solve(H.block<12, 1>(0, 12));
   haa -= H.block<12, 1>(0, 12).dot(x);
   ga -= x.dot(g.head<12>());
-  if (!(haa > 0)) return;
+  // A frame whose pairs carry less than noise may leave haa negative: its sums still count,
+  // or dropping such frames would bias the sum of the others.
+  if (!std::isfinite(haa) || !std::isfinite(ga) || !(haa + noise_bb > 0)) return;
   // What is left: alpha's information and its least-squares point (without the elimination
-  // these are sbb = sum w B^2 and sab = sum w A B).
+  // and the noise correction these are sbb = sum w B^2 and sab = sum w A B).
   const double sbb = haa, sab = alpha_now * haa - ga;
   s.tau_sab = kForget * s.tau_sab + sab;
   s.tau_sbb = kForget * s.tau_sbb + sbb;
+  s.tau_sbb_total = kForget * s.tau_sbb_total + sbb + noise_bb;
   s.tau_sbbr = kForget * s.tau_sbbr + sbb * readout;
-  if (s.tau_sbb < kMinInformation) return;
+  if (s.tau_sbb < kMinInformation || s.tau_sbb < kMinSignalShare * s.tau_sbb_total) return;
   // The starting tau as a weak prior (pseudo-observations with B^2 summing to kPriorWeight).
   const double readout_mean = s.tau_sbbr / s.tau_sbb;
   const double alpha_init = std::exp(-readout_mean / static_cast<double>(s.cfg.tau_init_s));
