@@ -73,15 +73,18 @@ using Vec13 = Eigen::Matrix<double, 13, 1>;
 using Mat13 = Eigen::Matrix<double, 13, 13>;
 using Mat26 = Eigen::Matrix<double, 2, 6>;
 
-// d pixel / d (translation, rotation) of a left perturbation of the camera pose (the tracker's
-// convention); X is the point in the camera times its inverse depth.
 // Per pattern sample: its weight, B's noise variance, the covariance of r's and B's noise, and
 // d r / d inverse depth (the slope the depth's elimination follows).
 struct PatternNoise {
   double weight, var_b, cov_rb, slope;
 };
-double sum_of_squares(const CubicTaps& t) { return double{t.w[0]} * t.w[0] + double{t.w[1]} * t.w[1] + double{t.w[2]} * t.w[2] + double{t.w[3]} * t.w[3]; }
-// Sum over pixels of the product of two samples' weights along one axis.
+// Along one axis: a sample's sum of squared weights (its noise variance per unit pixel variance),
+// and the sum over pixels of two samples' weight products (their noise covariance).
+double sum_of_squares(const CubicTaps& t) {
+  double sum = 0;
+  for (const float v : t.w) sum += double{v} * v;
+  return sum;
+}
 double overlap(const CubicTaps& a, const CubicTaps& b) {
   double sum = 0;
   for (int i = 0; i < 4; ++i) {
@@ -91,6 +94,8 @@ double overlap(const CubicTaps& a, const CubicTaps& b) {
   return sum;
 }
 
+// d pixel / d (translation, rotation) of a left perturbation of the camera pose (the tracker's
+// convention); X is the point in the camera times its inverse depth.
 Mat26 pixel_jacobian(const Scaled& k, const Eigen::Vector3f& X, float idepth) {
   const double x = X.x() / X.z(), y = X.y() / X.z(), iz = idepth / X.z();
   Mat26 D;
@@ -116,8 +121,9 @@ void refine_tau(State& s) {
   // points' inverse depths already eliminated; linearised at the tracked poses and alpha_now.
   // A pattern pixel's Jacobian is T v with v = (d r / d p_i, d r / d p_{i-1}, -B), where
   // d r / d p_i = grad(y_i - alpha y_{i-1}) at p_i, d r / d p_{i-1} = -grad(y_{i-1} - alpha y_{i-2})
-  // at p_{i-1}, and T holds the centre pixel's projection Jacobians (as in the tracker): each point
-  // sums the 5x5 S = sum w v v^T and maps it once.
+  // at p_{i-1} (beta times the tracking images' gradients), and T holds the centre pixel's
+  // projection Jacobians (as in the tracker): each point sums the 5x5 S = sum w v v^T and maps it
+  // once.
   const double noise_var = s.noise_var;
   Mat13 H = Mat13::Zero();
   Vec13 g = Vec13::Zero();
