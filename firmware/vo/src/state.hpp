@@ -69,6 +69,11 @@ inline float upper_median(float* v, std::size_t n) {
   std::nth_element(v, v + n / 2, v + n);
   return v[n / 2];
 }
+// The tracker's outlier cut on a point's pattern energy at a pyramid level (tracker.cpp); coarse
+// levels start far from the optimum and cut more loosely.
+inline float tracking_cutoff(float huber, std::uint32_t level) {
+  return static_cast<float>(kPattern) * huber * huber * (level > 0 ? 12.0f : 6.0f);
+}
 inline float huber_weight(float r, float k) {
   const float a = r < 0 ? -r : r;
   return a <= k ? 1.0f : k / a;

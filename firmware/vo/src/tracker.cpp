@@ -212,8 +212,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
   };
   for (std::uint32_t l = levels; l-- > last_level;) {
     const int level = static_cast<int>(l);
-    // Coarse levels start far from the optimum: a looser outlier cut.
-    float cutoff = kPattern * hub * hub * (level > 0 ? 12.0f : 6.0f);
+    float cutoff = tracking_cutoff(hub, l);
     Accumulated acc = accumulate(s, l, T, a, b, cutoff, true, false, true);
     for (int grow = 0; grow < 3 && acc.visible > 0 && acc.inliers * 2 < acc.visible; ++grow) {
       cutoff *= 2;
