@@ -3,6 +3,7 @@
 // true poses, and keyframes whose points sit at their true depth. Shared by the [tau] tests and
 // the hidden tau experiment harness.
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 
@@ -45,12 +46,10 @@ void push_truth_frame(vo::State& s, int k, double exposure_s, double readout_s, 
   s.T_prev = s.T_cw;
   s.prev_posed = k > 0;
   s.T_cw = T_cw;
-  float* level0 = s.frame.level[0].value.data;
   if (s.chain_ok) {
-    const vo::CarryCoefficients c = vo::carry_coefficients(s.tau, readout_s, exposure_s);
-    for (std::size_t i = 0; i < s.raw.size(); ++i) level0[i] = static_cast<float>((s.raw[i] - c.alpha * s.raw_prev[i]) / c.beta);
+    vo::write_scene_estimate(s);
   } else {
-    for (std::size_t i = 0; i < s.raw.size(); ++i) level0[i] = s.raw[i];
+    std::copy(s.raw.begin(), s.raw.end(), s.frame.level[0].value.data);
   }
   vo::build_frame_images(s);
   if (s.chain_ok && s.chain_ok_prev) vo::update_noise_variance(s);

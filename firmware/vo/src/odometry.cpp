@@ -207,6 +207,17 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
   }
 }
 
+void write_scene_estimate(State& s) {
+  s.carry = carry_coefficients(s.tau, s.readout_prev_s, s.exposure_s);
+  // The scene estimate u = (raw_i - alpha raw_{i-1}) / beta (paper Eq. 6), in counts like the raw
+  // frames: a static pixel keeps its value whatever tau is, so a refined tau does not shift every
+  // pixel's level against the keyframes.
+  const auto alpha = static_cast<float>(s.carry.alpha);
+  const auto gain = static_cast<float>(1.0 / s.carry.beta);
+  float* level0 = s.frame.level[0].value.data;
+  for (std::size_t i = 0; i < plane(s.cfg); ++i) level0[i] = (s.raw[i] - alpha * s.raw_prev[i]) * gain;
+}
+
 void build_frame_images(State& s) {
   std::swap(s.frame_texels[0], s.previous_texels);
   build_pyramid(s.frame);
@@ -285,13 +296,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   // The tracking image: what the photometric model says is comparable between frames.
   float* level0 = s.frame.level[0].value.data;
   if (c.photometric == Photometric::ir && s.chain_ok) {
-    s.carry = carry_coefficients(s.tau, in.readout_prev_s, in.exposure_s);
-    // The scene estimate u = (raw_i - alpha raw_{i-1}) / beta (paper Eq. 6), in counts like the
-    // raw frames: a static pixel keeps its value whatever tau is, so a refined tau does not shift
-    // every pixel's level against the keyframes.
-    const auto alpha = static_cast<float>(s.carry.alpha);
-    const auto gain = static_cast<float>(1.0 / s.carry.beta);
-    for (std::size_t i = 0; i < plane(c); ++i) level0[i] = (s.raw[i] - alpha * s.raw_prev[i]) * gain;
+    write_scene_estimate(s);
   } else if (c.photometric == Photometric::ir_loop && in.corrected.size() == plane(c)) {
     for (std::size_t i = 0; i < plane(c); ++i) level0[i] = static_cast<float>(in.corrected[i]);
   } else {

@@ -146,6 +146,9 @@ class Arena;
 State* lay_out(const VoConfig& config, Arena& arena);
 
 // After the frame's level 0 is filled: its pyramid, gradients and texels (odometry.cpp).
+// The ir mode's tracking image: level 0 of s.frame becomes the scene estimate
+// (raw - alpha raw_prev) / beta, with s.carry from s.tau and the frame's times.
+void write_scene_estimate(State& s);
 void build_frame_images(State& s);
 
 // Parts (one file each).
