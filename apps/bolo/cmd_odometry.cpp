@@ -41,7 +41,8 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   const odo::OdometrySummary s = odo::run_odometry(options);
   progress.finish();
   out << "odometry: wrote " << o.output.string() << ": " << s.frames << " frames, " << s.posed << " posed, "
-      << s.lost << " lost, " << s.keyframes << " keyframes, " << s.points << " map points, "
+      << s.lost << " lost, " << (s.duplicates ? std::to_string(s.duplicates) + " repeated (skipped), " : std::string())
+      << s.keyframes << " keyframes, " << s.points << " map points, "
       << s.reinitialisations << " restarts; photometric " << o.photometric << ", tau_h "
       << std::setprecision(4) << s.tau_h_s * 1e3 << " ms, tau_c " << s.tau_c_s * 1e3 << " ms; "
       << std::setprecision(3) << (s.seconds > 0 ? s.frames / s.seconds : 0.0) << " fps (VO only), arena "
@@ -66,6 +67,8 @@ Command add_odometry_command(CLI::App& parent) {
       "  ir-loop  the firmware corrector runs in front with the VO's current tau, which the VO refines\n"
       "The ir modes need exposure_s/readout_s in frames.csv. Shutter events (ffc=1) and time gaps\n"
       "(> 1.5 frame periods) break the carry-over chain; such frames are tracked with a free offset.\n"
+      "A frame identical to the one before (a camera or link sending a frame twice) is skipped (state\n"
+      "'duplicate' in stats.csv, no pose) and breaks the chain for the frame after it.\n"
       "Each keyframe selects one point per 40 pixels, at most 500 (160x120: 480; 320x256 and larger:\n"
       "500, about DSO's density).\n\n"
       "Example:\n"

@@ -261,7 +261,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
     double sum = 0;
     for (int q = 0; q < substeps; ++q) {
       const double o = xsign * xoff[static_cast<std::size_t>(q)];
-      sum += wk[static_cast<std::size_t>(q)] * bilin(img, w, x - mx * o, yy - my * o);
+      sum += wk[static_cast<std::size_t>(q)] * sample(img, x - mx * o, yy - my * o);
     }
     return sum;
   };

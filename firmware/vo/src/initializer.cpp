@@ -240,11 +240,13 @@ void start_initialisation(State& s) {
   s.initialised = false;
   s.init_frames = 0;
   s.motion = Se3();
+  s.motion_dt_s = 0;
+  s.pose_t_s = s.t_s;
 }
 
 bool initialise_step(State& s) {
   Keyframe& host = init_host(s);
-  Se3 M = s.motion * (s.T_cw * host.T_cw.inverse());  // constant-velocity guess
+  Se3 M = motion_step(s) * (s.T_cw * host.T_cw.inverse());  // constant-velocity guess
   Solved solved = refine(s, M);
   // Only while the translation is young: later the energies of a right and a wrong basin differ
   // by less than the solves' own spread (measured), and the warm start carries more frames.
@@ -263,7 +265,7 @@ bool initialise_step(State& s) {
   }
   const Se3 previous = s.T_cw;
   s.T_cw = (M * host.T_cw).orthonormalised();
-  s.motion = (s.T_cw * previous.inverse()).orthonormalised();
+  record_motion(s, previous);
   ++s.init_frames;
   const double baseline_flow = s.cfg.camera.fx * M.t.norm();
   const double needed = kInitFlow * (s.cfg.width + s.cfg.height);

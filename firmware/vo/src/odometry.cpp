@@ -18,6 +18,7 @@ const char* to_string(TrackingState state) {
     case TrackingState::initialising: return "initialising";
     case TrackingState::tracking: return "tracking";
     case TrackingState::lost: return "lost";
+    case TrackingState::duplicate: return "duplicate";
   }
   return "?";
 }
@@ -273,19 +274,52 @@ std::size_t Odometry::window_points(std::span<WorldPoint> out) const {
   return n;
 }
 
+Se3 motion_step(const State& s) {
+  const double dt = s.t_s - s.pose_t_s;
+  if (!(s.motion_dt_s > 0) || !(dt > 0)) return s.motion;
+  const double ratio = dt / s.motion_dt_s;
+  if (std::fabs(ratio - 1) < 0.25) return s.motion;  // timing jitter: the step as measured
+  // Beyond a few frames constant velocity is a poor guess anyway (the identity guess remains).
+  return Se3::exp(std::min(ratio, 4.0) * s.motion.log());
+}
+
+void record_motion(State& s, const Se3& previous) {
+  s.motion = (s.T_cw * previous.inverse()).orthonormalised();
+  s.motion_dt_s = s.t_s - s.pose_t_s;
+  s.pose_t_s = s.t_s;
+}
+
+namespace {
+bool repeats(std::span<const std::uint16_t> raw, std::span<const float> previous) {
+  for (std::size_t i = 0; i < raw.size(); ++i)
+    if (static_cast<float>(raw[i]) != previous[i]) return false;  // noise: almost always at i = 0
+  return true;
+}
+}  // namespace
+
 FrameResult Odometry::process(const FrameInput& in) {
   FrameResult out;
   if (!state_) return out;
   State& s = *state_;
   const VoConfig& c = s.cfg;
   s.retired_count = 0;
+  if (s.have_prev && !in.chain_broken && repeats(in.raw.first(plane(c)), s.raw)) {
+    // Processed as a frame it would pose the camera where it was a frame ago, at the new time,
+    // and pair two identical frames as carry-over.
+    s.predecessor_missing = true;
+    out.state = TrackingState::duplicate;
+    out.tau = s.tau;
+    return out;
+  }
   std::swap(s.raw_prev, s.raw_prev2);
   std::swap(s.raw, s.raw_prev);
   for (std::size_t i = 0; i < plane(c); ++i) s.raw[i] = static_cast<float>(in.raw[i]);
   const bool had_prev = s.have_prev;
   s.have_prev = true;
   s.chain_ok_prev = s.chain_ok;
-  s.chain_ok = had_prev && !in.chain_broken;
+  const bool after_repeat = s.predecessor_missing && !in.chain_broken;
+  s.predecessor_missing = false;
+  s.chain_ok = had_prev && !in.chain_broken && !after_repeat;
   s.T_prev = s.T_cw;
   s.prev_posed = s.posed;
   s.posed = false;
@@ -297,7 +331,9 @@ FrameResult Odometry::process(const FrameInput& in) {
   float* level0 = s.frame.level[0].value.data;
   if (c.photometric == Photometric::ir && s.chain_ok) {
     write_scene_estimate(s);
-  } else if (c.photometric == Photometric::ir_loop && in.corrected.size() == plane(c)) {
+  } else if (c.photometric == Photometric::ir_loop && s.chain_ok && in.corrected.size() == plane(c)) {
+    // Without its predecessor the corrector only scales the frame by 1/beta, a level the keyframes
+    // do not share; the raw frame (like ir's) has their static level and is tracked with a free offset.
     for (std::size_t i = 0; i < plane(c); ++i) level0[i] = static_cast<float>(in.corrected[i]);
   } else {
     std::memcpy(level0, s.raw.data(), plane(c) * sizeof(float));
@@ -308,6 +344,9 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (!s.initialised) {
     // A broken carry-over chain (ir modes) gives a frame that matches nothing: wait for the next.
     if (s.kf_count == 0 || s.init_frames >= kMaxInitFrames || (ir && !s.chain_ok)) {
+      // After a repeated frame the scene did not jump (no shutter event, no gap in time): the
+      // initialisation goes on with the next frame.
+      if (ir && after_repeat && s.kf_count > 0 && s.init_frames < kMaxInitFrames) return out;
       if (ir && !s.chain_ok) {
         s.kf_count = 0;
         for (auto& kf : s.kf) kf.used = false;
@@ -333,8 +372,9 @@ FrameResult Odometry::process(const FrameInput& in) {
 
   // Tracking, with fall-back motion guesses when the constant-velocity one fails.
   const bool free_offset = ir && !s.chain_ok;
-  const Se3 half = Se3::exp(0.5 * s.motion.log());
-  const Se3 guesses[] = {s.motion * s.T_cw, s.T_cw, half * s.T_cw, s.motion * s.motion * s.T_cw};
+  const Se3 step = motion_step(s);
+  const Se3 half = Se3::exp(0.5 * step.log());
+  const Se3 guesses[] = {step * s.T_cw, s.T_cw, half * s.T_cw, step * step * s.T_cw};
   // The constant-velocity guess is tracked first and stands when it fits about as well as the last
   // frame did (as in DSO). Otherwise every guess is ranked at the second-coarsest level (as DSO
   // ranks its motion hypotheses at the coarsest), the best is tracked to the finest, the others
@@ -379,7 +419,8 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (!best.ok) {
     ++s.lost_frames;
     out.state = TrackingState::lost;
-    s.T_cw = (s.motion * s.T_cw).orthonormalised();  // coast on the motion model
+    s.T_cw = (step * s.T_cw).orthonormalised();  // coast on the motion model
+    s.pose_t_s = s.t_s;
     if (!s.T_cw.R.allFinite() || !s.T_cw.t.allFinite()) s.T_cw = s.last_good, s.motion = Se3();
     if (s.lost_frames >= kLostFramesBeforeRestart) {
       // Restart the map here, anchored at the coasted pose.
@@ -395,8 +436,9 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.lost_frames = 0;
   const Se3 pose = best.T_cw.orthonormalised();
   s.last_good = pose;
-  s.motion = (pose * s.T_cw.inverse()).orthonormalised();
+  const Se3 previous = s.T_cw;
   s.T_cw = pose;
+  record_motion(s, previous);
   // A frame without its predecessor carries an unknown offset; keep the keyframes' brightness.
   if (!free_offset) s.a = best.a, s.b = best.b;
   out.state = TrackingState::tracking;

@@ -100,6 +100,9 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   TexelImage previous_texels;       // level 0 of the previous build_frame_images() (tau estimator)
   std::span<float> raw, raw_prev, raw_prev2;  // raw counts of this and the two previous frames
   bool have_prev = false;
+  // The last frame repeated its predecessor bit for bit: the sensor frame that followed that
+  // predecessor was never delivered, so the next frame has no known carry-over.
+  bool predecessor_missing = false;
   std::span<std::uint8_t> occupied;
   std::span<PixelPoint> candidates;
   SelectorScratch selector;
@@ -116,7 +119,9 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
 
   // Motion
   Se3 T_cw;                    // current frame
-  Se3 motion;                  // last inter-frame motion T_cur_prev
+  Se3 motion;                  // last inter-frame motion T_cur_prev, over motion_dt_s
+  double motion_dt_s = 0;      // the time `motion` spans (0: unknown)
+  double pose_t_s = 0;         // the time of the frame T_cw belongs to
   Se3 last_good;               // last tracked pose (restarts anchor here)
   double a = 0, b = 0;
   std::uint32_t lost_frames = 0;
@@ -150,6 +155,13 @@ State* lay_out(const VoConfig& config, Arena& arena);
 // (raw - alpha raw_prev) / beta, with s.carry from s.tau and the frame's times.
 void write_scene_estimate(State& s);
 void build_frame_images(State& s);
+
+// The constant-velocity guess's step from T_cw's frame to the current one: `motion` scaled to
+// the time between them when frames were dropped or repeated in between (odometry.cpp).
+Se3 motion_step(const State& s);
+// T_cw was just set for the current frame, from `previous` (the pose of the frame before):
+// the motion model and the time it spans.
+void record_motion(State& s, const Se3& previous);
 
 // Parts (one file each).
 struct TrackResult {

@@ -79,11 +79,13 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
     e.tracked_points_total += r.tracked;
     e.keyframes += r.keyframe;
     e.lost += r.state == "lost";
+    e.duplicates += r.state == "duplicate";
     e.vo_ms_per_frame += r.ms;
   }
   if (!stats.empty()) e.vo_ms_per_frame /= static_cast<double>(stats.size());
   e.posed = est.size();
-  e.coverage = e.frames ? static_cast<double>(e.posed) / static_cast<double>(e.frames) : 0;
+  const std::size_t new_frames = e.frames - e.duplicates;
+  e.coverage = new_frames ? static_cast<double>(e.posed) / static_cast<double>(new_frames) : 0;
   e.reinitialisations = summary.value("reinitialisations", 0u);
   e.tau_h = summary.value("tau_h_s", 0.0), e.tau_c = summary.value("tau_c_s", 0.0);
 
@@ -192,7 +194,7 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
 
 nlohmann::json to_json(const Evaluation& e) {
   nlohmann::json j = {{"photometric", e.photometric}, {"frames", e.frames}, {"posed", e.posed},
-                      {"coverage", e.coverage}, {"lost", e.lost}, {"keyframes", e.keyframes},
+                      {"coverage", e.coverage}, {"lost", e.lost}, {"duplicates", e.duplicates}, {"keyframes", e.keyframes},
                       {"reinitialisations", e.reinitialisations}, {"ate_rmse_m", e.ate_rmse},
                       {"ate_relative", e.ate_rmse_relative}, {"path_length_m", e.path_length_m},
                       {"scale", e.scale}, {"rpe_trans_rmse_m", e.rpe_trans_rmse},
@@ -221,7 +223,8 @@ std::string to_table(const Evaluation& e) {
     return std::string(b);
   };
   row("photometric", e.photometric);
-  row("frames (posed / lost)", std::to_string(e.frames) + " (" + std::to_string(e.posed) + " / " + std::to_string(e.lost) + ")");
+  row("frames (posed / lost)", std::to_string(e.frames) + " (" + std::to_string(e.posed) + " / " + std::to_string(e.lost) + ")" +
+                                   (e.duplicates ? ", " + std::to_string(e.duplicates) + " repeated (skipped)" : std::string()));
   row("keyframes", std::to_string(e.keyframes));
   row("reinitialisations", std::to_string(e.reinitialisations));
   row("ATE rmse (Sim3)", num(e.ate_rmse, "%.3f m") + num(100 * e.ate_rmse_relative, " (%.2f %% of ") + num(e.path_length_m, "%.1f m)"));

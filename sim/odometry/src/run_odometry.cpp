@@ -143,7 +143,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   fs::remove_all(tmp.path);
   fs::create_directories(tmp.path);
 
-  std::vector<std::uint16_t> raw(std::size_t{w} * h);
+  std::vector<std::uint16_t> raw(std::size_t{w} * h), previous_raw;
   std::vector<StampedPose> trajectory;
   std::vector<vo::WorldPoint> points;
   std::ostringstream stats;
@@ -161,8 +161,12 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     in.readout_prev_s = i > 0 ? rows[i - 1].readout_s.value_or(0.0) : 0.0;
     in.chain_broken = i == 0 || row.ffc.value_or(false) ||
                       (period > 0 && *row.t_s - *rows[i - 1].t_s > 1.5 * period);
+    // A repeated frame is skipped by the VO; the corrector does not see it either, so the frame
+    // sequence it gets has a gap and it restarts its carry-over chain after it.
+    const bool repeated = !in.chain_broken && raw == previous_raw;
+    previous_raw = raw;
     const auto start = std::chrono::steady_clock::now();
-    if (options.photometric == vo::Photometric::ir_loop) {
+    if (options.photometric == vo::Photometric::ir_loop && !repeated) {
       const vo::Tau tau = odometry.tau();
       corrector.set_time_constants({to_ns(tau.h), to_ns(tau.c)});
       fw::FrameHeader header;
@@ -186,6 +190,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     const bool sane = r.has_pose && r.T_wc.t.allFinite() && r.T_wc.R.allFinite() && r.T_wc.t.norm() < 1e6;
     if (sane) trajectory.push_back({*row.t_s, r.T_wc}), ++summary.posed;
     summary.lost += r.state == vo::TrackingState::lost;
+    summary.duplicates += r.state == vo::TrackingState::duplicate;
     summary.keyframes += r.keyframe;
     summary.reinitialisations += r.reinitialised;
     char line[256];
@@ -238,6 +243,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"frames", summary.frames},
                       {"posed", summary.posed},
                       {"lost", summary.lost},
+                      {"duplicates", summary.duplicates},
                       {"keyframes", summary.keyframes},
                       {"reinitialisations", summary.reinitialisations},
                       {"points", summary.points},

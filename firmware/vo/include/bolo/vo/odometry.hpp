@@ -28,7 +28,10 @@ struct FrameInput {
   bool chain_broken = false;
 };
 
-enum class TrackingState : std::uint8_t { initialising, tracking, lost };
+// duplicate: the frame repeats the previous one bit for bit (a camera or link that sends a frame
+// twice); it is skipped, and the frame after it has no known carry-over (its sensor predecessor
+// was never delivered).
+enum class TrackingState : std::uint8_t { initialising, tracking, lost, duplicate };
 const char* to_string(TrackingState state);
 
 struct FrameResult {

@@ -20,7 +20,8 @@ struct EvaluateOptions {
 struct Evaluation {
   std::string photometric;
   std::size_t frames = 0, posed = 0, lost = 0, keyframes = 0, reinitialisations = 0;
-  double coverage = 0;          // posed / frames
+  std::size_t duplicates = 0;  // frames repeating the previous one (skipped: not in coverage)
+  double coverage = 0;          // posed / (frames - duplicates)
   double ate_rmse = 0;          // metres, after Sim(3) alignment
   double ate_rmse_relative = 0;  // ATE / ground-truth path length over the posed frames
   double scale = 1;

@@ -33,6 +33,7 @@ struct OdometryOptions {
 struct OdometrySummary {
   std::uint64_t frames = 0, posed = 0, lost = 0, keyframes = 0, reinitialisations = 0;
   std::uint64_t points = 0;  // in points.ply
+  std::uint64_t duplicates = 0;  // frames repeating the previous one bit for bit (skipped by the VO)
   double tau_h_s = 0, tau_c_s = 0;
   double seconds = 0;        // VO time only (not I/O)
   std::size_t arena_bytes = 0;
