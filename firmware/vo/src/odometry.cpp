@@ -50,6 +50,7 @@ State* lay_out(const VoConfig& config, Arena& arena) {
   s.raw_prev = arena.take<float>(plane(c));
   s.raw_prev2 = arena.take<float>(plane(c));
   s.noise_scratch = arena.take<float>(noise_block_count(c.width, c.height));
+  s.unchanged_frames = arena.take<std::uint8_t>(plane(c));
   auto previous_texels = arena.take<Texel>(texel_count(c.width, c.height, 1));
   if (!previous_texels.empty()) make_texels(previous_texels, c.width, c.height, 1, &s.previous_texels);
   s.occupied = arena.take<std::uint8_t>(plane(c));
@@ -235,6 +236,7 @@ std::size_t Odometry::arena_bytes(const VoConfig& config) {
   bytes += texel_count(c.width, c.height, c.levels) * sizeof(Texel) + 16;
   bytes += 4 * (plane(c) * sizeof(float) + 16) + plane(c) + 16;
   bytes += noise_block_count(c.width, c.height) * sizeof(float) + 16;
+  bytes += plane(c) + 16;
   bytes += texel_count(c.width, c.height, 1) * sizeof(Texel) + 16;
   bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + std::size_t{64} * 2 + 16;
   bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
@@ -326,6 +328,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.exposure_prev_s = s.exposure_s;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
   const bool ir = c.photometric == Photometric::ir || c.photometric == Photometric::ir_loop;
+  if (ir && had_prev) count_unchanged_frames(s);
 
   // The tracking image: what the photometric model says is comparable between frames.
   float* level0 = s.frame.level[0].value.data;
