@@ -33,12 +33,15 @@ const fs::path& sequence(const char* name, const char* tau) {
   return made[key];
 }
 
-// A street sequence at 60 Hz, 160x120, noise 3, rendered over each pixel's area (3 x 3 rays).
+// A street sequence at 60 Hz, 160x120, noise 3, rendered over each pixel's area (3 x 3 rays),
+// with one effect of the simulator's catalogue when `effect` is given.
 fs::path street_ss3(const fs::path& seq, const char* trajectory, const char* frames, const char* tau,
-                    const char* seed) {
-  const CliResult r = run_bolo({"simulate", seq.string(), "--scene", "street", "--trajectory", trajectory, "--fps",
-                                "60", "--frames", frames, "--size", "160x120", "--tau", tau, "--noise", "3", "--seed",
-                                seed, "--supersample", "3"});
+                    const char* seed, const char* effect = nullptr) {
+  std::vector<std::string> args = {"simulate", seq.string(), "--scene", "street", "--trajectory", trajectory,
+                                   "--fps", "60", "--frames", frames, "--size", "160x120", "--tau", tau,
+                                   "--noise", "3", "--seed", seed, "--supersample", "3"};
+  if (effect) args.insert(args.end(), {"--effect", effect});
+  const CliResult r = run_bolo(args);
   INFO(r.err);
   REQUIRE(r.code == 0);
   return seq;
@@ -183,12 +186,7 @@ TEST_CASE("repeated frames are skipped and break the carry-over chain", "[vo][cl
   // the frame after them with the wrong predecessor: measured when written, tau 2 s in read 52 %
   // low in both ir modes (ATE 0.32 % of the path); skipped, 1.9 / 2.7 % (ATE 0.22 %).
   TempDir tmp;
-  const fs::path seq = tmp / "drive-repeats";
-  const CliResult sim = run_bolo({"simulate", seq.string(), "--scene", "street", "--trajectory", "drive", "--fps", "60",
-                                  "--frames", "150", "--size", "160x120", "--tau", "0.012", "--noise", "3", "--seed",
-                                  "1", "--supersample", "3", "--effect", "frame_duplication:every=10"});
-  INFO(sim.err);
-  REQUIRE(sim.code == 0);
+  const fs::path seq = street_ss3(tmp / "drive-repeats", "drive", "150", "0.012", "1", "frame_duplication:every=10");
   for (const char* mode : {"ir", "ir-loop"}) {
     const fs::path run = tmp / mode;
     const nlohmann::json e = odometry_evaluated(seq, run, mode);
@@ -223,12 +221,7 @@ TEST_CASE("dead pixels do not pull the tau estimate", "[vo][cli][tau]") {
   // alike: measured when written, tau at 2 s 19 / 20 % off (ir / ir-loop) with them counted,
   // 4.5 / 0.6 % with samples near stuck pixels left out.
   TempDir tmp;
-  const fs::path seq = tmp / "drive-dead";
-  const CliResult sim = run_bolo({"simulate", seq.string(), "--scene", "street", "--trajectory", "drive", "--fps", "60",
-                                  "--frames", "150", "--size", "160x120", "--tau", "0.012", "--noise", "3", "--seed",
-                                  "1", "--supersample", "3", "--effect", "dead_pixels"});
-  INFO(sim.err);
-  REQUIRE(sim.code == 0);
+  const fs::path seq = street_ss3(tmp / "drive-dead", "drive", "150", "0.012", "1", "dead_pixels");
   for (const char* mode : {"ir", "ir-loop"}) {
     const nlohmann::json e = odometry_evaluated(seq, tmp / mode, mode);
     INFO(mode << ": " << e.dump(2));
