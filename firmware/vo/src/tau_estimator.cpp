@@ -117,10 +117,10 @@ Mat26 pixel_jacobian(const Scaled& k, const Eigen::Vector3f& X, float idepth) {
   return D;
 }
 
-// Whether a stuck pixel (count_unchanged_frames) lies within `reach` pixels of (u, v). A stuck pixel in a sample's
-// interpolation footprint puts its step against the live neighbours (thousands of counts for a
-// dead one) into A and B alike, which reads as alpha = 1 (10 dead pixels in a 160x120 street
-// drive at 10 ms: 13.3 ms).
+// Whether a stuck pixel (count_unchanged_frames) lies within `reach` pixels of (u, v). A stuck
+// pixel in a sample's interpolation footprint puts its step against the live neighbours
+// (thousands of counts for a dead one) into A and B alike, which reads as alpha = 1 (10 dead
+// pixels in a 160x120 street drive at 10 ms: 13.3 ms).
 bool stuck_pixel_near(const State& s, float u, float v, int reach) {
   const int w = static_cast<int>(s.cfg.width), h = static_cast<int>(s.cfg.height);
   const int cu = static_cast<int>(u), cv = static_cast<int>(v);
