@@ -44,8 +44,8 @@ TEST_CASE("stuck pixels are told from flat and from quiet live ones", "[vo][stuc
     vo::count_unchanged_frames(*s);
     quiet_worst = std::max<int>(quiet_worst, s->unchanged_frames[quiet]);
     if (k == 8) {
-      CHECK(s->unchanged_frames[dead] >= 8);
-      CHECK(s->unchanged_frames[hot] >= 8);
+      CHECK(s->unchanged_frames[dead] >= 4);  // checked every other frame: stuck after 8 frames
+      CHECK(s->unchanged_frames[hot] >= 4);
     }
   }
   CHECK(s->unchanged_frames[flat] == 0);
@@ -54,6 +54,6 @@ TEST_CASE("stuck pixels are told from flat and from quiet live ones", "[vo][stuc
   // neighbours by 64 counts, so it is never counted.
   CHECK(quiet_worst == 0);
   std::size_t stuck = 0;
-  for (const std::uint8_t c : s->unchanged_frames) stuck += c >= 8;
+  for (const std::uint8_t c : s->unchanged_frames) stuck += c >= 4;
   CHECK(stuck == 2);
 }

@@ -139,7 +139,8 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   double tau_sbb_total = 0;  // tau_sbb before the noise correction
   double noise_var = 0;      // temporal pixel noise, counts^2 (0 until measured; noise_estimator.cpp)
   std::span<float> noise_scratch;
-  std::span<std::uint8_t> unchanged_frames;  // per pixel: frames its raw value stayed the same (tau estimator)
+  std::span<std::uint8_t> unchanged_frames;  // per pixel: checks its raw value stayed the same (tau estimator)
+  bool stuck_check_due = false;              // the check runs every other frame
   CarryCoefficients carry;  // of the current frame
   bool chain_ok = false;       // raw_prev is this frame's predecessor on the sensor
   bool chain_ok_prev = false;  // raw_prev2 is raw_prev's predecessor
@@ -194,8 +195,9 @@ void window_bundle_adjustment(State& s);
 // place in s.order. What window_bundle_adjustment() solves; exposed for tests.
 double window_system(State& s);
 void refine_tau(State& s);
-// Per pixel, the consecutive frames whose raw value stayed exactly the same (tau_estimator.cpp):
-// refine_tau leaves out samples near stuck pixels. Called for every frame after the first.
+// Per pixel, the consecutive checks (every other frame) at which its raw value stayed exactly the
+// same as the frame before (tau_estimator.cpp): refine_tau leaves out samples near stuck pixels.
+// Called for every frame after the first.
 void count_unchanged_frames(State& s);
 // Updates noise_var from the current and the two previous raw frames (noise_estimator.cpp);
 // noise_scratch holds noise_block_count() floats.
