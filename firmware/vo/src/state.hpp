@@ -141,6 +141,7 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   std::span<float> noise_scratch;
   std::span<std::uint8_t> unchanged_frames;  // per pixel: checks its raw value stayed the same (tau estimator)
   bool stuck_check_due = false;              // the check runs every other frame
+  std::uint32_t stuck_pixels = 0;            // found by the last check (none: no point is tested)
   CarryCoefficients carry;  // of the current frame
   bool chain_ok = false;       // raw_prev is this frame's predecessor on the sensor
   bool chain_ok_prev = false;  // raw_prev2 is raw_prev's predecessor

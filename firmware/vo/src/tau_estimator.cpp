@@ -143,21 +143,25 @@ void count_unchanged_frames(State& s) {
   // edge included) is not stuck, and a live pixel of a low-noise camera may keep its value for a
   // few frames where it looks like its surroundings.
   const std::size_t w = s.cfg.width, h = s.cfg.height;
+  std::uint32_t stuck = 0;
   for (std::size_t row = 1; row + 1 < h; ++row) {
     const float* y = s.raw.data() + row * w;
     const float* p = s.raw_prev.data() + row * w;
     std::uint8_t* count = s.unchanged_frames.data() + row * w;
     for (std::size_t x = 1; x + 1 < w; ++x) {
       const float v = y[x];
-      const bool same = v == p[x];
-      const bool neighbour_changed = (y[x - 1] != p[x - 1]) | (y[x + 1] != p[x + 1]) | (y[x - w] != p[x - w]) | (y[x + w] != p[x + w]);
-      const bool apart = (std::fabs(v - y[x - 1]) > kStuckContrast) & (std::fabs(v - y[x + 1]) > kStuckContrast) &
-                         (std::fabs(v - y[x - w]) > kStuckContrast) & (std::fabs(v - y[x + w]) > kStuckContrast);
-      const auto c = count[x];
-      const auto counted = static_cast<std::uint8_t>(c + (c < 255 ? 1 : 0));
-      count[x] = same ? (neighbour_changed && apart ? counted : c) : std::uint8_t{0};
+      if (v != p[x]) {  // nearly every pixel under noise
+        if (count[x] != 0) count[x] = 0;
+        continue;
+      }
+      const bool neighbour_changed = y[x - 1] != p[x - 1] || y[x + 1] != p[x + 1] || y[x - w] != p[x - w] || y[x + w] != p[x + w];
+      const bool apart = std::fabs(v - y[x - 1]) > kStuckContrast && std::fabs(v - y[x + 1]) > kStuckContrast &&
+                         std::fabs(v - y[x - w]) > kStuckContrast && std::fabs(v - y[x + w]) > kStuckContrast;
+      if (neighbour_changed && apart && count[x] < 255) ++count[x];
+      stuck += count[x] >= kStuckChecks;
     }
   }
+  s.stuck_pixels = stuck;
 }
 
 void refine_tau(State& s) {
@@ -199,7 +203,7 @@ void refine_tau(State& s) {
       const float up = k.fx * Xp.x() / Xp.z() + k.cx, vp = k.fy * Xp.y() / Xp.z() + k.cy;
       // The pattern reaches 2 pixels out, its gradients and the cubic taps 2 more.
       if (!inside(y0, ui, vi, 4.0f) || !inside(y0, up, vp, 4.0f)) continue;
-      if (stuck_pixel_near(s, ui, vi, 4) || stuck_pixel_near(s, up, vp, 4)) continue;
+      if (s.stuck_pixels > 0 && (stuck_pixel_near(s, ui, vi, 4) || stuck_pixel_near(s, up, vp, 4))) continue;
       // d p_i / d inverse depth and d p_{i-1} / d inverse depth.
       const Eigen::Vector2d c_px(k.fx * (ti.x() * Xi.z() - Xi.x() * ti.z()) / (Xi.z() * Xi.z()),
                                  k.fy * (ti.y() * Xi.z() - Xi.y() * ti.z()) / (Xi.z() * Xi.z()));
