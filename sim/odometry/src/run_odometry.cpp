@@ -143,7 +143,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   fs::remove_all(tmp.path);
   fs::create_directories(tmp.path);
 
-  std::vector<std::uint16_t> raw(std::size_t{w} * h), previous_raw;
+  std::vector<std::uint16_t> raw(std::size_t{w} * h), previous_raw(raw.size());
   std::vector<StampedPose> trajectory;
   std::vector<vo::WorldPoint> points;
   std::ostringstream stats;
@@ -164,7 +164,6 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     // A repeated frame is skipped by the VO; the corrector does not see it either, so the frame
     // sequence it gets has a gap and it restarts its carry-over chain after it.
     const bool repeated = !in.chain_broken && raw == previous_raw;
-    previous_raw = raw;
     const auto start = std::chrono::steady_clock::now();
     if (options.photometric == vo::Photometric::ir_loop && !repeated) {
       const vo::Tau tau = odometry.tau();
@@ -199,6 +198,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                   r.keyframe ? 1 : 0, static_cast<double>(r.residual_rms), r.tau.h, r.tau.c, ms);
     stats << line;
     if (options.progress) options.progress(i + 1, frames);
+    std::swap(raw, previous_raw);  // the next frame is read into the older buffer
   }
   std::vector<vo::WorldPoint> window(8 * 1200);
   window.resize(odometry.window_points(window));
