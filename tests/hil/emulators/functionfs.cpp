@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
@@ -122,6 +123,9 @@ const std::vector<int>& FunctionFs::open_endpoints() {
 }
 
 FfsEvent FunctionFs::next_event() {
+  constexpr int kLinkDownPollMicroseconds = 2000;
+  constexpr int kLinkDownReads = 15000;  // 30 s
+  int link_down_reads = 0;
   usb_functionfs_event raw{};
   for (;;) {
     const ssize_t n = ::read(ep0_, &raw, sizeof raw);
@@ -131,6 +135,22 @@ FfsEvent FunctionFs::next_event() {
     // on it and went on: a new request or a reset came first). FunctionFS reports that once, on
     // the next ep0 read; the events that follow are read as usual.
     if (n < 0 && errno == EIDRM) continue;
+    // EL2HLT: an IN request whose answer never went out was still pending; this read stalled it
+    // and cleared it, so the next read returns events again.
+    if (n < 0 && errno == EL2HLT) continue;
+    // ESHUTDOWN: an OUT request's data stage could not be queued because the link went down
+    // (an unplug raced the request). The request stays pending, so the read tries to queue it
+    // again until FunctionFS sees the unplug's event and cancels it (EIDRM above); only a link
+    // that stays down for long is an error.
+    if (n < 0 && errno == ESHUTDOWN) {
+      if (link_down_reads == 0)
+        std::fprintf(stderr, "%s/ep0: link down with a request pending; waiting for the unplug\n",
+                     mount_dir_.c_str());
+      if (++link_down_reads <= kLinkDownReads) {
+        ::usleep(kLinkDownPollMicroseconds);
+        continue;
+      }
+    }
     throw std::runtime_error(mount_dir_ + "/ep0: event read failed: " + std::strerror(errno));
   }
   FfsEvent event;
