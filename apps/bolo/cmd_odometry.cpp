@@ -25,6 +25,12 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   if (o.hfov_deg && !(*o.hfov_deg > 1.0 && *o.hfov_deg < 179.0))
     fail("--hfov: must be within 1..179 degrees, got ", *o.hfov_deg);
   options.hfov_deg = o.hfov_deg;
+  if (o.exposure_s && !(*o.exposure_s > 0.0 && *o.exposure_s < 1.0))
+    fail("--exposure: must be within 0..1 s (exclusive), got ", *o.exposure_s);
+  if (o.readout_s && !(*o.readout_s >= 0.0 && *o.readout_s < 1.0))
+    fail("--readout: must be within 0..1 s, got ", *o.readout_s);
+  options.exposure_s = o.exposure_s;
+  options.readout_s = o.readout_s;
   options.estimate_tau = !o.fixed_tau;
   options.window_ba = !o.no_ba;
   if (o.max_keyframes < 2 || o.max_keyframes > vo::kMaxKeyframes)
@@ -47,6 +53,10 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
       << std::setprecision(4) << s.tau_h_s * 1e3 << " ms, tau_c " << s.tau_c_s * 1e3 << " ms; "
       << std::setprecision(3) << (s.seconds > 0 ? s.frames / s.seconds : 0.0) << " fps (VO only), arena "
       << s.arena_bytes / 1024 << " KiB\n";
+  if (s.timing_assumed > 0)
+    out << "odometry: frames.csv has no exposure_s/readout_s for " << s.timing_assumed
+        << " frames: assumed half the frame interval each (" << std::setprecision(4) << s.assumed_half_period_s * 1e3
+        << " ms); tau is reported for that split (give --exposure/--readout if the camera's are known)\n";
   (void)total;
   return kExitOk;
 }
@@ -65,7 +75,9 @@ Command add_odometry_command(CLI::App& parent) {
       "  affine   per-frame gain/offset (DSO)\n"
       "  ir       carry-over model raw_i - a*raw_{i-1} = b*u (paper Eq. 7), tau estimated online\n"
       "  ir-loop  the firmware corrector runs in front with the VO's current tau, which the VO refines\n"
-      "The ir modes need exposure_s/readout_s in frames.csv. Shutter events (ffc=1) and time gaps\n"
+      "The ir modes use exposure_s/readout_s from frames.csv; where a cell is empty, --exposure /\n"
+      "--readout, else half the frame interval each (said on the output and counted in summary.json:\n"
+      "alpha = exp(-t_r/tau) is what the frames fix, so tau is then reported for that split). Shutter events (ffc=1) and time gaps\n"
       "(> 1.5 frame periods) break the carry-over chain; such frames are tracked with a free offset.\n"
       "A frame identical to the one before (a camera or link sending a frame twice) is skipped (state\n"
       "'duplicate' in stats.csv, no pose) and breaks the chain for the frame after it.\n"
@@ -83,6 +95,10 @@ Command add_odometry_command(CLI::App& parent) {
   app->add_option("--hfov", o->hfov_deg,
                   "Horizontal field of view, degrees: an undistorted pinhole centred on the image, used instead "
                   "of camera.json (for recordings without one, e.g. Lepton 3: 57)");
+  app->add_option("--exposure", o->exposure_s,
+                  "ir modes: exposure (heating) time t_e, seconds, for frames with an empty exposure_s");
+  app->add_option("--readout", o->readout_s,
+                  "ir modes: readout (cooling) time t_r, seconds, for frames with an empty readout_s");
   app->add_option("--frames", o->frames, "Use only the first N frames")->check(not_negative());
   app->add_option("--max-keyframes", o->max_keyframes,
                   "Keyframes in the sliding window, 2..8 (default 8; 6 is about a quarter faster)");

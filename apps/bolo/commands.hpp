@@ -106,6 +106,7 @@ struct OdometryOptions {
   double tau_init_s = 0.010;
   bool fixed_tau = false;
   std::optional<double> hfov_deg;
+  std::optional<double> exposure_s, readout_s;
   std::optional<std::uint64_t> frames;
   bool no_ba = false;
   std::uint32_t max_keyframes = 8;

@@ -284,6 +284,65 @@ TEST_CASE("odometry: --hfov stands in for a missing camera.json", "[vo][cli]") {
         std::string::npos);
 }
 
+// The recording with every exposure_s and readout_s cell of frames.csv emptied (unknown).
+fs::path without_frame_timing(const fs::path& seq, const fs::path& out) {
+  fs::create_directories(out);
+  for (const char* f : {"recording.json", "frames.npy", "camera.json"}) fs::copy_file(seq / f, out / f);
+  std::ifstream in(seq / "frames.csv");
+  std::ofstream csv(out / "frames.csv");
+  std::string line;
+  std::getline(in, line);
+  csv << line << "\n";
+  while (std::getline(in, line)) {
+    const auto c1 = line.find(','), c2 = line.find(',', c1 + 1), c3 = line.find(',', c2 + 1),
+               c4 = line.find(',', c3 + 1);
+    csv << line.substr(0, c2 + 1) << "," << line.substr(c4) << "\n";  // index,t_s,,,ffc,...
+  }
+  return out;
+}
+
+TEST_CASE("odometry: empty exposure_s/readout_s cells are filled", "[vo][cli]") {
+  // The sequence's timing is the simulator's default split, half the frame period each.
+  const fs::path& seq = sequence("drive", "0.012");
+  TempDir tmp;
+  const fs::path bare = without_frame_timing(seq, tmp / "bare");
+  {
+    std::ifstream in(bare / "frames.csv");
+    std::string header, row;
+    std::getline(in, header), std::getline(in, row);
+    REQUIRE(row.find("0,0,,,") == 0);
+  }
+  odometry(seq, tmp / "timed", {"--photometric", "ir"});
+  const CliResult assumed = run_bolo({"odometry", bare.string(), "--out", (tmp / "assumed").string(), "--photometric", "ir"});
+  INFO(assumed.err);
+  REQUIRE(assumed.code == 0);
+  CHECK(assumed.out.find("no exposure_s/readout_s for 36 frames: assumed half the frame interval each (8.333 ms)") !=
+        std::string::npos);
+  const auto timed = odo::read_tum(tmp / "timed" / "trajectory.tum");
+  const auto filled = odo::read_tum(tmp / "assumed" / "trajectory.tum");
+  REQUIRE(timed.size() >= 20);
+  REQUIRE(timed.size() == filled.size());
+  for (std::size_t i = 0; i < timed.size(); ++i) CHECK((timed[i].T_wc.t - filled[i].T_wc.t).norm() < 1e-6);
+  const nlohmann::json a = summary_of(tmp / "assumed");
+  CHECK(a["timing_assumed"] == 36);
+  CHECK(a["timing_from_options"] == 0);
+  CHECK(std::fabs(a["timing_assumed_s"].get<double>() - 1.0 / 120) < 1e-9);
+  CHECK(std::fabs(a["tau_c_s"].get<double>() - summary_of(tmp / "timed")["tau_c_s"].get<double>()) < 1e-6);
+  CHECK(summary_of(tmp / "timed")["timing_assumed"] == 0);
+  // A different split is a different model: the same frames give another tau (alpha = exp(-t_r /
+  // tau) is what they fix), and the options count where they were used.
+  odometry(bare, tmp / "given", {"--photometric", "ir", "--exposure", "0.0125", "--readout", "0.0041667"});
+  const nlohmann::json g = summary_of(tmp / "given");
+  CHECK(g["timing_from_options"] == 36);
+  CHECK(g["timing_assumed"] == 0);
+  CHECK(g["timing_assumed_s"].is_null());
+  CHECK(g["tau_c_s"].get<double>() < 0.8 * a["tau_c_s"].get<double>());
+  // none and affine do not use the timing.
+  const CliResult plain = run_bolo({"odometry", bare.string(), "--out", (tmp / "plain").string()});
+  REQUIRE(plain.code == 0);
+  CHECK(plain.out.find("assumed") == std::string::npos);
+}
+
 TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothing behind", "[vo][cli][refusal]") {
   const fs::path& seq = sequence("drive", "0.0002");
   TempDir tmp;
@@ -315,7 +374,7 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
     const auto line2 = csv.find('\n', csv.find('\n') + 1);  // end of frame 0's row
     std::string row0 = csv.substr(csv.find('\n') + 1, line2 - csv.find('\n') - 1);
     const auto c1 = row0.find(','), c2 = row0.find(',', c1 + 1), c3 = row0.find(',', c2 + 1);
-    row0 = row0.substr(0, c2 + 1) + row0.substr(c3);  // exposure_s of frame 0 emptied
+    row0 = row0.substr(0, c2 + 1) + "0" + row0.substr(c3);  // exposure_s of frame 0 zero
     csv.replace(csv.find('\n') + 1, line2 - csv.find('\n') - 1, row0);
     fs::copy_file(seq / "camera.json", tmp / "cam.json");
     std::ofstream(nocam / "frames.csv") << csv;
@@ -323,7 +382,11 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
     std::ofstream(nocam / "camera.json") << cin.rdbuf();
   }
   CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "d").string(), "--photometric", "ir"})
-            .find("frame 0: exposure_s/readout_s empty or zero") != std::string::npos);
+            .find("frames.csv: frame 0: exposure_s must be positive") != std::string::npos);
+  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "d").string(), "--photometric", "ir", "--exposure", "0"})
+            .find("--exposure: must be within 0..1 s (exclusive), got 0") != std::string::npos);
+  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "d").string(), "--photometric", "ir", "--readout", "-1"})
+            .find("--readout: must be within 0..1 s, got -1") != std::string::npos);
   // 10.5 existing output
   fs::create_directories(tmp / "exists");
   CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "exists").string()}).find("already exists") !=

@@ -75,6 +75,10 @@ class FrameSink final : public fw::LineSink {
   std::vector<std::uint16_t> frame_;
 };
 
+struct FrameTiming {
+  double exposure_s = 0, readout_s = 0;  // 0 where the photometric model does not use them
+};
+
 std::uint32_t to_ns(double seconds) { return static_cast<std::uint32_t>(std::llround(seconds * 1e9)); }
 
 // Removes the temporary output folder unless committed.
@@ -114,18 +118,47 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   const auto& rows = recording.rows();
   const std::uint64_t frames = std::min<std::uint64_t>(rows.size(), options.max_frames.value_or(rows.size()));
   const bool ir = options.photometric == vo::Photometric::ir || options.photometric == vo::Photometric::ir_loop;
-  for (std::uint64_t i = 0; i < frames; ++i) {
-    const fs::path csv = recording.dir() / "frames.csv";
+  const fs::path csv = recording.dir() / "frames.csv";
+  for (std::uint64_t i = 0; i < frames; ++i)
     if (!rows[i].t_s) throw Error(csv.string() + ": frame " + std::to_string(i) + ": t_s is empty (the VO needs frame times)");
-    if (ir && (!rows[i].exposure_s || !rows[i].readout_s || *rows[i].exposure_s <= 0))
-      throw Error(csv.string() + ": frame " + std::to_string(i) +
-                  ": exposure_s/readout_s empty or zero (the ir modes need the frame timing)");
-  }
   // Frame period for gap detection: the median interval.
   std::vector<double> intervals;
   for (std::uint64_t i = 1; i < frames; ++i) intervals.push_back(*rows[i].t_s - *rows[i - 1].t_s);
   std::sort(intervals.begin(), intervals.end());
   const double period = intervals.empty() ? 0.0 : intervals[intervals.size() / 2];
+
+  OdometrySummary summary;
+  // The ir modes' frame timing: frames.csv, else the options, else half the frame interval each.
+  std::vector<FrameTiming> timing(frames);
+  if (ir) {
+    const double half = 0.5 * period;
+    for (std::uint64_t i = 0; i < frames; ++i) {
+      const rec::FrameRow& row = rows[i];
+      // 0: from frames.csv, 1: from the options, 2: assumed.
+      const auto fill = [&](const std::optional<double>& cell, const std::optional<double>& option, double& value) {
+        if (cell) {
+          value = *cell;
+          return 0;
+        }
+        if (option) {
+          value = *option;
+          return 1;
+        }
+        value = half;
+        return 2;
+      };
+      const int e = fill(row.exposure_s, options.exposure_s, timing[i].exposure_s);
+      const int r = fill(row.readout_s, options.readout_s, timing[i].readout_s);
+      if (std::max(e, r) == 1) ++summary.timing_from_options;
+      if (std::max(e, r) == 2) ++summary.timing_assumed;
+      const std::string at = csv.string() + ": frame " + std::to_string(i) + ": ";
+      if (!(timing[i].exposure_s > 0))
+        throw Error(at + (e == 0 ? "exposure_s must be positive"
+                                 : "exposure_s empty and no frame interval to assume it from (give --exposure)"));
+      if (!(timing[i].readout_s >= 0)) throw Error(at + "readout_s must not be negative");
+    }
+    if (summary.timing_assumed > 0) summary.assumed_half_period_s = half;
+  }
 
   std::vector<std::byte> arena(vo::Odometry::arena_bytes(config));
   vo::Odometry odometry(config, arena);
@@ -139,7 +172,10 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   cc.tau = {to_ns(options.tau_init_s), to_ns(options.tau_init_s)};
   fw::TwoFrameCorrector corrector(cc, corrector_storage, corrected);
 
-  TempDir tmp{out_dir.parent_path() / ("." + out_dir.filename().string() + ".partial")};
+  std::string partial_name = out_dir.filename().string();  // built by appending: GCC 12's -Wrestrict
+  partial_name.insert(0, 1, '.');                           // misfires on "." + string here
+  partial_name += ".partial";
+  TempDir tmp{out_dir.parent_path() / partial_name};
   fs::remove_all(tmp.path);
   fs::create_directories(tmp.path);
 
@@ -148,7 +184,6 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   std::vector<vo::WorldPoint> points;
   std::ostringstream stats;
   stats << "index,t_s,state,tracked_points,keyframe,residual_rms,tau_h_s,tau_c_s,time_ms\n";
-  OdometrySummary summary;
   summary.arena_bytes = arena.size();
   double vo_seconds = 0;
   for (std::uint64_t i = 0; i < frames; ++i) {
@@ -157,8 +192,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     vo::FrameInput in;
     in.raw = raw;
     in.t_s = *row.t_s;
-    in.exposure_s = row.exposure_s.value_or(0.0);
-    in.readout_prev_s = i > 0 ? rows[i - 1].readout_s.value_or(0.0) : 0.0;
+    in.exposure_s = timing[i].exposure_s;
+    in.readout_prev_s = i > 0 ? timing[i - 1].readout_s : 0.0;
     in.chain_broken = i == 0 || row.ffc.value_or(false) ||
                       (period > 0 && *row.t_s - *rows[i - 1].t_s > 1.5 * period);
     // A repeated frame is skipped by the VO; the corrector does not see it either, so the frame
@@ -174,7 +209,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
       header.timestamp_ns = static_cast<std::int64_t>(std::llround(*row.t_s * 1e9));
       header.timestamp_valid = true;
       header.exposure_ns = to_ns(in.exposure_s);
-      header.readout_ns = to_ns(row.readout_s.value_or(0.0));
+      header.readout_ns = to_ns(timing[i].readout_s);
       header.ffc = row.ffc ? (*row.ffc ? fw::FfcState::completed : fw::FfcState::none) : fw::FfcState::unknown;
       corrector.begin_frame(header);
       for (std::uint32_t y = 0; y < h; ++y) corrector.push_line(y, fw::LineView(raw.data() + std::size_t{y} * w, w));
@@ -250,6 +285,10 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"tau_init_s", options.tau_init_s},
                       {"tau_estimated", options.estimate_tau},
                       {"max_keyframes", options.max_keyframes},
+                      {"timing_from_options", summary.timing_from_options},
+                      {"timing_assumed", summary.timing_assumed},
+                      {"timing_assumed_s", summary.timing_assumed ? nlohmann::json(summary.assumed_half_period_s)
+                                                                  : nlohmann::json(nullptr)},
                       {"tau_h_s", summary.tau_h_s},
                       {"tau_c_s", summary.tau_c_s},
                       {"vo_seconds", summary.seconds},

@@ -23,6 +23,10 @@ struct OdometryOptions {
   // Intrinsics from a horizontal field of view (pinhole, centred, square pixels) instead of
   // camera.json.
   std::optional<double> hfov_deg;
+  // ir modes: the exposure / readout of frames whose frames.csv cell is empty (unknown). Without
+  // them such a frame gets half the median frame interval for each (the simulator's default
+  // split); the summary counts those frames.
+  std::optional<double> exposure_s, readout_s;
   bool window_ba = true;
   std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;  // sliding window, 2..8
   bool overwrite = false;
@@ -34,6 +38,10 @@ struct OdometrySummary {
   std::uint64_t frames = 0, posed = 0, lost = 0, keyframes = 0, reinitialisations = 0;
   std::uint64_t points = 0;  // in points.ply
   std::uint64_t duplicates = 0;  // frames repeating the previous one bit for bit (skipped by the VO)
+  // ir modes: frames whose empty exposure_s / readout_s cell was filled from the options
+  // (timing_from_options) or with half the frame interval (timing_assumed), and that value.
+  std::uint64_t timing_from_options = 0, timing_assumed = 0;
+  double assumed_half_period_s = 0;
   double tau_h_s = 0, tau_c_s = 0;
   double seconds = 0;        // VO time only (not I/O)
   std::size_t arena_bytes = 0;
