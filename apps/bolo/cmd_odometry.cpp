@@ -53,6 +53,9 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
       << std::setprecision(4) << s.tau_h_s * 1e3 << " ms, tau_c " << s.tau_c_s * 1e3 << " ms; "
       << std::setprecision(3) << (s.seconds > 0 ? s.frames / s.seconds : 0.0) << " fps (VO only), arena "
       << s.arena_bytes / 1024 << " KiB\n";
+  if (s.undistorted)
+    out << "odometry: camera.json has lens distortion: frames resampled onto a pinhole (focal lengths x"
+        << std::setprecision(4) << s.focal_scale << ")\n";
   if (s.timing_assumed > 0)
     out << "odometry: frames.csv has no exposure_s/readout_s for " << s.timing_assumed
         << " frames: assumed half the frame interval each (" << std::setprecision(4) << s.assumed_half_period_s * 1e3
@@ -66,7 +69,8 @@ Command add_odometry_command(CLI::App& parent) {
   CLI::App* app = add_command(
       parent, "odometry", "Monocular direct visual odometry with a microbolometer photometric model",
       "Runs the on-board VO (firmware/vo: direct sparse odometry, frame-to-keyframe alignment,\n"
-      "epipolar depth search, sliding-window bundle adjustment) over a recording with camera.json,\n"
+      "epipolar depth search, sliding-window bundle adjustment) over a recording with camera.json\n"
+      "(a lens with distortion k1, k2, p1, p2: the frames are resampled onto a pinhole first),\n"
       "and writes to DIR: trajectory.tum (camera-to-world, per posed frame), stats.csv (per frame:\n"
       "state, tracked points, keyframe flag, residual, tau estimates, time), points.ply (keyframe\n"
       "points, world), trajectory.svg (top view; with the ground truth, Sim(3)-aligned, when\n"

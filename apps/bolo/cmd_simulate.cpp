@@ -140,7 +140,7 @@ int run_simulate(const SimulateOptions& o, std::ostream& out) {
   const sim::SimulatorConfig config = resolve(o, preset);
   const sim::SimulationInfo& i = config.info;
   if (o.supersample < 1 || o.supersample > 8) fail("--supersample: must be 1..8, got ", o.supersample);
-  SimulatedScene scene = make_simulated_scene(o.scene, o.trajectory, preset, i, o.supersample);
+  SimulatedScene scene = make_simulated_scene(o.scene, o.trajectory, preset, i, o.supersample, o.distortion);
   sim::Simulator simulator(config, scene.input);  // checks the effects before anything is written
 
   rec::RecordingInfo info;
@@ -155,6 +155,10 @@ int run_simulate(const SimulateOptions& o, std::ostream& out) {
          << ", preset " << preset.name << ", tau_h " << i.tau_h_s << " s, tau_c " << i.tau_c_s
          << " s, noise " << config.noise_counts << " counts, seed " << o.seed;
   if (o.supersample > 1) source << ", " << o.supersample << "x" << o.supersample << " rays per pixel";
+  if (!o.distortion.empty()) {
+    source << ", lens distortion";
+    for (std::size_t k = 0; k < o.distortion.size(); ++k) source << (k ? "," : " ") << o.distortion[k];
+  }
   for (const auto& e : o.effects) source << ", effect " << e;
   info.source = source.str();
   info.notes = "scene.npy holds the steady-state input; truth/ the model, its parameters and maps";
@@ -230,6 +234,10 @@ Command add_simulate_command(CLI::App& parent) {
   app->add_option("--supersample", o->supersample,
                   "3D scenes: N x N rays per pixel, averaged (the pixel's area; 1 = one ray through its centre, aliased), 1 to 8")
       ->check(not_negative())->capture_default_str();
+  app->add_option("--distortion", o->distortion,
+                  "3D scenes: lens distortion K1[,K2[,P1[,P2]]] (Brown-Conrady, as camera.json records it; "
+                  "e.g. -0.2,0.04 for a barrel lens)")
+      ->delimiter(',');
   app->add_option("--effect", o->effects, "Catalogue effect ID[:KEY=VALUE,...]; repeatable");
   app->add_option("--seed", o->seed, "Seed of noise, maps and scene")->check(not_negative())->capture_default_str();
   app->add_flag("--overwrite", o->overwrite, "Replace OUT if it is a recording");

@@ -47,8 +47,11 @@ std::string simulated_scene_names() { return "demo, " + join(sim::scene::scene_n
 
 SimulatedScene make_simulated_scene(const std::string& scene_name, const std::string& trajectory_name,
                                     const sim::SensorPreset& preset, const sim::SimulationInfo& info,
-                                    unsigned supersample) {
-  if (scene_name == "demo") return demo_scene(trajectory_name, info);
+                                    unsigned supersample, const std::vector<double>& distortion) {
+  if (scene_name == "demo") {
+    if (!distortion.empty()) fail("--distortion: the demo scene is a flat pattern without a lens");
+    return demo_scene(trajectory_name, info);
+  }
   bool known = false;
   for (const auto& n : sim::scene::scene_names()) known = known || n == scene_name;
   if (!known) fail("--scene ", scene_name, ": unknown scene (known: ", simulated_scene_names(), ")");
@@ -61,7 +64,14 @@ SimulatedScene make_simulated_scene(const std::string& scene_name, const std::st
   auto trajectory = std::make_shared<sim::scene::Trajectory>(sim::scene::make_trajectory(path, info.seed));
   if (trajectory->scene() != scene_name && scene_name != "checker")
     fail("--trajectory ", path, ": laid out for the ", trajectory->scene(), " scene, not ", scene_name);
-  const sim::scene::Camera camera(info.width, info.height, kHorizontalFovDeg);
+  sim::scene::Camera camera(info.width, info.height, kHorizontalFovDeg);
+  if (distortion.size() > 4) fail("--distortion: at most 4 values (k1,k2,p1,p2), got ", distortion.size());
+  double* const coefficient[4] = {&camera.k1, &camera.k2, &camera.p1, &camera.p2};
+  for (std::size_t k = 0; k < distortion.size(); ++k) {
+    if (!std::isfinite(distortion[k])) fail("--distortion: value ", k + 1, " is not finite");
+    *coefficient[k] = distortion[k];
+  }
+  if (const char* why = sim::scene::distortion_problem(camera)) fail("--distortion: ", why);
   sim::scene::RenderOptions render_options;
   render_options.supersample = supersample;
   auto renderer = std::make_shared<sim::scene::Renderer>(sim::scene::make_scene(scene_name, info.seed), camera,

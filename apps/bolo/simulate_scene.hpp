@@ -5,6 +5,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -22,9 +23,11 @@ struct SimulatedScene {
 
 // Throws bolo::cli::Error naming the unknown scene or trajectory and listing the known ones.
 // `supersample` n: n x n rays per pixel for the 3D scenes (1: one ray through the pixel centre).
+// `distortion`: the lens's k1, k2, p1, p2 (Brown-Conrady, camera.json), fewer values meaning 0;
+// refused unless the distortion is one-to-one over the image.
 SimulatedScene make_simulated_scene(const std::string& scene, const std::string& trajectory,
                                     const sim::SensorPreset& preset, const sim::SimulationInfo& info,
-                                    unsigned supersample = 1);
+                                    unsigned supersample = 1, const std::vector<double>& distortion = {});
 std::string simulated_scene_names();
 
 }  // namespace bolo::cli

@@ -69,6 +69,9 @@ TEST_CASE("simulate refuses bad options", "[cli][simulate][refusal]") {
            {{"--effect", "offset_fpn:sigma=-2"}, "offset_fpn: sigma"},
            {{"--preset", "nosuch"}, "--preset nosuch"},
            {{"--scene", "nosuch"}, "--scene nosuch"},
+           {{"--distortion", "-0.2"}, "--distortion: the demo scene is a flat pattern without a lens"},
+           {{"--scene", "street", "--distortion", "-1.5"}, "--distortion: the radial distortion (k1, k2) folds back"},
+           {{"--scene", "street", "--distortion", "0.1,0,0,0,0.1"}, "--distortion: at most 4 values"},
        }) {
     std::vector<std::string> argv = {"simulate", (tmp / "x").string()};
     argv.insert(argv.end(), args.begin(), args.end());

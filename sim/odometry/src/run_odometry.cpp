@@ -6,16 +6,17 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "bolo/firmware/two_frame_corrector.hpp"
 #include "bolo/odometry/align.hpp"
+#include "bolo/odometry/pinhole_remap.hpp"
 #include "bolo/odometry/plot.hpp"
 #include "bolo/odometry/ply.hpp"
 #include "bolo/recording/recording.hpp"
-#include "bolo/sim/scene/camera.hpp"
 #include "bolo/vo/odometry.hpp"
 
 namespace bolo::odo {
@@ -23,40 +24,47 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The simulator's centred pinhole of that field of view (the camera `bolo simulate` renders with).
-vo::Camera camera_from_hfov(double hfov_deg, std::uint32_t width, std::uint32_t height) {
-  const sim::scene::Camera pinhole(width, height, hfov_deg);
-  vo::Camera c;
-  c.fx = static_cast<float>(pinhole.fx);
-  c.fy = static_cast<float>(pinhole.fy);
-  c.cx = static_cast<float>(pinhole.cx);
-  c.cy = static_cast<float>(pinhole.cy);
-  return c;
-}
-
-vo::Camera read_camera(const rec::Recording& recording) {
+// camera.json as the recording format defines it (a pinhole with Brown-Conrady distortion).
+sim::scene::Camera read_camera(const rec::Recording& recording) {
   const fs::path file = recording.dir() / "camera.json";
   if (!recording.camera())
     throw Error(file.string() + ": missing (the VO needs the camera intrinsics: add it, or give --hfov DEG)");
   const nlohmann::json& j = *recording.camera();
+  if (j.contains("model") && !(j["model"].is_string() && j["model"].get<std::string>() == "pinhole"))
+    throw Error(file.string() + ": field model is not \"pinhole\" (the recording format's only camera model)");
   const auto number = [&](const char* key, bool required) -> double {
     if (!j.contains(key)) {
       if (required) throw Error(file.string() + ": field " + key + " is missing");
       return 0.0;
     }
     if (!j[key].is_number()) throw Error(file.string() + ": field " + key + " is not a number");
-    return j[key].get<double>();
+    const double value = j[key].get<double>();
+    if (!std::isfinite(value)) throw Error(file.string() + ": field " + key + " is not finite");
+    return value;
   };
-  vo::Camera c;
-  c.fx = static_cast<float>(number("fx", true));
-  c.fy = static_cast<float>(number("fy", true));
-  c.cx = static_cast<float>(number("cx", true));
-  c.cy = static_cast<float>(number("cy", true));
+  sim::scene::Camera c;
+  c.width = recording.width(), c.height = recording.height();
+  c.fx = number("fx", true), c.fy = number("fy", true);
+  c.cx = number("cx", true), c.cy = number("cy", true);
   if (!(c.fx > 0) || !(c.fy > 0)) throw Error(file.string() + ": fields fx, fy must be positive");
-  for (const char* key : {"k1", "k2", "p1", "p2"})
-    if (number(key, false) != 0.0)
-      throw Error(file.string() + ": field " + key + " is not 0 (the VO takes undistorted pinhole images)");
+  c.k1 = number("k1", false), c.k2 = number("k2", false);
+  c.p1 = number("p1", false), c.p2 = number("p2", false);
   return c;
+}
+
+// The frames' resampling onto the VO's pinhole (no resampling without distortion or with --hfov).
+PinholeRemap pinhole_remap(const OdometryOptions& options, const rec::Recording& recording) {
+  const std::uint32_t w = recording.width(), h = recording.height();
+  if (options.hfov_deg) {
+    sim::scene::Camera pinhole(w, h, *options.hfov_deg);
+    return PinholeRemap(pinhole);
+  }
+  const sim::scene::Camera camera = read_camera(recording);
+  try {
+    return PinholeRemap(camera);
+  } catch (const std::invalid_argument& e) {
+    throw Error((recording.dir() / "camera.json").string() + ": fields k1, k2, p1, p2: " + e.what());
+  }
 }
 
 // Copies a corrector's output lines into one frame.
@@ -107,7 +115,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   const std::uint32_t w = recording.width(), h = recording.height();
   vo::VoConfig config;
   config.width = w, config.height = h;
-  config.camera = options.hfov_deg ? camera_from_hfov(*options.hfov_deg, w, h) : read_camera(recording);
+  const PinholeRemap remap = pinhole_remap(options, recording);
+  config.camera = remap.pinhole();
   config.photometric = options.photometric;
   config.tau_init_s = static_cast<float>(options.tau_init_s);
   config.window_ba = options.window_ba;
@@ -180,14 +189,22 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   fs::create_directories(tmp.path);
 
   std::vector<std::uint16_t> raw(std::size_t{w} * h), previous_raw(raw.size());
+  std::vector<std::uint16_t> distorted(remap.identity() ? 0 : raw.size());
   std::vector<StampedPose> trajectory;
   std::vector<vo::WorldPoint> points;
   std::ostringstream stats;
   stats << "index,t_s,state,tracked_points,keyframe,residual_rms,tau_h_s,tau_c_s,time_ms\n";
   summary.arena_bytes = arena.size();
+  summary.undistorted = !remap.identity();
+  summary.focal_scale = remap.focal_scale();
   double vo_seconds = 0;
   for (std::uint64_t i = 0; i < frames; ++i) {
-    recording.read_frame(i, raw);
+    if (remap.identity()) {
+      recording.read_frame(i, raw);
+    } else {
+      recording.read_frame(i, distorted);
+      remap.apply(distorted, raw);
+    }
     const rec::FrameRow& row = rows[i];
     vo::FrameInput in;
     in.raw = raw;
@@ -282,6 +299,11 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"keyframes", summary.keyframes},
                       {"reinitialisations", summary.reinitialisations},
                       {"points", summary.points},
+                      {"undistorted", !remap.identity()},
+                      {"camera", {{"fx", remap.pinhole().fx},
+                                  {"fy", remap.pinhole().fy},
+                                  {"cx", remap.pinhole().cx},
+                                  {"cy", remap.pinhole().cy}}},
                       {"tau_init_s", options.tau_init_s},
                       {"tau_estimated", options.estimate_tau},
                       {"max_keyframes", options.max_keyframes},

@@ -1,5 +1,6 @@
 #include "bolo/sim/scene/camera.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -105,6 +106,41 @@ void Camera::validate() const {
     throw std::invalid_argument("camera: focal lengths fx, fy must be positive and finite");
   for (double v : {cx, cy, k1, k2, p1, p2})
     if (!std::isfinite(v)) throw std::invalid_argument("camera: cx, cy, k1, k2, p1, p2 must be finite");
+}
+
+const char* distortion_problem(const Camera& c) {
+  if (c.k1 == 0.0 && c.k2 == 0.0 && c.p1 == 0.0 && c.p2 == 0.0) return nullptr;
+  // The farthest corner's distorted radius; the radial factor must keep growing until it is
+  // reached (a fold inside the image maps two directions onto one pixel).
+  double corner = 0.0;
+  for (const double u : {-0.5, c.width - 0.5})
+    for (const double v : {-0.5, c.height - 0.5})
+      corner = std::max(corner, std::hypot((u - c.cx) / c.fx, (v - c.cy) / c.fy));
+  const auto radial = [&](double r) { return r * (1.0 + r * r * (c.k1 + c.k2 * r * r)); };
+  constexpr double kStep = 1e-3, kMaxRadius = 20.0;  // ~174 degrees across
+  double r = 0.0, previous = 0.0;
+  while (previous < corner * 1.05) {
+    r += kStep;
+    const double now = radial(r);
+    if (!(now > previous)) return "the radial distortion (k1, k2) folds back inside the image";
+    if (r > kMaxRadius) return "the distortion (k1, k2) needs a field of view beyond 174 degrees";
+    previous = now;
+  }
+  // Tangential terms: the inverse must converge and the Jacobian stay positive over the image.
+  constexpr int kGrid = 17;
+  for (int gy = 0; gy < kGrid; ++gy)
+    for (int gx = 0; gx < kGrid; ++gx) {
+      const Eigen::Vector2d px(-0.5 + c.width * gx / (kGrid - 1.0), -0.5 + c.height * gy / (kGrid - 1.0));
+      const Eigen::Vector2d d((px.x() - c.cx) / c.fx, (px.y() - c.cy) / c.fy);
+      const Eigen::Vector2d n = c.undistort(d);
+      if (!n.allFinite() || (c.distort(n) - d).norm() > 1e-9 * (1.0 + d.norm()))
+        return "the distortion cannot be inverted over the image";
+      const double h = 1e-6;
+      const Eigen::Vector2d ex = (c.distort(n + Eigen::Vector2d(h, 0)) - c.distort(n - Eigen::Vector2d(h, 0))) / (2 * h);
+      const Eigen::Vector2d ey = (c.distort(n + Eigen::Vector2d(0, h)) - c.distort(n - Eigen::Vector2d(0, h))) / (2 * h);
+      if (!(ex.x() * ey.y() - ex.y() * ey.x() > 0.0)) return "the distortion folds over inside the image";
+    }
+  return nullptr;
 }
 
 }  // namespace bolo::sim::scene

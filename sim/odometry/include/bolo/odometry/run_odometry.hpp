@@ -1,5 +1,6 @@
 #pragma once
-// Runs the VO core over a recording (the host side of `bolo odometry`): feeds raw frames with
+// Runs the VO core over a recording (the host side of `bolo odometry`): feeds raw frames
+// (resampled onto a pinhole first when camera.json has lens distortion, pinhole_remap.hpp) with
 // their timing and carry-over chain state, runs the firmware corrector in front for ir-loop with
 // the VO's current tau, and writes trajectory.tum, stats.csv, points.ply, trajectory.svg and
 // summary.json into the output folder (temporary folder + rename).
@@ -42,6 +43,10 @@ struct OdometrySummary {
   // (timing_from_options) or with half the frame interval (timing_assumed), and that value.
   std::uint64_t timing_from_options = 0, timing_assumed = 0;
   double assumed_half_period_s = 0;
+  // camera.json has lens distortion: the frames were resampled onto a pinhole whose focal
+  // lengths are the camera's times focal_scale.
+  bool undistorted = false;
+  double focal_scale = 1.0;
   double tau_h_s = 0, tau_c_s = 0;
   double seconds = 0;        // VO time only (not I/O)
   std::size_t arena_bytes = 0;

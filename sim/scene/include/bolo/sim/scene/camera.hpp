@@ -58,4 +58,10 @@ struct Camera {
   void validate() const;  // throws std::invalid_argument on a zero size or non-positive focal
 };
 
+// Why the camera's distortion cannot be inverted over its image (nullptr when it can): the
+// radial distortion folds back before the image's corners (|r d/dr| stops growing), or the
+// inverse does not converge or the mapping's Jacobian is not positive somewhere on a grid over
+// the image. Rendering, unprojection and undistorting frames need a one-to-one distortion.
+const char* distortion_problem(const Camera& camera);
+
 }  // namespace bolo::sim::scene
