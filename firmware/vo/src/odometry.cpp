@@ -209,13 +209,23 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
   }
 }
 
+double scene_level_scale(const State& s) {
+  if (!(s.reference_exposure_s > 0) || !(s.reference_readout_s > 0)) return 1.0;
+  const CarryCoefficients k = carry_coefficients(s.tau, s.reference_readout_s, s.reference_exposure_s);
+  return k.beta / (1.0 - k.alpha);
+}
+
 void write_scene_estimate(State& s) {
   s.carry = carry_coefficients(s.tau, s.readout_prev_s, s.exposure_s);
-  // The scene estimate u = (raw_i - alpha raw_{i-1}) / beta (paper Eq. 6), in counts like the raw
-  // frames: a static pixel keeps its value whatever tau is, so a refined tau does not shift every
-  // pixel's level against the keyframes.
+  // The scene estimate u = (raw_i - alpha raw_{i-1}) / beta (paper Eq. 6), scaled to the level a
+  // static pixel reads: a static pixel keeps its value whatever tau is, so a refined tau does not
+  // shift every pixel's level against the keyframes. Without the scale, u's static level is
+  // (1 - alpha) / beta times the raw one, which moves with tau unless t_e = t_r: with t_e 12.5 and
+  // t_r 4.2 ms (60 Hz, tau 10 ms) ir read tau 20 ms, ir-loop 82 ms, and the trajectories 2-12 %
+  // of the path off.
+  s.scene_scale = scene_level_scale(s);
   const auto alpha = static_cast<float>(s.carry.alpha);
-  const auto gain = static_cast<float>(1.0 / s.carry.beta);
+  const auto gain = static_cast<float>(s.scene_scale / s.carry.beta);
   float* level0 = s.frame.level[0].value.data;
   for (std::size_t i = 0; i < plane(s.cfg); ++i) level0[i] = (s.raw[i] - alpha * s.raw_prev[i]) * gain;
 }
@@ -327,6 +337,10 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.posed = false;
   s.exposure_prev_s = s.exposure_s;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
+  if (!(s.reference_exposure_s > 0) && in.exposure_s > 0) s.reference_exposure_s = in.exposure_s;
+  if (!(s.reference_readout_s > 0) && in.readout_prev_s > 0) s.reference_readout_s = in.readout_prev_s;
+  s.scene_scale_prev = s.scene_scale;
+  s.scene_scale = 1.0;
   const bool ir = c.photometric == Photometric::ir || c.photometric == Photometric::ir_loop;
   if (ir && had_prev) count_unchanged_frames(s);
 
@@ -337,7 +351,10 @@ FrameResult Odometry::process(const FrameInput& in) {
   } else if (c.photometric == Photometric::ir_loop && s.chain_ok && in.corrected.size() == plane(c)) {
     // Without its predecessor the corrector only scales the frame by 1/beta, a level the keyframes
     // do not share; the raw frame (like ir's) has their static level and is tracked with a free offset.
-    for (std::size_t i = 0; i < plane(c); ++i) level0[i] = static_cast<float>(in.corrected[i]);
+    // The corrector ran with this tau; its output is brought to the static level as ir's is.
+    s.scene_scale = scene_level_scale(s);
+    const auto scale = static_cast<float>(s.scene_scale);
+    for (std::size_t i = 0; i < plane(c); ++i) level0[i] = static_cast<float>(in.corrected[i]) * scale;
   } else {
     std::memcpy(level0, s.raw.data(), plane(c) * sizeof(float));
   }

@@ -147,7 +147,17 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   bool chain_ok_prev = false;  // raw_prev2 is raw_prev's predecessor
   double exposure_s = 0, readout_prev_s = 0, t_s = 0;
   double exposure_prev_s = 0;  // the previous frame's
+  // The recording's first exposure and readout (0 until seen): the timing whose static level the
+  // tracking images keep (scene_level_scale).
+  double reference_exposure_s = 0, reference_readout_s = 0;
+  double scene_scale = 1, scene_scale_prev = 1;  // the factor the current / previous image used
 };
+
+// The factor that takes the scene estimate u = (raw - alpha raw_prev) / beta to the raw level a
+// static pixel reads at the reference timing, beta* / (1 - alpha*) with the current tau: the
+// tracking images then keep the keyframes' level whatever tau is and however t_e and t_r split
+// the frame period (exactly 1 when they are equal, tau_h being kept equal to tau_c).
+double scene_level_scale(const State& s);
 
 // Lays the whole state out over an arena (odometry.cpp); nullptr when it does not fit.
 class Arena;
@@ -155,7 +165,8 @@ State* lay_out(const VoConfig& config, Arena& arena);
 
 // After the frame's level 0 is filled: its pyramid, gradients and texels (odometry.cpp).
 // The ir mode's tracking image: level 0 of s.frame becomes the scene estimate
-// (raw - alpha raw_prev) / beta, with s.carry from s.tau and the frame's times.
+// (raw - alpha raw_prev) / beta, with s.carry from s.tau and the frame's times, at the static
+// level of the reference timing (times s.scene_scale = scene_level_scale(s)).
 void write_scene_estimate(State& s);
 void build_frame_images(State& s);
 

@@ -48,8 +48,8 @@
 // previous one), which the pyramid already holds, rather than central differences of the raw
 // frames (16 samples a pattern pixel).
 //
-// tau_h is not observable here: with a constant exposure it only scales u, a gain the photometric
-// model absorbs (the static level (1 - alpha) / beta * y does not depend on it when t_e = t_r).
+// tau_h is not observable here: with a constant exposure it only scales u, and the tracking
+// images are scaled back to the static raw level (scene_level_scale), so it cancels.
 // It is kept equal to tau_c.
 
 #include <algorithm>
@@ -174,8 +174,9 @@ void refine_tau(State& s) {
   const double readout = s.readout_prev_s;
   if (!(readout > 0)) return;
   const double alpha_now = std::exp(-readout / s.tau.c);
-  const double beta_now = carry_coefficients(s.tau, readout, s.exposure_s).beta;
-  const double beta_prev = carry_coefficients(s.tau, readout, s.exposure_prev_s).beta;
+  // The tracking images are u times the static-level scale (scene_level_scale).
+  const double beta_now = carry_coefficients(s.tau, readout, s.exposure_s).beta / s.scene_scale;
+  const double beta_prev = carry_coefficients(s.tau, readout, s.exposure_prev_s).beta / s.scene_scale_prev;
   // Normal equations of r = A - alpha B in x = (pose of frame i, pose of frame i-1, alpha), the
   // points' inverse depths already eliminated; linearised at the tracked poses and alpha_now.
   // A pattern pixel's Jacobian is T v with v = (d r / d p_i, d r / d p_{i-1}, -B), where
@@ -225,8 +226,8 @@ void refine_tau(State& s) {
         const double var_b = noise_var * (sum_of_squares(ix) * sum_of_squares(iy) + sum_of_squares(px) * sum_of_squares(py));
         const double cov_ab = -noise_var * overlap(ix, px) * overlap(iy, py);
         noise[j] = {wt, var_b, cov_ab - alpha_now * var_b, 0.0};
-        // d r / d p_i = grad(y_i - alpha y_{i-1}) = beta grad u_i, the tracking image's gradient,
-        // and d r / d p_{i-1} = -beta grad u_{i-1}, the previous frame's.
+        // d r / d p_i = grad(y_i - alpha y_{i-1}) = beta grad u_i, the tracking image's gradient
+        // over its scale, and d r / d p_{i-1} = -beta grad u_{i-1}, the previous frame's.
         const Sample now = bilinear_with_gradient(s.frame_texels[0], oi_x, oi_y);
         const Sample before = bilinear_with_gradient(s.previous_texels, op_x, op_y);
         Vec5 v;
