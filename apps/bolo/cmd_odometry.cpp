@@ -29,6 +29,9 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
     fail("--exposure: must be within 0..1 s (exclusive), got ", *o.exposure_s);
   if (o.readout_s && !(*o.readout_s >= 0.0 && *o.readout_s < 1.0))
     fail("--readout: must be within 0..1 s, got ", *o.readout_s);
+  if (!(o.intensity_scale >= 0.0 && o.intensity_scale <= 1e4))
+    fail("--intensity-scale: must be within 0..10000 (0: measured), got ", o.intensity_scale);
+  options.intensity_scale = o.intensity_scale;
   options.exposure_s = o.exposure_s;
   options.readout_s = o.readout_s;
   options.estimate_tau = !o.fixed_tau;
@@ -53,6 +56,9 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
       << std::setprecision(4) << s.tau_h_s * 1e3 << " ms, tau_c " << s.tau_c_s * 1e3 << " ms; "
       << std::setprecision(3) << (s.seconds > 0 ? s.frames / s.seconds : 0.0) << " fps (VO only), arena "
       << s.arena_bytes / 1024 << " KiB\n";
+  if (s.intensity_scale != 1.0 && o.intensity_scale == 0.0)
+    out << "odometry: thresholds scaled by " << std::setprecision(3) << s.intensity_scale
+        << " (the frames' pixel noise is above " << vo::kNominalNoiseCounts << " counts)\n";
   if (s.undistorted)
     out << "odometry: camera.json has lens distortion: frames resampled onto a pinhole (focal lengths x"
         << std::setprecision(4) << s.focal_scale << ")\n";
@@ -103,6 +109,9 @@ Command add_odometry_command(CLI::App& parent) {
                   "ir modes: exposure (heating) time t_e, seconds, for frames with an empty exposure_s");
   app->add_option("--readout", o->readout_s,
                   "ir modes: readout (cooling) time t_r, seconds, for frames with an empty readout_s");
+  app->add_option("--intensity-scale", o->intensity_scale,
+                  "Counts per count of the scale the VO's thresholds were tuned for (0, the default: from the "
+                  "pixel noise, 1 up to 4 counts and noise/4 above)");
   app->add_option("--frames", o->frames, "Use only the first N frames")->check(not_negative());
   app->add_option("--max-keyframes", o->max_keyframes,
                   "Keyframes in the sliding window, 2..8 (default 8; 6 is about a quarter faster)");

@@ -11,6 +11,7 @@
 
 #include "../cli/cli_test_support.hpp"
 #include "bolo/odometry/tum.hpp"
+#include "bolo/recording/recording.hpp"
 
 using namespace bolo;
 using namespace bolo::test;
@@ -351,6 +352,60 @@ TEST_CASE("odometry: a lens with distortion is resampled onto a pinhole", "[vo][
   }
 }
 
+// `seq` with every frame's counts multiplied by `gain` (a camera or renderer with another scale).
+fs::path with_gain(const fs::path& seq, const fs::path& out, double gain) {
+  rec::Recording in(seq);
+  rec::RecordingWriter writer(out, in.info());
+  if (in.camera()) writer.set_camera(*in.camera());
+  std::vector<std::uint16_t> frame(std::size_t{in.width()} * in.height());
+  for (std::uint64_t i = 0; i < in.rows().size(); ++i) {
+    in.read_frame(i, frame);
+    for (std::uint16_t& v : frame) v = static_cast<std::uint16_t>(std::min(65535.0, std::round(v * gain)));
+    writer.append(frame, in.rows()[i]);
+  }
+  for (const char* file : {"poses.tum", "truth/effects.json"}) {  // the ground truth, tau's included
+    std::ifstream from(seq / file);
+    std::stringstream text;
+    text << from.rdbuf();
+    writer.add_file(file, text.str());
+  }
+  writer.commit();
+  return out;
+}
+
+TEST_CASE("odometry: frames with five times the counts track as the originals", "[vo][cli][tau]") {
+  // The VO's thresholds in counts (Huber, gradient weight, point selection, tau prior) were tuned
+  // on the simulator's scale; they now follow the measured pixel noise above 4 counts. Measured
+  // when written (160x120, 3 x 3 rays, 180 frames, seed 1, tau 10 ms, noise 3, x5): with the
+  // thresholds as configured ir kept tau at its start (10 ms, ATE 0.31 %) and ir-loop ran tau to
+  // 100 ms and posed 65 frames; scaled by the measured 3.92: 0.14 % (10.21 ms) and 0.09 % (10.35),
+  // the originals 0.11 % (10.39) and 0.08 % (9.94).
+  TempDir tmp;
+  const fs::path seq = street_ss3(tmp / "drive", "drive", "150", "0.010", "1");
+  const fs::path bright = with_gain(seq, tmp / "drive-x5", 5.0);
+  for (const char* mode : {"none", "ir", "ir-loop"}) {
+    const nlohmann::json original = odometry_evaluated(seq, tmp / (std::string("original-") + mode), mode);
+    const nlohmann::json scaled = odometry_evaluated(bright, tmp / (std::string("x5-") + mode), mode);
+    const nlohmann::json summary = summary_of(tmp / (std::string("x5-") + mode));
+    INFO(mode << ": " << original.dump(2) << scaled.dump(2));
+    CHECK(summary_of(tmp / (std::string("original-") + mode))["intensity_scale"] == 1.0);
+    CHECK(summary["intensity_scale"].get<double>() > 3.4);
+    CHECK(summary["intensity_scale"].get<double>() < 4.4);
+    CHECK(scaled["coverage"].get<double>() > 0.9);
+    CHECK(scaled["ate_relative"].get<double>() < 0.005);
+    if (std::string(mode) != "none") {
+      REQUIRE(scaled["tau_c_error_2s"].is_number());
+      CHECK(scaled["tau_c_error_2s"].get<double>() < 0.15);
+    }
+  }
+  // The thresholds as configured (the old behaviour) do not hold there.
+  odometry(bright, tmp / "x5-unscaled", {"--photometric", "ir-loop", "--intensity-scale", "1"});
+  const nlohmann::json unscaled = evaluate(tmp / "x5-unscaled");
+  CHECK(summary_of(tmp / "x5-unscaled")["intensity_scale"] == 1.0);
+  CHECK((!unscaled["tau_c_error_2s"].is_number() || unscaled["tau_c_error_2s"].get<double>() > 0.3 ||
+         unscaled["ate_relative"].get<double>() > 0.01));
+}
+
 // The recording with every exposure_s and readout_s cell of frames.csv emptied (unknown).
 fs::path without_frame_timing(const fs::path& seq, const fs::path& out) {
   fs::create_directories(out);
@@ -466,6 +521,8 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
   // 10.6 --tau-init out of range
   CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--tau-init", "0.5"})
             .find("--tau-init: must be within") != std::string::npos);
+  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--intensity-scale", "-1"})
+            .find("--intensity-scale: must be within 0..10000 (0: measured), got -1") != std::string::npos);
   CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--max-keyframes", "9"})
             .find("--max-keyframes: must be within 2..8, got 9") != std::string::npos);
   // 10.7 evaluate: not an odometry output

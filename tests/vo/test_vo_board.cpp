@@ -89,6 +89,46 @@ TEST_CASE("the default point budget is one per 40 pixels, 100 to 500 a keyframe"
   CHECK(vo::resolved(explicit_budget).points_per_keyframe == 800);
 }
 
+TEST_CASE("the thresholds follow the pixel noise above 4 counts", "[vo][board]") {
+  // Noise of a set standard deviation (Irwin-Hall, from an LCG: the same on every architecture)
+  // on the wall's first three frames; the scale is measured once, at the third.
+  const auto measured_scale = [](double sigma, float configured) {
+    vo::VoConfig config;
+    config.width = kW, config.height = kH, config.camera = camera();
+    config.intensity_scale = configured;
+    std::vector<std::byte> arena(vo::Odometry::arena_bytes(config));
+    vo::Odometry odometry(config, arena);
+    std::uint32_t lcg = 12345;
+    const auto uniform = [&] {
+      lcg = lcg * 1664525u + 1013904223u;
+      return static_cast<double>(lcg >> 8) / 16777216.0;
+    };
+    for (int i = 0; i < 3; ++i) {
+      std::vector<std::uint16_t> frame = render(i / 60.0);
+      for (std::uint16_t& v : frame) {
+        double n = -6;
+        for (int k = 0; k < 12; ++k) n += uniform();
+        v = static_cast<std::uint16_t>(std::lround(v + sigma * n));
+      }
+      vo::FrameInput in;
+      in.raw = frame;
+      in.t_s = i / 60.0;
+      in.chain_broken = i == 0;
+      odometry.process(in);
+      if (i < 2) CHECK(odometry.intensity_scale() == (configured > 0 ? configured : 1.0f));
+    }
+    return odometry.intensity_scale();
+  };
+  CHECK(measured_scale(2.0, 0.0f) == 1.0f);
+  CHECK(measured_scale(12.0, 0.0f) == Approx(3.0).epsilon(0.12));
+  CHECK(measured_scale(30.0, 0.0f) == Approx(7.5).epsilon(0.12));
+  CHECK(measured_scale(12.0, 2.0f) == 2.0f);  // configured: kept
+  vo::VoConfig c;
+  c.width = kW, c.height = kH, c.camera = camera();
+  c.intensity_scale = -1;
+  CHECK(vo::invalid_reason(c) != nullptr);
+}
+
 TEST_CASE("configurations the VO cannot run with are refused", "[vo][board]") {
   vo::VoConfig c;
   c.width = kW, c.height = kH, c.camera = camera();

@@ -52,6 +52,7 @@ const char* invalid_reason(const VoConfig& config) {
   if (c.max_keyframes < 2 || c.max_keyframes > kMaxKeyframes) return "max_keyframes must be 2..8";
   if (!(c.tau_init_s > 0.0005f && c.tau_init_s < 0.1f)) return "tau_init_s must be within 0.5..100 ms";
   if (!(c.huber_counts > 0) || !(c.gradient_c > 0)) return "huber_counts and gradient_c must be positive";
+  if (!(c.intensity_scale >= 0) || !(c.intensity_scale <= 1e4f)) return "intensity_scale must be within 0..10000";
   return nullptr;
 }
 

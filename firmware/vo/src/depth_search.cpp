@@ -84,7 +84,7 @@ float typical_idepth(State& s) {
 void search_immature_points(State& s) {
   const Level& cur = s.frame.level[0];
   const Scaled k = camera_at(s.cfg.camera, 0);
-  const float hub = s.cfg.huber_counts;
+  const float hub = huber_threshold(s);
   const float good_energy = kPattern * hub * hub * 4.0f;
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
     Keyframe& host = s.kf[slot];

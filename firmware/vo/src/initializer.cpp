@@ -70,7 +70,7 @@ InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, bool with_jac
   const Level& ref = host.pyramid.level[level];
   const Scaled k = camera_at(s.cfg.camera, level), k0 = camera_at(s.cfg.camera, 0);
   const float scale = 1.0f / static_cast<float>(1u << level);
-  const float hub = s.cfg.huber_counts, c2 = s.cfg.gradient_c * s.cfg.gradient_c;
+  const float hub = huber_threshold(s), c2 = gradient_weight_c(s) * gradient_weight_c(s);
   const float cutoff = kPattern * hub * hub * (level > 0 ? 24.0f : 12.0f);
   const Eigen::Matrix3f R = M.R.cast<float>();
   const Eigen::Vector3f t = M.t.cast<float>();
@@ -271,7 +271,7 @@ bool initialise_step(State& s) {
   const double needed = kInitFlow * (s.cfg.width + s.cfg.height);
   if (s.init_frames < kMinInitFrames || baseline_flow < needed) return false;
   // Done: the points that fit become the map.
-  const float hub = s.cfg.huber_counts;
+  const float hub = huber_threshold(s);
   for (std::uint32_t i = 0; i < host.count; ++i) {
     Point& p = host.points[i];
     if (p.status != PointStatus::immature) continue;

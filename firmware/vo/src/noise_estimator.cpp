@@ -38,10 +38,10 @@ std::size_t noise_block_count(std::uint32_t width, std::uint32_t height) {
   return std::size_t{width / 2} * (height / 2);
 }
 
-void update_noise_variance(State& s) {
+double frame_noise_variance(State& s) {
   const std::uint32_t w = s.cfg.width, h = s.cfg.height;
   const std::size_t blocks = noise_block_count(w, h);
-  if (blocks < 16 || s.noise_scratch.size() < blocks) return;
+  if (blocks < 16 || s.noise_scratch.size() < blocks) return -1.0;
   float* scratch = s.noise_scratch.data();
   const float* before = s.raw_prev2.data();
   std::size_t b = 0;
@@ -59,7 +59,7 @@ void update_noise_variance(State& s) {
       const auto d = [&](std::size_t i) { return s.raw[i] - s.raw_prev[i]; };
       scratch[n++] = 0.5f * (d(o) - d(o + 1) - d(o + w) + d(o + w + 1));
     }
-  if (n < 16) return;
+  if (n < 16) return -1.0;
   double var = 0;
   for (std::size_t i = 0; i < n; ++i) var += double{scratch[i]} * scratch[i];
   var /= static_cast<double>(n);
@@ -75,7 +75,12 @@ void update_noise_variance(State& s) {
     var = sum / static_cast<double>(kept) / kClippedVariance;
   }
   const double frame_var = 0.5 * var;  // the difference of two frames
-  if (!std::isfinite(frame_var)) return;
+  return std::isfinite(frame_var) ? frame_var : -1.0;
+}
+
+void update_noise_variance(State& s) {
+  const double frame_var = frame_noise_variance(s);
+  if (!(frame_var >= 0)) return;
   s.noise_var = s.noise_var > 0 ? kForget * s.noise_var + (1 - kForget) * frame_var : frame_var;
 }
 

@@ -28,7 +28,8 @@ namespace {
 constexpr std::uint32_t kLostFramesBeforeRestart = 8;
 constexpr std::uint32_t kMaxInitFrames = 90;
 constexpr double kMaxStepFlow = 0.06;  // median translation flow per frame, share of width + height
-constexpr float kRetrackRatio = 1.5f;  // the constant-velocity guess stands if its rms is within this of the last frame's
+constexpr float kRetrackRatio = 1.5f;
+constexpr std::uint32_t kIntensityMeasureFrames = 30;  // the intensity scale stays 1 if unmeasured by then  // the constant-velocity guess stands if its rms is within this of the last frame's
 
 std::size_t plane(const VoConfig& c) { return std::size_t{c.width} * c.height; }
 
@@ -40,6 +41,8 @@ State* lay_out(const VoConfig& config, Arena& arena) {
   if (state.empty()) return nullptr;
   State& s = state[0];
   s.cfg = c;
+  s.intensity = c.intensity_scale > 0 ? c.intensity_scale : 1.0f;
+  s.intensity_pending = !(c.intensity_scale > 0);
   const std::size_t pyr = pyramid_floats(c.width, c.height, c.levels);
   const std::size_t ppk = c.points_per_keyframe;
   auto frame = arena.take<float>(pyr);
@@ -199,7 +202,7 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
     }
   }
   const std::size_t n = select_points(s.frame.level[0], s.occupied, s.cfg.points_per_keyframe, 4,
-                                      s.selector, s.candidates);
+                                      s.selector, s.candidates, s.intensity);
   for (std::size_t i = 0; i < n && kf.count < kf.points.size(); ++i) {
     Point& p = kf.points[kf.count++];
     p = Point();
@@ -207,6 +210,17 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
     p.status = PointStatus::immature;
     p.idepth = 1.0f, p.idepth_min = 0.0f, p.idepth_max = -1.0f;
   }
+}
+
+// The thresholds in counts were tuned on frames with up to kNominalNoiseCounts of pixel noise;
+// noisier frames (a larger gain, or another renderer's scale) get them in proportion. Measured
+// once, from the first three frames, so that thresholds do not move under a running map.
+void measure_intensity_scale(State& s) {
+  const double var = frame_noise_variance(s);
+  if (var < 0 && s.raw_frames < kIntensityMeasureFrames) return;  // too few flat blocks: try the next frame
+  s.intensity_pending = false;
+  const double sigma = var > 0 ? std::sqrt(var) : 0.0;
+  s.intensity = static_cast<float>(std::max(1.0, sigma / kNominalNoiseCounts));
 }
 
 double scene_level_scale(const State& s) {
@@ -264,6 +278,7 @@ Odometry::Odometry(const VoConfig& config, std::span<std::byte> arena) {
 
 Tau Odometry::tau() const { return state_ ? state_->tau : Tau{}; }
 std::uint32_t Odometry::keyframes_created() const { return state_ ? state_->kf_created : 0; }
+float Odometry::intensity_scale() const { return state_ ? state_->intensity : 1.0f; }
 
 std::span<const WorldPoint> Odometry::retired_points() const {
   if (!state_) return {};
@@ -343,6 +358,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.scene_scale = 1.0;
   const bool ir = c.photometric == Photometric::ir || c.photometric == Photometric::ir_loop;
   if (ir && had_prev) count_unchanged_frames(s);
+  if (s.intensity_pending && ++s.raw_frames >= 3) measure_intensity_scale(s);
 
   // The tracking image: what the photometric model says is comparable between frames.
   float* level0 = s.frame.level[0].value.data;

@@ -8,6 +8,7 @@ namespace {
 constexpr std::uint32_t kBlock = 16;
 constexpr std::uint32_t kBins = 64;
 constexpr float kBinWidth = 4.0f;  // gradient magnitude per histogram bin (counts / pixel)
+constexpr float kMarginCounts = 6.0f;  // a candidate's gradient over its block's median
 
 float magnitude(const Level& level, std::size_t i) {
   return std::sqrt(level.gx.data[i] * level.gx.data[i] + level.gy.data[i] * level.gy.data[i]);
@@ -20,7 +21,8 @@ std::size_t selector_block_count(std::uint32_t width, std::uint32_t height) {
 
 std::size_t select_points(const Level& level, std::span<const std::uint8_t> occupied,
                           std::uint32_t wanted, std::uint32_t margin, SelectorScratch scratch,
-                          std::span<PixelPoint> out) {
+                          std::span<PixelPoint> out, float intensity_scale) {
+  const float bin_width = kBinWidth * intensity_scale, margin_counts = kMarginCounts * intensity_scale;
   const std::uint32_t w = level.value.width, h = level.value.height;
   const std::uint32_t bw = (w + kBlock - 1) / kBlock, bh = (h + kBlock - 1) / kBlock;
   // Per block: median gradient (from a histogram) plus a margin, so a point must stand out
@@ -31,7 +33,7 @@ std::size_t select_points(const Level& level, std::span<const std::uint8_t> occu
       std::uint32_t n = 0;
       for (std::uint32_t y = by * kBlock; y < h && y < (by + 1) * kBlock; ++y)
         for (std::uint32_t x = bx * kBlock; x < w && x < (bx + 1) * kBlock; ++x) {
-          const auto bin = static_cast<std::uint32_t>(magnitude(level, std::size_t{y} * w + x) / kBinWidth);
+          const auto bin = static_cast<std::uint32_t>(magnitude(level, std::size_t{y} * w + x) / bin_width);
           ++scratch.histogram[bin < kBins ? bin : kBins - 1];
           ++n;
         }
@@ -41,7 +43,7 @@ std::size_t select_points(const Level& level, std::span<const std::uint8_t> occu
         if (2 * sum >= n) break;
       }
       scratch.block_threshold[std::size_t{by} * bw + bx] =
-          (static_cast<float>(median_bin) + 0.5f) * kBinWidth + 6.0f;
+          (static_cast<float>(median_bin) + 0.5f) * bin_width + margin_counts;
     }
 
   // Grid cells sized for the wanted count; shrink the cell when too few points are found.

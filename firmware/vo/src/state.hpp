@@ -71,6 +71,10 @@ inline float upper_median(float* v, std::size_t n) {
 }
 // The tracker's outlier cut on a point's pattern energy at a pyramid level (tracker.cpp); coarse
 // levels start far from the optimum and cut more loosely.
+// The configured thresholds in counts times the intensity scale (VoConfig::intensity_scale).
+inline float huber_threshold(const State& s);
+inline float gradient_weight_c(const State& s);
+
 inline float tracking_cutoff(float huber, std::uint32_t level) {
   return static_cast<float>(kPattern) * huber * huber * (level > 0 ? 12.0f : 6.0f);
 }
@@ -150,6 +154,9 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   // The recording's first exposure and readout (0 until seen): the timing whose static level the
   // tracking images keep (scene_level_scale).
   double reference_exposure_s = 0, reference_readout_s = 0;
+  float intensity = 1;              // the intensity scale in use (VoConfig::intensity_scale)
+  bool intensity_pending = false;   // to be measured from the pixel noise
+  std::uint32_t raw_frames = 0;     // frames loaded while it is pending
   double scene_scale = 1, scene_scale_prev = 1;  // the factor the current / previous image used
 };
 
@@ -158,6 +165,13 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
 // tracking images then keep the keyframes' level whatever tau is and however t_e and t_r split
 // the frame period (exactly 1 when they are equal, tau_h being kept equal to tau_c).
 double scene_level_scale(const State& s);
+
+// Sets s.intensity from the current frame's pixel noise (odometry.cpp), for
+// VoConfig::intensity_scale 0; leaves it pending while the noise cannot be measured yet.
+void measure_intensity_scale(State& s);
+
+inline float huber_threshold(const State& s) { return s.cfg.huber_counts * s.intensity; }
+inline float gradient_weight_c(const State& s) { return s.cfg.gradient_c * s.intensity; }
 
 // Lays the whole state out over an arena (odometry.cpp); nullptr when it does not fit.
 class Arena;
@@ -215,6 +229,9 @@ void count_unchanged_frames(State& s);
 // noise_scratch holds noise_block_count() floats.
 std::size_t noise_block_count(std::uint32_t width, std::uint32_t height);
 void update_noise_variance(State& s);
+// The current frame's own estimate (no averaging over frames); negative when it cannot be
+// measured (too few flat blocks).
+double frame_noise_variance(State& s);
 std::uint32_t new_keyframe_slot(State& s);
 // Appends a keyframe's active points (world coordinates) to the retired-points output.
 void retire_points(State& s, const Keyframe& old);

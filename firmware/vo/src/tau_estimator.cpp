@@ -143,6 +143,7 @@ void count_unchanged_frames(State& s) {
   // edge included) is not stuck, and a live pixel of a low-noise camera may keep its value for a
   // few frames where it looks like its surroundings.
   const std::size_t w = s.cfg.width, h = s.cfg.height;
+  const float contrast = kStuckContrast * s.intensity;
   std::uint32_t stuck = 0;
   for (std::size_t row = 1; row + 1 < h; ++row) {
     const float* y = s.raw.data() + row * w;
@@ -155,8 +156,8 @@ void count_unchanged_frames(State& s) {
         continue;
       }
       const bool neighbour_changed = y[x - 1] != p[x - 1] || y[x + 1] != p[x + 1] || y[x - w] != p[x - w] || y[x + w] != p[x + w];
-      const bool apart = std::fabs(v - y[x - 1]) > kStuckContrast && std::fabs(v - y[x + 1]) > kStuckContrast &&
-                         std::fabs(v - y[x - w]) > kStuckContrast && std::fabs(v - y[x + w]) > kStuckContrast;
+      const bool apart = std::fabs(v - y[x - 1]) > contrast && std::fabs(v - y[x + 1]) > contrast &&
+                         std::fabs(v - y[x - w]) > contrast && std::fabs(v - y[x + w]) > contrast;
       if (neighbour_changed && apart && count[x] < 255) ++count[x];
       stuck += count[x] >= kStuckChecks;
     }
@@ -169,7 +170,7 @@ void refine_tau(State& s) {
   const std::uint32_t w = s.cfg.width, h = s.cfg.height;
   const Image y0{s.raw.data(), w, h}, y1{s.raw_prev.data(), w, h}, y2{s.raw_prev2.data(), w, h};
   const Scaled k = camera_at(s.cfg.camera, 0);
-  const float hub = s.cfg.huber_counts;
+  const float hub = huber_threshold(s);
   const float outlier_energy = kOutlierCutoffs * tracking_cutoff(hub, 0);
   const double readout = s.readout_prev_s;
   if (!(readout > 0)) return;
@@ -286,11 +287,13 @@ void refine_tau(State& s) {
   s.tau_sbb = kForget * s.tau_sbb + sbb;
   s.tau_sbb_total = kForget * s.tau_sbb_total + sbb + noise_bb;
   s.tau_sbbr = kForget * s.tau_sbbr + sbb * readout;
-  if (s.tau_sbb < kMinInformation || s.tau_sbb < kMinSignalShare * s.tau_sbb_total) return;
+  // B^2 sums grow with the square of the frames' intensity scale.
+  const double counts2 = double{s.intensity} * s.intensity;
+  if (s.tau_sbb < kMinInformation * counts2 || s.tau_sbb < kMinSignalShare * s.tau_sbb_total) return;
   // The starting tau as a weak prior (pseudo-observations with B^2 summing to kPriorWeight).
   const double readout_mean = s.tau_sbbr / s.tau_sbb;
   const double alpha_init = std::exp(-readout_mean / static_cast<double>(s.cfg.tau_init_s));
-  const double alpha = (s.tau_sab + kPriorWeight * alpha_init) / (s.tau_sbb + kPriorWeight);
+  const double alpha = (s.tau_sab + kPriorWeight * counts2 * alpha_init) / (s.tau_sbb + kPriorWeight * counts2);
   // A physical range: 1 ms .. 100 ms.
   const double lo = std::exp(-readout_mean / 0.001), hi = std::exp(-readout_mean / 0.1);
   const double a = std::max(lo, std::min(hi, alpha));

@@ -48,7 +48,7 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
   const Scaled k = camera_at(s.cfg.camera, level);
   const Scaled k0 = camera_at(s.cfg.camera, 0);
   const float scale = 1.0f / static_cast<float>(1u << level);
-  const float hub = s.cfg.huber_counts, c2 = s.cfg.gradient_c * s.cfg.gradient_c;
+  const float hub = huber_threshold(s), c2 = gradient_weight_c(s) * gradient_weight_c(s);
   if (s.kf_count == 0) return acc;
   const Keyframe& host = s.kf[s.order[s.kf_count - 1]];
   const Se3 M = T_cw * host.T_cw.inverse();
@@ -198,7 +198,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
   Se3 T = guess;
   const bool affine = s.cfg.photometric == Photometric::affine;
   const std::uint32_t iterations[kMaxLevels] = {8, 8, 10, 10, 10, 10};
-  const float hub = s.cfg.huber_counts;
+  const float hub = huber_threshold(s);
   std::uint32_t levels = std::min(s.frame.levels, kMaxLevels);
   if (resume != nullptr && resume->level > last_level && resume->level < levels) {
     T = resume->T_cw, a = resume->a, b = resume->b;

@@ -83,7 +83,7 @@ Mat8 host_from_target(const Se3& M, double e) {
 Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_outliers) {
   Totals tot;
   const Scaled k = camera_at(s.cfg.camera, 0);
-  const float hub = s.cfg.huber_counts, c2 = s.cfg.gradient_c * s.cfg.gradient_c;
+  const float hub = huber_threshold(s), c2 = gradient_weight_c(s) * gradient_weight_c(s);
   const float cutoff = kPattern * hub * hub * 6.0f;
   if (with_jacobians) {
     s.ba_H.setZero();

@@ -121,6 +121,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   config.tau_init_s = static_cast<float>(options.tau_init_s);
   config.window_ba = options.window_ba;
   config.max_keyframes = options.max_keyframes;
+  config.intensity_scale = static_cast<float>(options.intensity_scale);
   config.estimate_tau = options.estimate_tau;
   if (const char* why = vo::invalid_reason(config)) throw Error(options.recording.string() + ": " + why);
 
@@ -259,6 +260,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   summary.frames = frames;
   summary.points = points.size();
   summary.tau_h_s = odometry.tau().h, summary.tau_c_s = odometry.tau().c;
+  summary.intensity_scale = odometry.intensity_scale();
   summary.seconds = vo_seconds;
 
   std::string tum = "# bolo odometry: " + std::string(vo::to_string(options.photometric)) +
@@ -300,6 +302,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"reinitialisations", summary.reinitialisations},
                       {"points", summary.points},
                       {"undistorted", !remap.identity()},
+                      {"intensity_scale", summary.intensity_scale},
                       {"camera", {{"fx", remap.pinhole().fx},
                                   {"fy", remap.pinhole().fy},
                                   {"cx", remap.pinhole().cx},

@@ -22,6 +22,9 @@ struct Camera {
   float fx = 0, fy = 0, cx = 0, cy = 0;  // pixel units, centre of the top-left pixel at (0, 0)
 };
 
+// Temporal pixel noise (counts) up to which the thresholds in counts are used as configured.
+inline constexpr float kNominalNoiseCounts = 4.0f;
+
 struct VoConfig {
   std::uint32_t width = 0, height = 0;
   Camera camera;
@@ -33,6 +36,12 @@ struct VoConfig {
   std::uint32_t points_per_keyframe = 0;  // 0 = ~1 per 40 pixels, 100 to kMaxDefaultPointsPerKeyframe
   float huber_counts = 16.0f;  // residual where the Huber weight starts to drop
   float gradient_c = 40.0f;    // gradient weight c^2 / (c^2 + |grad|^2)
+  // The frames' counts per count of the scale the thresholds above (and the point selection's,
+  // the tau fit's prior and the stuck-pixel contrast) were tuned for: every such threshold is
+  // multiplied by it. 0 = measured: 1 up to kNominalNoiseCounts of temporal pixel noise, above
+  // that the noise over it (from the first three frames; a camera or renderer with a larger
+  // gain than the simulator's then sees the same thresholds relative to its noise).
+  float intensity_scale = 0.0f;
   bool window_ba = true;       // sliding-window bundle adjustment at every keyframe
 };
 

@@ -61,6 +61,9 @@ class Odometry {
 
   FrameResult process(const FrameInput& in);
   Tau tau() const;
+  // The intensity scale the thresholds use (VoConfig::intensity_scale; measured after the
+  // first frames when configured 0).
+  float intensity_scale() const;
 
   // Active points of the keyframes retired by the last process() call, in world coordinates.
   std::span<const WorldPoint> retired_points() const;

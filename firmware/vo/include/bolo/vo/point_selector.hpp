@@ -24,8 +24,9 @@ std::size_t selector_block_count(std::uint32_t width, std::uint32_t height);
 
 // Selects up to out.size() points from level 0 of `level`, skipping pixels where `occupied`
 // (width x height, may be empty) is non-zero and a border of `margin` pixels. Returns the count.
+// `intensity_scale` scales the gradient histogram's bins and the margin (VoConfig).
 std::size_t select_points(const Level& level, std::span<const std::uint8_t> occupied,
                           std::uint32_t wanted, std::uint32_t margin, SelectorScratch scratch,
-                          std::span<PixelPoint> out);
+                          std::span<PixelPoint> out, float intensity_scale = 1.0f);
 
 }  // namespace bolo::vo

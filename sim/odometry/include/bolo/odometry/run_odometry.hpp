@@ -28,6 +28,8 @@ struct OdometryOptions {
   // them such a frame gets half the median frame interval for each (the simulator's default
   // split); the summary counts those frames.
   std::optional<double> exposure_s, readout_s;
+  // VoConfig::intensity_scale: 0 = measured from the pixel noise.
+  double intensity_scale = 0.0;
   bool window_ba = true;
   std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;  // sliding window, 2..8
   bool overwrite = false;
@@ -47,6 +49,7 @@ struct OdometrySummary {
   // lengths are the camera's times focal_scale.
   bool undistorted = false;
   double focal_scale = 1.0;
+  double intensity_scale = 1.0;  // the VO's thresholds' scale, as used
   double tau_h_s = 0, tau_c_s = 0;
   double seconds = 0;        // VO time only (not I/O)
   std::size_t arena_bytes = 0;
