@@ -59,6 +59,9 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   if (s.intensity_scale != 1.0 && o.intensity_scale == 0.0)
     out << "odometry: thresholds scaled by " << std::setprecision(3) << s.intensity_scale
         << " (the frames' pixel noise is above " << vo::kNominalNoiseCounts << " counts)\n";
+  if (s.ir_on_tone_mapped)
+    out << "odometry: warning: the recording's units are counts8 (tone-mapped): the carry-over model "
+           "needs the sensor's linear counts, and an AGC breaks it; affine is the model for such video\n";
   if (s.undistorted)
     out << "odometry: camera.json has lens distortion: frames resampled onto a pinhole (focal lengths x"
         << std::setprecision(4) << s.focal_scale << ")\n";
@@ -87,7 +90,8 @@ Command add_odometry_command(CLI::App& parent) {
       "  ir-loop  the firmware corrector runs in front with the VO's current tau, which the VO refines\n"
       "The ir modes use exposure_s/readout_s from frames.csv; where a cell is empty, --exposure /\n"
       "--readout, else half the frame interval each (said on the output and counted in summary.json:\n"
-      "alpha = exp(-t_r/tau) is what the frames fix, so tau is then reported for that split). Shutter events (ffc=1) and time gaps\n"
+      "alpha = exp(-t_r/tau) is what the frames fix, so tau is then reported for that split); on\n"
+      "tone-mapped frames (units counts8) they warn: the model needs linear counts. Shutter events (ffc=1) and time gaps\n"
       "(> 1.5 frame periods) break the carry-over chain; such frames are tracked with a free offset.\n"
       "A frame identical to the one before (a camera or link sending a frame twice) is skipped (state\n"
       "'duplicate' in stats.csv, no pose) and breaks the chain for the frame after it.\n"

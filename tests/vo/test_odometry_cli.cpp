@@ -406,6 +406,26 @@ TEST_CASE("odometry: frames with five times the counts track as the originals", 
          unscaled["ate_relative"].get<double>() > 0.01));
 }
 
+TEST_CASE("odometry: the ir modes warn on tone-mapped frames", "[vo][cli]") {
+  const fs::path& seq = sequence("drive", "0.012");
+  TempDir tmp;
+  const fs::path toned = tmp / "toned";
+  fs::create_directories(toned);
+  for (const char* f : {"frames.npy", "frames.csv", "camera.json"}) fs::copy_file(seq / f, toned / f);
+  {
+    std::ifstream in(seq / "recording.json");
+    nlohmann::json info = nlohmann::json::parse(in);
+    info["units"] = "counts8";
+    std::ofstream(toned / "recording.json") << info.dump();
+  }
+  const CliResult ir = run_bolo({"odometry", toned.string(), "--out", (tmp / "ir").string(), "--photometric", "ir", "--frames", "5"});
+  REQUIRE(ir.code == 0);
+  CHECK(ir.out.find("warning: the recording's units are counts8 (tone-mapped)") != std::string::npos);
+  const CliResult plain = run_bolo({"odometry", toned.string(), "--out", (tmp / "affine").string(), "--photometric", "affine", "--frames", "5"});
+  REQUIRE(plain.code == 0);
+  CHECK(plain.out.find("warning") == std::string::npos);
+}
+
 // The recording with every exposure_s and readout_s cell of frames.csv emptied (unknown).
 fs::path without_frame_timing(const fs::path& seq, const fs::path& out) {
   fs::create_directories(out);

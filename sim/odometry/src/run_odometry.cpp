@@ -138,6 +138,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   const double period = intervals.empty() ? 0.0 : intervals[intervals.size() / 2];
 
   OdometrySummary summary;
+  summary.ir_on_tone_mapped = ir && recording.info().units == rec::Units::counts8;
   // The ir modes' frame timing: frames.csv, else the options, else half the frame interval each.
   std::vector<FrameTiming> timing(frames);
   if (ir) {

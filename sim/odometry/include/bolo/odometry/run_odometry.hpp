@@ -50,6 +50,9 @@ struct OdometrySummary {
   bool undistorted = false;
   double focal_scale = 1.0;
   double intensity_scale = 1.0;  // the VO's thresholds' scale, as used
+  // An ir mode on tone-mapped frames (recording units counts8): the carry-over model needs the
+  // sensor's linear counts (AGC breaks it).
+  bool ir_on_tone_mapped = false;
   double tau_h_s = 0, tau_c_s = 0;
   double seconds = 0;        // VO time only (not I/O)
   std::size_t arena_bytes = 0;
