@@ -48,6 +48,14 @@ fs::path street_ss3(const fs::path& seq, const char* trajectory, const char* fra
   return seq;
 }
 
+// A new recording folder `out` with some of `seq`'s files (the rest left out or written by the
+// caller).
+fs::path copy_files(const fs::path& seq, const fs::path& out, std::initializer_list<const char*> files) {
+  fs::create_directories(out);
+  for (const char* f : files) fs::copy_file(seq / f, out / f);
+  return out;
+}
+
 nlohmann::json evaluate(const fs::path& run) {
   const CliResult r = run_bolo({"evaluate", run.string(), "--json", (run / "eval.json").string()});
   INFO(r.err);
@@ -280,8 +288,7 @@ TEST_CASE("odometry: --hfov stands in for a missing camera.json", "[vo][cli]") {
   const fs::path& seq = sequence("drive", "0.0002");
   TempDir tmp;
   const fs::path nocam = tmp / "nocam";
-  fs::create_directories(nocam);
-  for (const char* f : {"recording.json", "frames.npy", "frames.csv"}) fs::copy_file(seq / f, nocam / f);
+  copy_files(seq, nocam, {"recording.json", "frames.npy", "frames.csv"});
   // The simulator's 160x120 camera: a centred pinhole of 50 degrees (fx = 80 / tan 25 deg).
   const CliResult with_json = run_bolo({"odometry", seq.string(), "--out", (tmp / "json").string()});
   const CliResult with_fov = run_bolo({"odometry", nocam.string(), "--out", (tmp / "fov").string(), "--hfov", "50"});
@@ -326,8 +333,7 @@ TEST_CASE("odometry: a lens with distortion is resampled onto a pinhole", "[vo][
   }
   // The same frames with the distortion left out of camera.json: what the VO saw before.
   const fs::path naive = tmp / "naive";
-  fs::create_directories(naive);
-  for (const char* f : {"recording.json", "frames.npy", "frames.csv", "poses.tum"}) fs::copy_file(seq / f, naive / f);
+  copy_files(seq, naive, {"recording.json", "frames.npy", "frames.csv", "poses.tum"});
   {
     std::ifstream in(seq / "camera.json");
     nlohmann::json cam = nlohmann::json::parse(in);
@@ -410,8 +416,7 @@ TEST_CASE("odometry: the ir modes warn on tone-mapped frames", "[vo][cli]") {
   const fs::path& seq = sequence("drive", "0.012");
   TempDir tmp;
   const fs::path toned = tmp / "toned";
-  fs::create_directories(toned);
-  for (const char* f : {"frames.npy", "frames.csv", "camera.json"}) fs::copy_file(seq / f, toned / f);
+  copy_files(seq, toned, {"frames.npy", "frames.csv", "camera.json"});
   {
     std::ifstream in(seq / "recording.json");
     nlohmann::json info = nlohmann::json::parse(in);
@@ -428,8 +433,7 @@ TEST_CASE("odometry: the ir modes warn on tone-mapped frames", "[vo][cli]") {
 
 // The recording with every exposure_s and readout_s cell of frames.csv emptied (unknown).
 fs::path without_frame_timing(const fs::path& seq, const fs::path& out) {
-  fs::create_directories(out);
-  for (const char* f : {"recording.json", "frames.npy", "camera.json"}) fs::copy_file(seq / f, out / f);
+  copy_files(seq, out, {"recording.json", "frames.npy", "camera.json"});
   std::ifstream in(seq / "frames.csv");
   std::ofstream csv(out / "frames.csv");
   std::string line;
@@ -493,8 +497,7 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
             .find("--photometric: unknown model 'dso'") != std::string::npos);
   // 10.2 no camera.json
   const fs::path nocam = tmp / "nocam";
-  fs::create_directories(nocam);
-  for (const char* f : {"recording.json", "frames.npy", "frames.csv"}) fs::copy_file(seq / f, nocam / f);
+  copy_files(seq, nocam, {"recording.json", "frames.npy", "frames.csv"});
   CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "b").string()}).find("camera.json: missing") !=
         std::string::npos);
   // 10.3 a camera model other than the format's pinhole, a distortion that folds
