@@ -61,7 +61,10 @@ PinholeRemap::PinholeRemap(const sim::scene::Camera& c) : width_(c.width), heigh
       const Eigen::Vector2d s = source_of(c, focal_scale_, x, y);
       const double sx = std::clamp(s.x(), 0.0, w - 1.0), sy = std::clamp(s.y(), 0.0, h - 1.0);
       const auto x0 = static_cast<std::uint32_t>(sx), y0 = static_cast<std::uint32_t>(sy);
-      taps_[std::size_t{y} * w + x] = {x0, y0, static_cast<float>(sx - x0), static_cast<float>(sy - y0)};
+      Tap& t = taps_[std::size_t{y} * w + x];
+      t.x0 = x0, t.y0 = y0;
+      const auto fx = static_cast<float>(sx - x0), fy = static_cast<float>(sy - y0);
+      for (int k = 0; k < 4; ++k) t.wx[k] = keys(fx - static_cast<float>(k - 1)), t.wy[k] = keys(fy - static_cast<float>(k - 1));
     }
 }
 
@@ -73,14 +76,12 @@ void PinholeRemap::apply(std::span<const std::uint16_t> in, std::span<std::uint1
   const auto w = static_cast<std::int64_t>(width_), h = static_cast<std::int64_t>(height_);
   for (std::size_t i = 0; i < taps_.size(); ++i) {
     const Tap& t = taps_[i];
-    float wx[4], wy[4];
-    for (int k = 0; k < 4; ++k) wx[k] = keys(t.fx - static_cast<float>(k - 1)), wy[k] = keys(t.fy - static_cast<float>(k - 1));
     float value = 0;
     for (int b = 0; b < 4; ++b) {
       const std::int64_t row = std::clamp<std::int64_t>(std::int64_t{t.y0} + b - 1, 0, h - 1) * w;
       for (int a = 0; a < 4; ++a) {
         const std::int64_t column = std::clamp<std::int64_t>(std::int64_t{t.x0} + a - 1, 0, w - 1);
-        value += wx[a] * wy[b] * static_cast<float>(in[static_cast<std::size_t>(row + column)]);
+        value += t.wx[a] * t.wy[b] * static_cast<float>(in[static_cast<std::size_t>(row + column)]);
       }
     }
     out[i] = static_cast<std::uint16_t>(std::clamp(std::lround(value), 0L, 65535L));

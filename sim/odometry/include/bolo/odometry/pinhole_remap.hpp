@@ -34,7 +34,7 @@ class PinholeRemap {
  private:
   struct Tap {
     std::uint32_t x0, y0;  // the source pixel at or left of / above the position
-    float fx, fy;          // the position's offset from it
+    float wx[4], wy[4];    // Keys' cubic weights of columns x0-1..x0+2 and rows y0-1..y0+2
   };
   std::uint32_t width_ = 0, height_ = 0;
   vo::Camera pinhole_;
