@@ -28,8 +28,8 @@ namespace {
 constexpr std::uint32_t kLostFramesBeforeRestart = 8;
 constexpr std::uint32_t kMaxInitFrames = 90;
 constexpr double kMaxStepFlow = 0.06;  // median translation flow per frame, share of width + height
-constexpr float kRetrackRatio = 1.5f;
-constexpr std::uint32_t kIntensityMeasureFrames = 30;  // the intensity scale stays 1 if unmeasured by then  // the constant-velocity guess stands if its rms is within this of the last frame's
+constexpr float kRetrackRatio = 1.5f;  // the constant-velocity guess stands if its rms is within this of the last frame's
+constexpr std::uint32_t kIntensityMeasureFrames = 30;  // the intensity scale stays 1 if unmeasured by then
 
 std::size_t plane(const VoConfig& c) { return std::size_t{c.width} * c.height; }
 
