@@ -5,7 +5,8 @@
 //   frame time for the truth pose and depth, "eff" = the exposure's weighted mean time);
 //   NOISE (counts); TRAJ drive|handheld|side|forward|yaw (SPEED m/s, RATE rad/s for the synthetic
 //   constant-velocity ones); SS rays per axis; FRAMES; T0 (s); BLUR (px, fixed horizontal box);
-//   IDEPTH_NOISE (relative), ROT_NOISE (rad per frame) on the truth geometry.
+//   IDEPTH_NOISE (relative), ROT_NOISE (rad per frame) on the truth geometry; GAUSS (px, sigma of a
+//   Gaussian low-pass on every frame, so that nothing above the interpolators' reach is left).
 // Besides the estimator's tau it prints a plain least-squares fit over the same pairs (no pose or
 // depth elimination) with: its scene-difference term (A - alpha B = beta D exactly), the fit with
 // each frame's samples smeared along the other frame's exposure path, per sub-pixel phase
@@ -217,6 +218,30 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
           b[std::size_t{r} * w + c] = sum / blur;
         }
       u = b;
+    }
+    // GAUSS sigma px: a separable Gaussian low-pass on every frame (the estimator's prefilter test).
+    const double gauss = env_num("GAUSS", 0);
+    if (gauss > 0) {
+      const int rad = static_cast<int>(std::ceil(3 * gauss));
+      std::vector<double> kern(static_cast<std::size_t>(2 * rad + 1));
+      double ks = 0;
+      for (int q = -rad; q <= rad; ++q) ks += kern[static_cast<std::size_t>(q + rad)] = std::exp(-0.5 * q * q / (gauss * gauss));
+      for (double& v : kern) v /= ks;
+      const int hh = static_cast<int>(seq.height), ww = static_cast<int>(w);
+      std::vector<double> t1(n), t2(n);
+      for (int r = 0; r < hh; ++r)
+        for (int c = 0; c < ww; ++c) {
+          double sum = 0;
+          for (int q = -rad; q <= rad; ++q) sum += kern[static_cast<std::size_t>(q + rad)] * u[static_cast<std::size_t>(r * ww + std::clamp(c + q, 0, ww - 1))];
+          t1[static_cast<std::size_t>(r * ww + c)] = sum;
+        }
+      for (int r = 0; r < hh; ++r)
+        for (int c = 0; c < ww; ++c) {
+          double sum = 0;
+          for (int q = -rad; q <= rad; ++q) sum += kern[static_cast<std::size_t>(q + rad)] * t1[static_cast<std::size_t>(std::clamp(r + q, 0, hh - 1) * ww + c)];
+          t2[static_cast<std::size_t>(r * ww + c)] = sum;
+        }
+      u = t2;
     }
     return u;
   };
