@@ -6,11 +6,12 @@
 //   NOISE (counts); TRAJ drive|handheld|side|forward|yaw (SPEED m/s, RATE rad/s for the synthetic
 //   constant-velocity ones); SS rays per axis; FRAMES; T0 (s); BLUR (px, fixed horizontal box);
 //   IDEPTH_NOISE (relative), ROT_NOISE (rad per frame) on the truth geometry; GAUSS (px, sigma of a
-//   Gaussian low-pass on every frame, so that nothing above the interpolators' reach is left).
+//   Gaussian low-pass on every frame, so that nothing above the interpolators' reach is left);
+//   ROBUST (counts: the plain fit again with Huber weights on A - alpha B at that threshold).
 // Besides the estimator's tau it prints a plain least-squares fit over the same pairs (no pose or
 // depth elimination) with: its scene-difference term (A - alpha B = beta D exactly), the fit with
 // each frame's samples smeared along the other frame's exposure path, per sub-pixel phase
-// difference bins, with INTERP bilinear|cubic|equal and SYM=1 (mirrored phases), DEPTHCHECK=1
+// difference bins, with INTERP bilinear|cubic|equal|lanczosN and SYM=1 (mirrored phases), DEPTHCHECK=1
 // (pattern pixels on the centre's surface only), and EXACT=m: frames rendered at m x m the pixels
 // (one ray each) whose box means are the frames and whose box-filtered image gives area means at
 // any sub-pixel position (the fit without interpolation error).
@@ -65,6 +66,24 @@ double bicubic(const std::vector<double>& img, std::uint32_t w, double x, double
     for (int i = -1; i <= 2; ++i)
       sum += keys(x - (x0 + i)) * keys(y - (y0 + j)) * img[static_cast<std::size_t>(y0 + j) * w + static_cast<std::size_t>(x0 + i)];
   return sum;
+}
+
+// Lanczos-a (a lobes), 2a x 2a pixels, the weights normalised per axis.
+double lanczos(const std::vector<double>& img, std::uint32_t w, double x, double y, int a) {
+  const auto kernel = [a](double t) {
+    if (std::fabs(t) < 1e-12) return 1.0;
+    if (std::fabs(t) >= a) return 0.0;
+    const double pt = M_PI * t;
+    return a * std::sin(pt) * std::sin(pt / a) / (pt * pt);
+  };
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  double wx[16], wy[16], sx = 0, sy = 0;
+  for (int i = 0; i < 2 * a; ++i) sx += wx[i] = kernel(x - (x0 - a + 1 + i)), sy += wy[i] = kernel(y - (y0 - a + 1 + i));
+  double sum = 0;
+  for (int j = 0; j < 2 * a; ++j)
+    for (int i = 0; i < 2 * a; ++i)
+      sum += wx[i] * wy[j] * img[static_cast<std::size_t>(y0 - a + 1 + j) * w + static_cast<std::size_t>(x0 - a + 1 + i)];
+  return sum / (sx * sy);
 }
 
 // Bilinear followed by a 3-tap [c, 1 - 2c, c] per axis with c = (1/4 - phi (1 - phi)) / 2: every
@@ -272,7 +291,10 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
   const std::string interp = env_str("INTERP", "bilinear");
   const bool symmetric = env_num("SYM", 0) != 0;
   const bool depth_check = env_num("DEPTHCHECK", 0) != 0;
+  const double robust_k = env_num("ROBUST", 0);
+  std::vector<double> pairs_a, pairs_b;
   const auto sample = [&](const std::vector<double>& img, double x, double yy) {
+    if (interp.rfind("lanczos", 0) == 0) return lanczos(img, w, x, yy, std::atoi(interp.c_str() + 7));
     return interp == "cubic" ? bicubic(img, w, x, yy) : interp == "equal" ? equalised(img, w, x, yy) : bilin(img, w, x, yy);
   };
   double disp_sum = 0, disp_n = 0, disp_bb = 0;
@@ -364,6 +386,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
           const double B = sample(y1, xi, yi) - sample(y2, xp, yp);
           const double D = sample(u, xi, yi) - sample(u1, xp, yp);
           sab += A * B, sbb += B * B, sdb += beta * D * B;
+          if (robust_k > 0) pairs_a.push_back(A), pairs_b.push_back(B);
           const double disp = std::hypot(ui - up, vi - vp);
           disp_sum += disp, disp_n += 1, disp_bb += disp * B * B;
           if (m > 0 && k > 2) {
@@ -386,6 +409,20 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
     }
   }
   const double a_plain = sab / sbb;
+  if (robust_k > 0) {
+    // ROBUST k: the plain fit reweighted by Huber weights of A - alpha B at threshold k (counts).
+    double a = a_plain;
+    for (int it = 0; it < 10; ++it) {
+      double wab = 0, wbb = 0;
+      for (std::size_t i = 0; i < pairs_a.size(); ++i) {
+        const double r = std::fabs(pairs_a[i] - a * pairs_b[i]);
+        const double wt = r <= robust_k ? 1.0 : robust_k / r;
+        wab += wt * pairs_a[i] * pairs_b[i], wbb += wt * pairs_b[i] * pairs_b[i];
+      }
+      a = wab / wbb;
+    }
+    std::printf("ROBUST %.1f: plain fit with Huber weights %.2f ms\n", robust_k, -tr / std::log(a) * 1e3);
+  }
   std::printf("displacement between frames: mean %.2f px, B^2-weighted %.2f px\n", disp_sum / disp_n, disp_bb / sbb);
   if (m > 0)
     std::printf("EXACT %d: sum B^2 (bilinear) %.3g, (area) %.3g, of the bilinear error %.3g; error A.B / B.B %.3f, error corr %.3f\n", m, sbb, ebb, err_bb,
