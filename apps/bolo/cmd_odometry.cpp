@@ -65,6 +65,12 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   if (s.undistorted)
     out << "odometry: camera.json has lens distortion: frames resampled onto a pinhole (focal lengths x"
         << std::setprecision(4) << s.focal_scale << ")\n";
+  if (!s.shutter_taus.empty()) {
+    out << "odometry: tau from the step response after " << s.shutter_taus.size() << " of " << s.shutter_events
+        << " shutter events (frames.csv ffc = 1):";
+    for (const auto& [t, tau] : s.shutter_taus) out << " " << std::setprecision(4) << tau * 1e3 << " ms at " << t << " s;";
+    out << " the carry-over pairs no longer move it\n";
+  }
   if (s.timing_assumed > 0)
     out << "odometry: frames.csv has no exposure_s/readout_s for " << s.timing_assumed
         << " frames: assumed half the frame interval each (" << std::setprecision(4) << s.assumed_half_period_s * 1e3
@@ -93,7 +99,10 @@ Command add_odometry_command(CLI::App& parent) {
       "alpha = exp(-t_r/tau) is what the frames fix, so tau is then reported for that split); on\n"
       "tone-mapped frames (units counts8) they warn: the model needs linear counts.\n"
       "Shutter events (ffc=1) and time gaps (> 1.5 frame periods) break the carry-over chain; such\n"
-      "frames are tracked with a free offset.\n"
+      "frames are tracked on raw counts with a free gain and offset, and the next with a free offset\n"
+      "(a shutter event resets the camera's offsets). The frame after a shutter event is the scene's\n"
+      "step response from the settled shutter: its contrast gives tau, which from then on follows\n"
+      "those measurements (listed on the output and in summary.json) instead of the carry-over pairs.\n"
       "A frame identical to the one before (a camera or link sending a frame twice) is skipped (state\n"
       "'duplicate' in stats.csv, no pose) and breaks the chain for the frame after it.\n"
       "Each keyframe selects one point per 40 pixels, at most 500 (160x120: 480; 320x256 and larger:\n"

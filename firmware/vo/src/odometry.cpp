@@ -223,6 +223,14 @@ void measure_intensity_scale(State& s) {
   s.intensity = static_cast<float>(std::max(1.0, sigma / kNominalNoiseCounts));
 }
 
+namespace {
+double mean_level(const float* image, std::size_t pixels) {
+  double sum = 0;
+  for (std::size_t i = 0; i < pixels; ++i) sum += image[i];
+  return pixels > 0 ? sum / static_cast<double>(pixels) : 0.0;
+}
+}  // namespace
+
 double scene_level_scale(const State& s) {
   if (!(s.reference_exposure_s > 0) || !(s.reference_readout_s > 0)) return 1.0;
   const CarryCoefficients k = carry_coefficients(s.tau, s.reference_readout_s, s.reference_exposure_s);
@@ -330,7 +338,8 @@ FrameResult Odometry::process(const FrameInput& in) {
   State& s = *state_;
   const VoConfig& c = s.cfg;
   s.retired_count = 0;
-  if (s.have_prev && !in.chain_broken && repeats(in.raw.first(plane(c)), s.raw)) {
+  const bool chain_broken = in.chain_broken || in.shutter_event;
+  if (s.have_prev && !chain_broken && repeats(in.raw.first(plane(c)), s.raw)) {
     // Processed as a frame it would pose the camera where it was a frame ago, at the new time,
     // and pair two identical frames as carry-over.
     s.predecessor_missing = true;
@@ -344,9 +353,9 @@ FrameResult Odometry::process(const FrameInput& in) {
   const bool had_prev = s.have_prev;
   s.have_prev = true;
   s.chain_ok_prev = s.chain_ok;
-  const bool after_repeat = s.predecessor_missing && !in.chain_broken;
+  const bool after_repeat = s.predecessor_missing && !chain_broken;
   s.predecessor_missing = false;
-  s.chain_ok = had_prev && !in.chain_broken && !after_repeat;
+  s.chain_ok = had_prev && !chain_broken && !after_repeat;
   s.T_prev = s.T_cw;
   s.prev_posed = s.posed;
   s.posed = false;
@@ -407,7 +416,26 @@ FrameResult Odometry::process(const FrameInput& in) {
   }
 
   // Tracking, with fall-back motion guesses when the constant-velocity one fails.
-  const bool free_offset = ir && !s.chain_ok;
+  // ir modes: a frame without its sensor predecessor is tracked on its raw counts with a free gain
+  // and offset (after a shutter event its contrast is 1 - alpha of the keyframes', the pixels having
+  // settled on the shutter; after a gap it holds the ghost of a frame never seen), and the first
+  // frame after it with a free offset that is then kept: a shutter event resets the camera's
+  // offsets, which the scene estimate carries from then on.
+  if (ir && !s.chain_ok) s.offset_pending = true;
+  FreeBrightness free;
+  free.gain = ir && !s.chain_ok;
+  free.offset = ir && (!s.chain_ok || s.offset_pending);
+  // After a shutter event the gain starts where the current tau puts the step response, and the
+  // offset where that gain puts the frame's mean level (the settled shutter's share of the counts
+  // is unknown: started at the keyframes' offset, every residual would be an outlier).
+  const bool shutter_step = ir && in.shutter_event && s.reference_exposure_s > 0 && s.reference_readout_s > 0 && in.exposure_s > 0;
+  double a_start = s.a, b_start = s.b;
+  if (shutter_step) {
+    const Keyframe& reference = s.kf[s.order[s.kf_count - 1]];
+    const double gain = shutter_step_gain(s.tau, in.exposure_s, s.reference_readout_s, s.reference_exposure_s);
+    a_start = reference.a + std::log(gain);
+    b_start = mean_level(s.raw.data(), plane(c)) - gain * (mean_level(reference.pyramid.level[0].value.data, plane(c)) - reference.b);
+  }
   const Se3 step = motion_step(s);
   const Se3 half = Se3::exp(0.5 * step.log());
   const Se3 guesses[] = {step * s.T_cw, s.T_cw, half * s.T_cw, step * step * s.T_cw};
@@ -427,16 +455,16 @@ FrameResult Odometry::process(const FrameInput& in) {
   };
   bool accepted = false;
   if (screen_level > 0) {
-    screened[0] = track_frame(s, guesses[0], s.a, s.b, free_offset, screen_level);
+    screened[0] = track_frame(s, guesses[0], a_start, b_start, free, screen_level);
     if (screened[0].ok && s.last_rms > 0) {
-      TrackResult r = track_frame(s, guesses[0], s.a, s.b, free_offset, 0, &screened[0]);
+      TrackResult r = track_frame(s, guesses[0], a_start, b_start, free, 0, &screened[0]);
       if (r.ok && !too_fast(r) && r.rms <= kRetrackRatio * s.last_rms) best = r, have = true, accepted = true;
     }
   }
   if (screen_level > 0 && !accepted) {
     double energy[kGuesses];
     for (std::size_t g = 0; g < kGuesses; ++g) {
-      if (g > 0) screened[g] = track_frame(s, guesses[g], s.a, s.b, free_offset, screen_level);
+      if (g > 0) screened[g] = track_frame(s, guesses[g], a_start, b_start, free, screen_level);
       energy[g] = screened[g].ok ? screened[g].mean_energy : 1e30;
     }
     std::sort(order, order + kGuesses, [&](std::size_t x, std::size_t y) { return energy[x] < energy[y]; });
@@ -444,7 +472,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   for (const std::size_t g : order) {
     if (accepted) break;
     // A screened guess continues below the screening level (its coarse levels are not repeated).
-    TrackResult r = track_frame(s, guesses[g], s.a, s.b, free_offset, 0,
+    TrackResult r = track_frame(s, guesses[g], a_start, b_start, free, 0,
                                 screen_level > 0 && screened[g].ok ? &screened[g] : nullptr);
     if (r.ok && too_fast(r)) r.ok = false;
     if (!have || (r.ok && !best.ok) || (r.ok == best.ok && r.rms < best.rms)) best = r, have = true;
@@ -475,8 +503,17 @@ FrameResult Odometry::process(const FrameInput& in) {
   const Se3 previous = s.T_cw;
   s.T_cw = pose;
   record_motion(s, previous);
-  // A frame without its predecessor carries an unknown offset; keep the keyframes' brightness.
-  if (!free_offset) s.a = best.a, s.b = best.b;
+  // A frame without its predecessor has an unknown gain and offset: keep the keyframes' brightness.
+  if (!free.gain) s.a = best.a, s.b = best.b, s.offset_pending = false;
+  if (shutter_step && c.estimate_tau) {
+    // The step response's contrast against the tracking reference (the newest keyframe).
+    const double gain = std::exp(best.a - s.kf[s.order[s.kf_count - 1]].a);
+    const double tau = tau_from_shutter_step_gain(gain, in.exposure_s, s.reference_readout_s, s.reference_exposure_s);
+    if (tau > 0) {
+      take_shutter_measurement(s, tau);
+      out.shutter_tau_s = tau;
+    }
+  }
   out.state = TrackingState::tracking;
   out.has_pose = true;
   s.posed = true;

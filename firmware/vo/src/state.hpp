@@ -141,6 +141,9 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   Tau tau;
   double tau_sab = 0, tau_sbb = 0, tau_sbbr = 0;
   double tau_sbb_total = 0;  // tau_sbb before the noise correction
+  bool offset_pending = false;  // ir modes: no frame was posed with a free offset since the chain broke
+  std::uint32_t shutter_measurements = 0;  // shutter events whose step response gave tau
+  double shutter_tau = 0;                  // their running mean (seconds)
   double noise_var = 0;      // temporal pixel noise, counts^2 (0 until measured; noise_estimator.cpp)
   std::span<float> noise_scratch;
   std::span<std::uint8_t> unchanged_frames;  // per pixel: checks its raw value stayed the same (tau estimator)
@@ -205,7 +208,14 @@ struct TrackResult {
 // mean_energy and the pose at that level only, ok = finite). `resume`: the result of an earlier
 // call with the same guess, a, b and free_offset that stopped at resume->level; the levels down
 // to it are not repeated (the tracking continues from its pose: the same result as a full call).
-TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset,
+// Brightness parameters a frame may change that the photometric mode otherwise holds (ir modes:
+// a frame without its sensor predecessor has an unknown carry-over, so its raw counts are
+// tracked with a free gain and offset; the frame after it, whose scene estimate has the camera's
+// offset since then, with a free offset).
+struct FreeBrightness {
+  bool gain = false, offset = false;
+};
+TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness free,
                         std::uint32_t last_level = 0, const TrackResult* resume = nullptr);
 // Rebuilds the tracking reference (s.ref) from the window's active points.
 void build_tracking_reference(State& s);
@@ -221,6 +231,9 @@ void window_bundle_adjustment(State& s);
 // place in s.order. What window_bundle_adjustment() solves; exposed for tests.
 double window_system(State& s);
 void refine_tau(State& s);
+// A shutter event's step response gave `tau_s` (tau_estimator.cpp): from the first such measurement
+// on, tau follows them and the carry-over pairs no longer move it.
+void take_shutter_measurement(State& s, double tau_s);
 // Per pixel, the consecutive checks (every other frame) at which its raw value stayed exactly the
 // same as the frame before (tau_estimator.cpp): refine_tau leaves out samples near stuck pixels.
 // Called for every frame after the first.

@@ -48,6 +48,11 @@
 // previous one), which the pyramid already holds, rather than central differences of the raw
 // frames (16 samples a pattern pixel).
 //
+// Shutter events give a better measurement where the camera reports them (FrameInput::
+// shutter_event): the pixels settle on the uniform shutter, and the next frame's contrast against
+// the static level is a known function of tau (shutter_step_gain, carry_model.hpp), measured by
+// tracking that frame with a free gain. Once one was measured, tau follows those measurements.
+//
 // tau_h is not observable here: with a constant exposure it only scales u, and the tracking
 // images are scaled back to the static raw level (scene_level_scale), so it cancels.
 // It is kept equal to tau_c.
@@ -165,7 +170,19 @@ void count_unchanged_frames(State& s) {
   s.stuck_pixels = stuck;
 }
 
+void take_shutter_measurement(State& s, double tau_s) {
+  // The latest event weighs as much as all before it: tau drifts with the focal plane's
+  // temperature, and the events are seconds to minutes apart.
+  s.shutter_tau = s.shutter_measurements == 0 ? tau_s : 0.5 * (s.shutter_tau + tau_s);
+  ++s.shutter_measurements;
+  s.tau.c = s.tau.h = s.shutter_tau;
+}
+
 void refine_tau(State& s) {
+  // A shutter event's step response measures alpha from the whole frame's contrast (first order);
+  // the pairs see it only through how the image motion changes (second order), and read it
+  // 20-50 % off depending on how smooth the images are (odometry-study.md, "Render smoothness").
+  if (s.shutter_measurements > 0) return;
   if (!s.chain_ok || !s.chain_ok_prev || !s.prev_posed || s.kf_count == 0) return;
   const std::uint32_t w = s.cfg.width, h = s.cfg.height;
   const Image y0{s.raw.data(), w, h}, y1{s.raw_prev.data(), w, h}, y2{s.raw_prev2.data(), w, h};

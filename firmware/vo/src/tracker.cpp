@@ -18,6 +18,7 @@ constexpr double kConverged = 0.003;  // a level stops when a step gains less th
 constexpr std::uint32_t kRefusedStepsToStop = 2;  // at the finest level (see track_frame)
 // A step that moves the points by less than this (in the level's pixels) ends the level.
 constexpr double kNegligibleStep = 0.1;
+constexpr double kNegligibleGainStep = 1e-3;  // log gain
 constexpr std::uint32_t kPixelsPerTrackedPoint = 40;  // share of each translation axis' own information
 
 using Mat8 = Eigen::Matrix<double, 8, 8>;
@@ -191,7 +192,7 @@ void build_tracking_reference(State& s) {
   s.ref_mean_idepth = s.ref_count > 0 ? idepth_sum / s.ref_count : 0.0;
 }
 
-TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offset, std::uint32_t last_level,
+TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness free, std::uint32_t last_level,
                         const TrackResult* resume) {
   TrackResult out;
   if (s.ref_dirty) build_tracking_reference(s);
@@ -209,6 +210,13 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
   const double focal = camera_at(s.cfg.camera, 0).fx;
   const auto step_pixels = [&](const Vec8& delta) {
     return focal * (delta.segment<3>(3).norm() + delta.head<3>().norm() * s.ref_mean_idepth);
+  };
+  // A step is negligible when it moves the points by a small part of the level's pixel and, on a
+  // frame whose gain is freed (it may start far off, as after a shutter event, and would otherwise
+  // stop where its pose settles), changes the gain by little.
+  const auto negligible = [&](const Vec8& delta, std::uint32_t l) {
+    return step_pixels(delta) < kNegligibleStep * static_cast<double>(1u << l) &&
+           (!free.gain || std::fabs(delta[6]) < kNegligibleGainStep);
   };
   for (std::uint32_t l = levels; l-- > last_level;) {
     const int level = static_cast<int>(l);
@@ -235,8 +243,8 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
       for (int q = 0; q < 3; ++q) H(q, q) += prior[q], g[q] += prior[q] * off[q];
       for (int q = 0; q < 8; ++q) H(q, q) *= 1 + lambda;
       // Parameters the mode does not estimate are held by a stiff prior.
-      if (!affine) H(6, 6) += 1e12;
-      if (!affine && !free_offset) H(7, 7) += 1e12;
+      if (!affine && !free.gain) H(6, 6) += 1e12;
+      if (!affine && !free.offset) H(7, 7) += 1e12;
       const Vec8 delta = -H.ldlt().solve(g);
       if (!delta.allFinite()) break;
       const Se3 T_new = Se3::exp(delta.head<6>()) * T;
@@ -248,7 +256,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
         T = T_new, a = a_new, b = b_new, acc = next;
         lambda = std::max(lambda * 0.5, 1e-6);
         refused_in_a_row = 0;
-        if (small_gain || step_pixels(delta) < kNegligibleStep * static_cast<double>(1u << l)) break;
+        if (small_gain || negligible(delta, l)) break;
       } else {
         // A refused step that would have moved the points by a small part of this level's pixel,
         // or at the finest level two refused steps in a row: the pose is at the bottom of what
@@ -256,7 +264,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, bool free_offse
         // larger steps keeps trying: from a far guess its basin is long and shallow.
         lambda *= 4;
         ++refused_in_a_row;
-        if (lambda > 1e4 || step_pixels(delta) < kNegligibleStep * static_cast<double>(1u << l) ||
+        if (lambda > 1e4 || negligible(delta, l) ||
             (refused_in_a_row >= kRefusedStepsToStop && level == 0))
           break;
       }

@@ -213,6 +213,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     in.t_s = *row.t_s;
     in.exposure_s = timing[i].exposure_s;
     in.readout_prev_s = i > 0 ? timing[i - 1].readout_s : 0.0;
+    in.shutter_event = i > 0 && row.ffc.value_or(false);
     in.chain_broken = i == 0 || row.ffc.value_or(false) ||
                       (period > 0 && *row.t_s - *rows[i - 1].t_s > 1.5 * period);
     // A repeated frame is skipped by the VO; the corrector does not see it either, so the frame
@@ -246,6 +247,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     summary.duplicates += r.state == vo::TrackingState::duplicate;
     summary.keyframes += r.keyframe;
     summary.reinitialisations += r.reinitialised;
+    summary.shutter_events += in.shutter_event;
+    if (r.shutter_tau_s > 0) summary.shutter_taus.push_back({*row.t_s, r.shutter_tau_s});
     char line[256];
     std::snprintf(line, sizeof line, "%llu,%.9f,%s,%u,%d,%.4f,%.6f,%.6f,%.3f\n",
                   static_cast<unsigned long long>(i), *row.t_s, vo::to_string(r.state), r.tracked_points,
@@ -293,6 +296,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   series.push_back(estimate);
   write_text(tmp.path / "trajectory.svg", trajectory_svg("bolo odometry: " + recording.dir().filename().string() +
                                                              ", top view (x, y)", series));
+  nlohmann::json shutter_json = nlohmann::json::array();
+  for (const auto& [t, tau] : summary.shutter_taus) shutter_json.push_back({{"t_s", t}, {"tau_s", tau}});
   nlohmann::json j = {{"recording", fs::absolute(options.recording).lexically_normal().string()},
                       {"photometric", vo::to_string(options.photometric)},
                       {"frames", summary.frames},
@@ -317,6 +322,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                                                                   : nlohmann::json(nullptr)},
                       {"tau_h_s", summary.tau_h_s},
                       {"tau_c_s", summary.tau_c_s},
+                      {"shutter_events", summary.shutter_events},
+                      {"tau_from_shutter_events", shutter_json},
                       {"vo_seconds", summary.seconds},
                       {"arena_bytes", summary.arena_bytes}};
   write_text(tmp.path / "summary.json", j.dump(2) + "\n");

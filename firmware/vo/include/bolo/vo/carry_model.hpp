@@ -27,4 +27,28 @@ inline CarryCoefficients carry_coefficients(Tau tau, double readout_prev_s, doub
   return k;
 }
 
+// A frame right after a shutter event: the pixels had settled on the uniform shutter, so the
+// frame reads beta_i u plus a constant, while a static scene point reads beta_ref u / (1 - alpha_ref)
+// at the reference timing (the level the VO's tracking images are scaled to). The ratio, the
+// frame's contrast against that level, depends on tau alone: with an even timing it is 1 - alpha.
+inline double shutter_step_gain(Tau tau, double exposure_s, double reference_readout_s, double reference_exposure_s) {
+  const CarryCoefficients now = carry_coefficients(tau, reference_readout_s, exposure_s);
+  const CarryCoefficients ref = carry_coefficients(tau, reference_readout_s, reference_exposure_s);
+  return now.beta * (1.0 - ref.alpha) / ref.beta;
+}
+
+// The tau (tau_h = tau_c) in [lo_s, hi_s] whose shutter_step_gain() is `gain`, by bisection on
+// log tau (the gain falls as tau grows); 0 when no tau in the range gives it.
+inline double tau_from_shutter_step_gain(double gain, double exposure_s, double reference_readout_s,
+                                         double reference_exposure_s, double lo_s = 0.001, double hi_s = 0.1) {
+  const auto at = [&](double t) { return shutter_step_gain({t, t}, exposure_s, reference_readout_s, reference_exposure_s); };
+  if (!(gain < at(lo_s) && gain > at(hi_s))) return 0.0;
+  double lo = std::log(lo_s), hi = std::log(hi_s);
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (at(std::exp(mid)) > gain ? lo : hi) = mid;
+  }
+  return std::exp(0.5 * (lo + hi));
+}
+
 }  // namespace bolo::vo

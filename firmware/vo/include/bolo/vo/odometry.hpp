@@ -26,6 +26,10 @@ struct FrameInput {
   // The previous raw frame is not this frame's predecessor on the sensor: first frame, shutter
   // event, dropped frames. The carry-over term is then unknown for this frame.
   bool chain_broken = false;
+  // A shutter (flat-field) event completed before this frame: the pixels settled on the uniform
+  // shutter, so the frame is the scene's step response, whose contrast measures tau (ir modes).
+  // Implies chain_broken.
+  bool shutter_event = false;
 };
 
 // duplicate: the frame repeats the previous one bit for bit (a camera or link that sends a frame
@@ -43,6 +47,8 @@ struct FrameResult {
   std::uint32_t tracked_points = 0;
   float residual_rms = 0;         // photometric, counts, over the inlier residuals
   Tau tau;                        // current estimate (ir modes; the initial value otherwise)
+  // ir modes, a frame after a shutter event: tau from its step response (0 when not measured).
+  double shutter_tau_s = 0;
 };
 
 struct WorldPoint {

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <utility>
+#include <vector>
 #include <string>
 
 #include "bolo/vo/config.hpp"
@@ -54,6 +56,10 @@ struct OdometrySummary {
   // sensor's linear counts (AGC breaks it).
   bool ir_on_tone_mapped = false;
   double tau_h_s = 0, tau_c_s = 0;
+  // Flagged shutter events (frames.csv ffc = 1 after the first frame), and for the ir modes the
+  // tau each one's step response gave (time of the frame after the event, tau).
+  std::uint64_t shutter_events = 0;
+  std::vector<std::pair<double, double>> shutter_taus;
   double seconds = 0;        // VO time only (not I/O)
   std::size_t arena_bytes = 0;
 };
