@@ -266,7 +266,9 @@ TEST_CASE("a shutter event's step response measures tau and its offset step is f
   // the pixels settled on the shutter (at the scene's mean level), and the camera's offset jumped
   // by 25 counts for every frame from then on (what a flat-field correction does).
   const double tau = 0.010, period = 1 / 60.0, alpha = std::exp(-0.5 * period / tau);
-  const int n = 70, event = 40;
+  // A second event at frame 55 whose frame the camera delivers settled (no step response, as a
+  // camera that shows frames again only once the shutter has been open a while): not taken.
+  const int n = 70, event = 40, settled_event = 55;
   const double offset_step = 25;
   vo::VoConfig c;
   c.width = kW, c.height = kH, c.camera = camera();
@@ -286,7 +288,7 @@ TEST_CASE("a shutter event's step response measures tau and its offset step is f
     for (const std::uint16_t k : K) level += k;
     level /= static_cast<double>(K.size());
     for (std::size_t p = 0; p < K.size(); ++p) {
-      const double before = i == event ? level : y[p];
+      const double before = i == event ? level : y[p];  // settled_event: the chain goes on
       if (i > 0) y[p] = alpha * before + (1 - alpha) * K[p];
       frame[p] = static_cast<std::uint16_t>(std::lround(y[p] + (i >= event ? offset_step : 0.0)));
     }
@@ -294,15 +296,15 @@ TEST_CASE("a shutter event's step response measures tau and its offset step is f
     in.raw = frame;
     in.t_s = i * period, in.exposure_s = 0.5 * period, in.readout_prev_s = i > 0 ? 0.5 * period : 0.0;
     in.chain_broken = i == 0;
-    in.shutter_event = i == event;
+    in.shutter_event = i == event || i == settled_event;
     const vo::FrameResult r = odometry.process(in);
     if (i == event) measured = r.shutter_tau_s;
-    if (i < event) CHECK(r.shutter_tau_s == 0);
+    if (i != event) CHECK(r.shutter_tau_s == 0);
     if (i >= event) lost_after += r.state == vo::TrackingState::lost, posed_after += r.has_pose;
     // The residuals of the frames after the event against those before: the scene estimate carries
     // the new offset, which the keyframes made before the event do not have.
     if (i >= event - 20 && i < event) rms_before += r.residual_rms / 20;
-    if (i > event && i <= event + 20) rms_after += r.residual_rms / 20;
+    if (i > event && i <= event + 14) rms_after += r.residual_rms / 14;
     if (i > event) CHECK(r.tau.c == Approx(measured));
   }
   INFO("tau from the step response " << measured * 1e3 << " ms; after the event " << posed_after << " posed, " << lost_after

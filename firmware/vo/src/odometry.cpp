@@ -30,6 +30,9 @@ constexpr std::uint32_t kMaxInitFrames = 90;
 constexpr double kMaxStepFlow = 0.06;  // median translation flow per frame, share of width + height
 constexpr float kRetrackRatio = 1.5f;  // the constant-velocity guess stands if its rms is within this of the last frame's
 constexpr std::uint32_t kIntensityMeasureFrames = 30;  // the intensity scale stays 1 if unmeasured by then
+// A shutter event's step response is taken when the tau it gives is within this factor of the
+// current estimate (the carry-over pairs read within ~50 % of it; odometry-study.md).
+constexpr double kShutterTauRange = 2.0;
 
 std::size_t plane(const VoConfig& c) { return std::size_t{c.width} * c.height; }
 
@@ -509,7 +512,10 @@ FrameResult Odometry::process(const FrameInput& in) {
     // The step response's contrast against the tracking reference (the newest keyframe).
     const double gain = std::exp(best.a - s.kf[s.order[s.kf_count - 1]].a);
     const double tau = tau_from_shutter_step_gain(gain, in.exposure_s, s.reference_readout_s, s.reference_exposure_s);
-    if (tau > 0) {
+    // A camera may deliver the first frame only once the pixels have settled on the scene again
+    // (the gain then reads ~1 and tau ~1 ms), or repeat a frame across the event: a measurement
+    // far from the current estimate is not taken.
+    if (tau > 0 && tau < kShutterTauRange * s.tau.c && tau * kShutterTauRange > s.tau.c) {
       take_shutter_measurement(s, tau);
       out.shutter_tau_s = tau;
     }
