@@ -363,6 +363,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.prev_posed = s.posed;
   s.posed = false;
   s.exposure_prev_s = s.exposure_s;
+  s.readout_prev2_s = s.readout_prev_s;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
   if (!(s.reference_exposure_s > 0) && in.exposure_s > 0) s.reference_exposure_s = in.exposure_s;
   if (!(s.reference_readout_s > 0) && in.readout_prev_s > 0) s.reference_readout_s = in.readout_prev_s;

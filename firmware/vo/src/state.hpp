@@ -154,6 +154,7 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   bool chain_ok_prev = false;  // raw_prev2 is raw_prev's predecessor
   double exposure_s = 0, readout_prev_s = 0, t_s = 0;
   double exposure_prev_s = 0;  // the previous frame's
+  double readout_prev2_s = 0;  // the readout before the previous frame (its readout_prev_s)
   // The recording's first exposure and readout (0 until seen): the timing whose static level the
   // tracking images keep (scene_level_scale).
   double reference_exposure_s = 0, reference_readout_s = 0;

@@ -192,12 +192,32 @@ void refine_tau(State& s) {
   const double readout = s.readout_prev_s;
   if (!(readout > 0)) return;
   const double alpha_now = std::exp(-readout / s.tau.c);
+  // Frames whose timing changes: y_i - alpha_i y_{i-1} = beta_i u and y_{i-1} - alpha_{i-1} y_{i-2} =
+  // beta_{i-1} u, so with rho = beta_i / beta_{i-1} and kappa = alpha_{i-1} / alpha_i (both at the
+  // current tau) A = y_i(p_i) - rho y_{i-1}(p_{i-1}) and B = y_{i-1}(p_i) - rho kappa y_{i-2}(p_{i-1})
+  // satisfy A = alpha_i B. Both are exactly 1 for a constant timing. Where the exposure changes, B
+  // holds (1 - rho) times the static level: the step response, a first-order measure of alpha.
+  const double readout_before = s.readout_prev2_s > 0 ? s.readout_prev2_s : readout;
+  const CarryCoefficients now_k = carry_coefficients(s.tau, readout, s.exposure_s);
+  const CarryCoefficients prev_k = carry_coefficients(s.tau, readout_before, s.exposure_prev_s);
+  const double alpha_before = prev_k.alpha;
+  const double rho = now_k.beta / prev_k.beta, rho_kappa = rho * (prev_k.alpha / now_k.alpha);
+  const bool timing_changed = rho != 1.0 || rho_kappa != 1.0;
+  // Then rho and kappa move with tau too: d r / d alpha_i = -y_{i-1}(p_i) + c_prev y_{i-2}(p_{i-1})
+  // - c_rho (y_{i-1}(p_{i-1}) - alpha_{i-1} y_{i-2}(p_{i-1})), which is -B for a constant timing
+  // (the fit is then Gauss-Newton, one step a frame; the noise correction below stays B's).
+  // Measured on the board test's wall with the exposure switching every 12 frames: 10.05 ms after
+  // 1.5 s for 10 (without rho: 11.25; with rho and the Jacobian -B: 11.11).
+  const double dalpha_now = now_k.alpha * readout, dalpha_prev = prev_k.alpha * readout_before;  // times tau^2
+  const double c_prev = rho * dalpha_prev / dalpha_now;
+  const double c_rho = (now_k.dbeta_dtau_h * prev_k.beta - now_k.beta * prev_k.dbeta_dtau_h) / (prev_k.beta * prev_k.beta) *
+                       (s.tau.c * s.tau.c) / dalpha_now;
   // The tracking images are u times the static-level scale (scene_level_scale).
-  const double beta_now = carry_coefficients(s.tau, readout, s.exposure_s).beta / s.scene_scale;
-  const double beta_prev = carry_coefficients(s.tau, readout, s.exposure_prev_s).beta / s.scene_scale_prev;
+  const double beta_now = now_k.beta / s.scene_scale;
+  const double beta_prev = rho * prev_k.beta / s.scene_scale_prev;
   // Normal equations of r = A - alpha B in x = (pose of frame i, pose of frame i-1, alpha), the
   // points' inverse depths already eliminated; linearised at the tracked poses and alpha_now.
-  // A pattern pixel's Jacobian is T v with v = (d r / d p_i, d r / d p_{i-1}, -B), where
+  // A pattern pixel's Jacobian is T v with v = (d r / d p_i, d r / d p_{i-1}, d r / d alpha), where
   // d r / d p_i = grad(y_i - alpha y_{i-1}) at p_i, d r / d p_{i-1} = -grad(y_{i-1} - alpha y_{i-2})
   // at p_{i-1} (beta times the tracking images' gradients), and T holds the centre pixel's
   // projection Jacobians (as in the tracker): each point sums the 5x5 S = sum w v v^T and maps it
@@ -235,21 +255,24 @@ void refine_tau(State& s) {
         const float oi_x = ui + kPatternX[j], oi_y = vi + kPatternY[j];
         const float op_x = up + kPatternX[j], op_y = vp + kPatternY[j];
         const CubicTaps ix = cubic_taps(oi_x), iy = cubic_taps(oi_y), px = cubic_taps(op_x), py = cubic_taps(op_y);
-        const double A = cubic(y0, ix, iy) - cubic(y1, px, py);
-        const double B = cubic(y1, ix, iy) - cubic(y2, px, py);
+        const double y1i = cubic(y1, ix, iy), y1p = cubic(y1, px, py), y2p = cubic(y2, px, py);
+        const double A = cubic(y0, ix, iy) - rho * y1p;
+        const double B = y1i - rho_kappa * y2p;
+        const double jac_alpha = timing_changed ? -y1i + c_prev * y2p - c_rho * (y1p - alpha_before * y2p) : -B;
         const double r0 = A - alpha_now * B;
         const double wt = huber_weight(static_cast<float>(r0), hub);
         // B's noise variance, and its covariance with r0's: A's y_{i-1} at p_{i-1} and B's at p_i
         // share pixels when the two positions are within two pixels.
-        const double var_b = noise_var * (sum_of_squares(ix) * sum_of_squares(iy) + sum_of_squares(px) * sum_of_squares(py));
-        const double cov_ab = -noise_var * overlap(ix, px) * overlap(iy, py);
+        const double var_b =
+            noise_var * (sum_of_squares(ix) * sum_of_squares(iy) + rho_kappa * rho_kappa * sum_of_squares(px) * sum_of_squares(py));
+        const double cov_ab = -rho * noise_var * overlap(ix, px) * overlap(iy, py);
         noise[j] = {wt, var_b, cov_ab - alpha_now * var_b, 0.0};
         // d r / d p_i = grad(y_i - alpha y_{i-1}) = beta grad u_i, the tracking image's gradient
         // over its scale, and d r / d p_{i-1} = -beta grad u_{i-1}, the previous frame's.
         const Sample now = bilinear_with_gradient(s.frame_texels[0], oi_x, oi_y);
         const Sample before = bilinear_with_gradient(s.previous_texels, op_x, op_y);
         Vec5 v;
-        v << beta_now * now.gx, beta_now * now.gy, -beta_prev * before.gx, -beta_prev * before.gy, -B;
+        v << beta_now * now.gx, beta_now * now.gy, -beta_prev * before.gx, -beta_prev * before.gy, jac_alpha;
         S.selfadjointView<Eigen::Upper>().rankUpdate(v, wt);
         sr += (wt * r0) * v;
         noise[j].slope = v.head<4>().dot(Eigen::Vector4d(c_px.x(), c_px.y(), c_pp.x(), c_pp.y()));
