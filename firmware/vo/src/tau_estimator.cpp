@@ -191,27 +191,25 @@ void refine_tau(State& s) {
   const float outlier_energy = kOutlierCutoffs * tracking_cutoff(hub, 0);
   const double readout = s.readout_prev_s;
   if (!(readout > 0)) return;
-  const double alpha_now = std::exp(-readout / s.tau.c);
   // Frames whose timing changes: y_i - alpha_i y_{i-1} = beta_i u and y_{i-1} - alpha_{i-1} y_{i-2} =
   // beta_{i-1} u, so with rho = beta_i / beta_{i-1} and kappa = alpha_{i-1} / alpha_i (both at the
   // current tau) A = y_i(p_i) - rho y_{i-1}(p_{i-1}) and B = y_{i-1}(p_i) - rho kappa y_{i-2}(p_{i-1})
   // satisfy A = alpha_i B. Both are exactly 1 for a constant timing. Where the exposure changes, B
   // holds (1 - rho) times the static level: the step response, a first-order measure of alpha.
   const double readout_before = s.readout_prev2_s > 0 ? s.readout_prev2_s : readout;
+  const bool timing_changed = s.exposure_s != s.exposure_prev_s || readout_before != readout;
   const CarryCoefficients now_k = carry_coefficients(s.tau, readout, s.exposure_s);
   const CarryCoefficients prev_k = carry_coefficients(s.tau, readout_before, s.exposure_prev_s);
-  const double alpha_before = prev_k.alpha;
+  const double alpha_now = now_k.alpha;
   const double rho = now_k.beta / prev_k.beta, rho_kappa = rho * (prev_k.alpha / now_k.alpha);
-  const bool timing_changed = rho != 1.0 || rho_kappa != 1.0;
   // Then rho and kappa move with tau too: d r / d alpha_i = -y_{i-1}(p_i) + c_prev y_{i-2}(p_{i-1})
   // - c_rho (y_{i-1}(p_{i-1}) - alpha_{i-1} y_{i-2}(p_{i-1})), which is -B for a constant timing
   // (the fit is then Gauss-Newton, one step a frame; the noise correction below stays B's).
   // Measured on the board test's wall with the exposure switching every 12 frames: 10.05 ms after
   // 1.5 s for 10 (without rho: 11.25; with rho and the Jacobian -B: 11.11).
-  const double dalpha_now = now_k.alpha * readout, dalpha_prev = prev_k.alpha * readout_before;  // times tau^2
-  const double c_prev = rho * dalpha_prev / dalpha_now;
-  const double c_rho = (now_k.dbeta_dtau_h * prev_k.beta - now_k.beta * prev_k.dbeta_dtau_h) / (prev_k.beta * prev_k.beta) *
-                       (s.tau.c * s.tau.c) / dalpha_now;
+  const double c_prev = rho * prev_k.dalpha_dtau_c / now_k.dalpha_dtau_c;
+  const double drho_dtau = (now_k.dbeta_dtau_h * prev_k.beta - now_k.beta * prev_k.dbeta_dtau_h) / (prev_k.beta * prev_k.beta);
+  const double c_rho = drho_dtau / now_k.dalpha_dtau_c;
   // The tracking images are u times the static-level scale (scene_level_scale).
   const double beta_now = now_k.beta / s.scene_scale;
   const double beta_prev = rho * prev_k.beta / s.scene_scale_prev;
@@ -258,7 +256,7 @@ void refine_tau(State& s) {
         const double y1i = cubic(y1, ix, iy), y1p = cubic(y1, px, py), y2p = cubic(y2, px, py);
         const double A = cubic(y0, ix, iy) - rho * y1p;
         const double B = y1i - rho_kappa * y2p;
-        const double jac_alpha = timing_changed ? -y1i + c_prev * y2p - c_rho * (y1p - alpha_before * y2p) : -B;
+        const double jac_alpha = timing_changed ? -y1i + c_prev * y2p - c_rho * (y1p - prev_k.alpha * y2p) : -B;
         const double r0 = A - alpha_now * B;
         const double wt = huber_weight(static_cast<float>(r0), hub);
         // B's noise variance, and its covariance with r0's: A's y_{i-1} at p_{i-1} and B's at p_i
