@@ -30,9 +30,6 @@ constexpr std::uint32_t kMaxInitFrames = 90;
 constexpr double kMaxStepFlow = 0.06;  // median translation flow per frame, share of width + height
 constexpr float kRetrackRatio = 1.5f;  // the constant-velocity guess stands if its rms is within this of the last frame's
 constexpr std::uint32_t kIntensityMeasureFrames = 30;  // the intensity scale stays 1 if unmeasured by then
-// A shutter event's step response is taken when the tau it gives is within this factor of the
-// current estimate (the carry-over pairs read within ~50 % of it; odometry-study.md).
-constexpr double kShutterTauRange = 2.0;
 
 std::size_t plane(const VoConfig& c) { return std::size_t{c.width} * c.height; }
 
@@ -433,9 +430,9 @@ FrameResult Odometry::process(const FrameInput& in) {
   // offset where that gain puts the frame's mean level (the settled shutter's share of the counts
   // is unknown: started at the keyframes' offset, every residual would be an outlier).
   const bool shutter_step = ir && in.shutter_event && s.reference_exposure_s > 0 && s.reference_readout_s > 0 && in.exposure_s > 0;
+  const Keyframe& reference = s.kf[s.order[s.kf_count - 1]];  // the tracking reference
   double a_start = s.a, b_start = s.b;
   if (shutter_step) {
-    const Keyframe& reference = s.kf[s.order[s.kf_count - 1]];
     const double gain = shutter_step_gain(s.tau, in.exposure_s, s.reference_readout_s, s.reference_exposure_s);
     a_start = reference.a + std::log(gain);
     b_start = mean_level(s.raw.data(), plane(c)) - gain * (mean_level(reference.pyramid.level[0].value.data, plane(c)) - reference.b);
@@ -510,16 +507,10 @@ FrameResult Odometry::process(const FrameInput& in) {
   // A frame without its predecessor has an unknown gain and offset: keep the keyframes' brightness.
   if (!free.gain) s.a = best.a, s.b = best.b, s.offset_pending = false;
   if (shutter_step && c.estimate_tau) {
-    // The step response's contrast against the tracking reference (the newest keyframe).
-    const double gain = std::exp(best.a - s.kf[s.order[s.kf_count - 1]].a);
+    // The step response's contrast against the tracking reference.
+    const double gain = std::exp(best.a - reference.a);
     const double tau = tau_from_shutter_step_gain(gain, in.exposure_s, s.reference_readout_s, s.reference_exposure_s);
-    // A camera may deliver the first frame only once the pixels have settled on the scene again
-    // (the gain then reads ~1 and tau ~1 ms), or repeat a frame across the event: a measurement
-    // far from the current estimate is not taken.
-    if (tau > 0 && tau < kShutterTauRange * s.tau.c && tau * kShutterTauRange > s.tau.c) {
-      take_shutter_measurement(s, tau);
-      out.shutter_tau_s = tau;
-    }
+    if (take_shutter_measurement(s, tau)) out.shutter_tau_s = tau;
   }
   out.state = TrackingState::tracking;
   out.has_pose = true;

@@ -232,9 +232,10 @@ void window_bundle_adjustment(State& s);
 // place in s.order. What window_bundle_adjustment() solves; exposed for tests.
 double window_system(State& s);
 void refine_tau(State& s);
-// A shutter event's step response gave `tau_s` (tau_estimator.cpp): from the first such measurement
-// on, tau follows them and the carry-over pairs no longer move it.
-void take_shutter_measurement(State& s, double tau_s);
+// A shutter event's step response gave `tau_s` (tau_estimator.cpp; 0: none in range): from the
+// first such measurement on, tau follows them and the carry-over pairs no longer move it. Returns
+// whether it was taken (one far from the current estimate is not).
+bool take_shutter_measurement(State& s, double tau_s);
 // Per pixel, the consecutive checks (every other frame) at which its raw value stayed exactly the
 // same as the frame before (tau_estimator.cpp): refine_tau leaves out samples near stuck pixels.
 // Called for every frame after the first.

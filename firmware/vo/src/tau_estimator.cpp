@@ -84,6 +84,8 @@ constexpr float kOutlierCutoffs = 4.0f;
 // reads two whole frames, ~6 % of the VO's time at 640x512 when done every frame.
 constexpr std::uint8_t kStuckChecks = 4;
 constexpr float kStuckContrast = 64.0f;  // counts from each of its four neighbours
+// A shutter event's step response is taken within this factor of the current tau.
+constexpr double kShutterTauRange = 2.0;
 
 using Vec5 = Eigen::Matrix<double, 5, 1>;
 using Mat5 = Eigen::Matrix<double, 5, 5>;
@@ -170,12 +172,17 @@ void count_unchanged_frames(State& s) {
   s.stuck_pixels = stuck;
 }
 
-void take_shutter_measurement(State& s, double tau_s) {
+bool take_shutter_measurement(State& s, double tau_s) {
+  // A camera may deliver the first frame only once the pixels have settled on the scene again
+  // (the gain then reads ~1 and tau ~1 ms), or repeat a frame across the event: a measurement
+  // far from the current estimate is not taken (the carry-over pairs read within ~50 % of it).
+  if (!(tau_s > 0 && tau_s < kShutterTauRange * s.tau.c && tau_s * kShutterTauRange > s.tau.c)) return false;
   // The latest event weighs as much as all before it: tau drifts with the focal plane's
   // temperature, and the events are seconds to minutes apart.
   s.shutter_tau = s.shutter_measurements == 0 ? tau_s : 0.5 * (s.shutter_tau + tau_s);
   ++s.shutter_measurements;
   s.tau.c = s.tau.h = s.shutter_tau;
+  return true;
 }
 
 void refine_tau(State& s) {

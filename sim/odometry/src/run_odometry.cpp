@@ -214,7 +214,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     in.exposure_s = timing[i].exposure_s;
     in.readout_prev_s = i > 0 ? timing[i - 1].readout_s : 0.0;
     in.shutter_event = i > 0 && row.ffc.value_or(false);
-    in.chain_broken = i == 0 || row.ffc.value_or(false) ||
+    in.chain_broken = i == 0 || in.shutter_event ||
                       (period > 0 && *row.t_s - *rows[i - 1].t_s > 1.5 * period);
     // A repeated frame is skipped by the VO; the corrector does not see it either, so the frame
     // sequence it gets has a gap and it restarts its carry-over chain after it.
