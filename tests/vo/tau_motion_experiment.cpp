@@ -14,7 +14,10 @@
 // difference bins, with INTERP bilinear|cubic|equal|lanczosN and SYM=1 (mirrored phases), DEPTHCHECK=1
 // (pattern pixels on the centre's surface only), and EXACT=m: frames rendered at m x m the pixels
 // (one ray each) whose box means are the frames and whose box-filtered image gives area means at
-// any sub-pixel position (the fit without interpolation error).
+// any sub-pixel position (the fit without interpolation error); PWARP=1 projects every pattern
+// pixel on its own instead of shifting the pattern. It also prints an instrumental-variable fit
+// sum A Z / sum B Z with Z the gradient along the change of image velocity, GRAD y1|u (the raw
+// previous frame's or the noise-free scene's gradient).
 //   TAU=0.008 K=4 ./test_vo_core "[tau-experiment]" -s
 
 #include <cmath>
@@ -292,6 +295,8 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
   const bool symmetric = env_num("SYM", 0) != 0;
   const bool depth_check = env_num("DEPTHCHECK", 0) != 0;
   const double robust_k = env_num("ROBUST", 0);
+  const bool pattern_warp = env_num("PWARP", 0) != 0;
+  const std::string grad_src = env_str("GRAD", "y1");
   std::vector<double> pairs_a, pairs_b;
   const auto sample = [&](const std::vector<double>& img, double x, double yy) {
     if (interp.rfind("lanczos", 0) == 0) return lanczos(img, w, x, yy, std::atoi(interp.c_str() + 7));
@@ -299,7 +304,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
   };
   double disp_sum = 0, disp_n = 0, disp_bb = 0;
   double bin_ab[3] = {}, bin_bb[3] = {}, bin_n[3] = {};
-  double sab = 0, sbb = 0, sdb = 0, xab = 0, xbb = 0, xdb = 0;
+  double sab = 0, sbb = 0, sdb = 0, xab = 0, xbb = 0, xdb = 0, zab = 0, zbb = 0, zdb = 0;
   const double xsign = env_num("XSIGN", 1), xscale = env_num("XSCALE", 1);
   // Centred exposure offsets (fractions of the frame period) and their weights.
   std::vector<double> xoff(static_cast<std::size_t>(substeps));
@@ -375,8 +380,18 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
           sx = mirror_shift(ui, up), sy = mirror_shift(vi, vp);
         }
         for (std::uint32_t j = 0; j < vo::kPattern; ++j) {
-          const double xi = ui + sx + vo::kPatternX[j], yi = vi + sy + vo::kPatternY[j];
-          const double xp = up + sx + vo::kPatternX[j], yp = vp + sy + vo::kPatternY[j];
+          double xi = ui + sx + vo::kPatternX[j], yi = vi + sy + vo::kPatternY[j];
+          double xp = up + sx + vo::kPatternX[j], yp = vp + sy + vo::kPatternY[j];
+          double xq = uq + vo::kPatternX[j], yq = vq + vo::kPatternY[j];
+          if (pattern_warp) {
+            // Each pattern pixel projected on its own (the host's inverse depth at the offset).
+            const Eigen::Vector3d nj((p.u + vo::kPatternX[j] - kc.cx) / kc.fx, (p.v + vo::kPatternY[j] - kc.cy) / kc.fy, 1.0);
+            const auto proj = [&](const vo::Se3& M, double& px, double& py) {
+              const Eigen::Vector3d X = M.R * nj + M.t * p.idepth;
+              px = kc.fx * X.x() / X.z() + kc.cx, py = kc.fy * X.y() / X.z() + kc.cy;
+            };
+            proj(Mi, xi, yi), proj(Mp, xp, yp), proj(Mq, xq, yq);
+          }
           if (depth_check) {
             // Only pattern pixels on the centre's surface (no occlusion edge within the pattern).
             const double zc = 1.0 / p.idepth, zj = seq.depth(t + pose_dt, xi, yi);
@@ -386,6 +401,15 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
           const double B = sample(y1, xi, yi) - sample(y2, xp, yp);
           const double D = sample(u, xi, yi) - sample(u1, xp, yp);
           sab += A * B, sbb += B * B, sdb += beta * D * B;
+          {
+            // Instrument: the gradient along the change of image velocity (odd in the texture).
+            const double ddx = (xi - xp) - (xp - xq), ddy = (yi - yp) - (yp - yq);
+            const std::vector<double>& gimg = grad_src == "u" ? u1 : y1;
+            const double gx = 0.5 * (sample(gimg, xi + 1, yi) - sample(gimg, xi - 1, yi));
+            const double gy = 0.5 * (sample(gimg, xi, yi + 1) - sample(gimg, xi, yi - 1));
+            const double Z = gx * ddx + gy * ddy;
+            zab += A * Z, zbb += B * Z, zdb += beta * D * Z;
+          }
           if (robust_k > 0) pairs_a.push_back(A), pairs_b.push_back(B);
           const double disp = std::hypot(ui - up, vi - vp);
           disp_sum += disp, disp_n += 1, disp_bb += disp * B * B;
@@ -430,6 +454,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
   if (m > 0) std::printf("EXACT %d: plain fit on area means at the sub-pixel positions: %.2f ms\n", m, -tr / std::log(eab / ebb) * 1e3);
   for (int b = 0; b < 3; ++b)
     std::printf("phase-diff bin %d (%.0f pairs, B^2 share %.2f): plain %.2f ms\n", b, bin_n[b], bin_bb[b] / sbb, -tr / std::log(bin_ab[b] / bin_bb[b]) * 1e3);
+  std::printf("instrument (gradient . velocity change): %.2f ms (dalpha %.4f)\n", -tr / std::log(zab / zbb) * 1e3, zdb / zbb);
   std::printf("cross-smeared plain %.2f ms (dalpha %.4f); ", -tr / std::log(xab / xbb) * 1e3, xdb / xbb);
   std::printf("tau %.1f K %d %s mode %s pose_dt %.2f ms traj %s noise %.1f ss %u: estimator %.2f ms, plain %.2f ms (bias term dalpha %.4f, alpha %.4f)\n",
               tau * 1e3, substeps, weight.c_str(), mode.c_str(), pose_dt * 1e3, traj.c_str(), noise_sigma, ss,
