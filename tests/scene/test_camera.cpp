@@ -57,9 +57,15 @@ TEST_CASE("camera.json: exactly the recording format's object, and back", "[scen
   CHECK(back.k1 == c.k1);
   CHECK(back.p2 == c.p2);
   CHECK(back.width == 160);
-  // Distortion keys are optional; model and intrinsics are not.
+  // Distortion keys are optional, and so is the model (the format has one); intrinsics are not.
   const Camera plain = Camera::from_json(nlohmann::json::parse(R"({"model":"pinhole","fx":100,"fy":100,"cx":1,"cy":2})"), 4, 4);
   CHECK(plain.k1 == 0.0);
+  const Camera unnamed = Camera::from_json(nlohmann::json::parse(R"({"fx":100,"fy":90,"cx":1,"cy":2})"), 4, 4);
+  CHECK(unnamed.fy == 90.0);
+  CHECK_THROWS_WITH(Camera::from_json(nlohmann::json::parse(R"({"fx":-1,"fy":100,"cx":1,"cy":2})"), 4, 4),
+                    Catch::Contains("fx, fy must be positive"));
+  CHECK_THROWS_WITH(Camera::from_json(nlohmann::json::parse(R"({"fx":"100","fy":100,"cx":1,"cy":2})"), 4, 4),
+                    Catch::Contains("field fx is not a number"));
   CHECK_THROWS_WITH(Camera::from_json(nlohmann::json::parse(R"({"model":"pinhole","fx":100,"fy":100,"cx":1})"), 4, 4),
                     Catch::Contains("cy"));
   CHECK_THROWS_WITH(Camera::from_json(nlohmann::json::parse(R"({"model":"fisheye","fx":1,"fy":1,"cx":1,"cy":1})"), 4, 4),

@@ -29,27 +29,11 @@ sim::scene::Camera read_camera(const rec::Recording& recording) {
   const fs::path file = recording.dir() / "camera.json";
   if (!recording.camera())
     throw Error(file.string() + ": missing (the VO needs the camera intrinsics: add it, or give --hfov DEG)");
-  const nlohmann::json& j = *recording.camera();
-  if (j.contains("model") && !(j["model"].is_string() && j["model"].get<std::string>() == "pinhole"))
-    throw Error(file.string() + ": field model is not \"pinhole\" (the recording format's only camera model)");
-  const auto number = [&](const char* key, bool required) -> double {
-    if (!j.contains(key)) {
-      if (required) throw Error(file.string() + ": field " + key + " is missing");
-      return 0.0;
-    }
-    if (!j[key].is_number()) throw Error(file.string() + ": field " + key + " is not a number");
-    const double value = j[key].get<double>();
-    if (!std::isfinite(value)) throw Error(file.string() + ": field " + key + " is not finite");
-    return value;
-  };
-  sim::scene::Camera c;
-  c.width = recording.width(), c.height = recording.height();
-  c.fx = number("fx", true), c.fy = number("fy", true);
-  c.cx = number("cx", true), c.cy = number("cy", true);
-  if (!(c.fx > 0) || !(c.fy > 0)) throw Error(file.string() + ": fields fx, fy must be positive");
-  c.k1 = number("k1", false), c.k2 = number("k2", false);
-  c.p1 = number("p1", false), c.p2 = number("p2", false);
-  return c;
+  try {
+    return sim::scene::Camera::from_json(*recording.camera(), recording.width(), recording.height());
+  } catch (const std::invalid_argument& e) {
+    throw Error(file.string() + ": " + e.what());
+  }
 }
 
 // The frames' resampling onto the VO's pinhole (no resampling without distortion or with --hfov).

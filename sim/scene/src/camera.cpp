@@ -73,17 +73,19 @@ nlohmann::json Camera::to_json() const {
 }
 
 Camera Camera::from_json(const nlohmann::json& j, std::uint32_t w, std::uint32_t h) {
-  if (!j.is_object()) throw std::invalid_argument("camera.json: not a JSON object");
-  if (!j.contains("model") || !j["model"].is_string() || j["model"].get<std::string>() != "pinhole")
-    throw std::invalid_argument("camera.json: field 'model' must be \"pinhole\"");
-  auto number = [&](const char* key, bool required) -> double {
+  if (!j.is_object()) throw std::invalid_argument("not a JSON object");
+  // Other tools write only the numbers; the format's one model is then meant.
+  if (j.contains("model") && !(j["model"].is_string() && j["model"].get<std::string>() == "pinhole"))
+    throw std::invalid_argument("field model is not \"pinhole\" (the recording format's only camera model)");
+  const auto number = [&](const char* key, bool required) -> double {
     if (!j.contains(key)) {
-      if (required) throw std::invalid_argument(std::string("camera.json: missing field '") + key + "'");
+      if (required) throw std::invalid_argument(std::string("field ") + key + " is missing");
       return 0.0;
     }
-    if (!j[key].is_number())
-      throw std::invalid_argument(std::string("camera.json: field '") + key + "' is not a number");
-    return j[key].get<double>();
+    if (!j[key].is_number()) throw std::invalid_argument(std::string("field ") + key + " is not a number");
+    const double value = j[key].get<double>();
+    if (!std::isfinite(value)) throw std::invalid_argument(std::string("field ") + key + " is not finite");
+    return value;
   };
   Camera c;
   c.width = w;
@@ -92,6 +94,7 @@ Camera Camera::from_json(const nlohmann::json& j, std::uint32_t w, std::uint32_t
   c.fy = number("fy", true);
   c.cx = number("cx", true);
   c.cy = number("cy", true);
+  if (!(c.fx > 0) || !(c.fy > 0)) throw std::invalid_argument("fields fx, fy must be positive");
   c.k1 = number("k1", false);
   c.k2 = number("k2", false);
   c.p1 = number("p1", false);

@@ -51,8 +51,10 @@ struct Camera {
   // {"model": "pinhole", "fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2"} (no size: that is in
   // recording.json).
   nlohmann::json to_json() const;
-  // The inverse; missing distortion keys mean 0. Throws std::invalid_argument naming the field
-  // when the model is not "pinhole" or a required number is missing.
+  // The inverse; missing distortion keys mean 0, a missing model means "pinhole". Throws
+  // std::invalid_argument naming the field ("field fx is missing", ...; the caller names the file)
+  // when the model is not "pinhole", a required number is missing, or a number is not finite or
+  // a focal length not positive.
   static Camera from_json(const nlohmann::json& j, std::uint32_t width, std::uint32_t height);
 
   void validate() const;  // throws std::invalid_argument on a zero size or non-positive focal
