@@ -49,6 +49,37 @@ std::vector<std::uint16_t> render(double t) {
   return img;
 }
 
+// The wall through the two-frame model, y_i = alpha_i y_{i-1} + beta_i u with alpha_i from the
+// previous frame's readout and beta_i from this frame's exposure; u is scaled so that a static
+// scene at the reference timing reads its rendered level.
+class CarriedWall {
+ public:
+  CarriedWall(double tau, double reference_exposure_s, double reference_readout_s)
+      : tau_(tau), u_per_level_((1 - std::exp(-reference_readout_s / tau)) / (1 - std::exp(-reference_exposure_s / tau))) {}
+
+  // Frame i's counts from its rendered levels K. `settled` (a shutter event before this frame):
+  // the pixels start from K's mean level instead of the previous frame; `offset` counts are added
+  // to what the camera reports.
+  const std::vector<std::uint16_t>& next(const std::vector<std::uint16_t>& K, double exposure_s, double readout_prev_s,
+                                          bool settled = false, double offset = 0) {
+    if (y_.empty()) y_.assign(K.begin(), K.end()), frame_.resize(K.size());
+    else {
+      const double alpha = std::exp(-readout_prev_s / tau_), beta = 1 - std::exp(-exposure_s / tau_);
+      double level = 0;
+      for (const std::uint16_t k : K) level += k;
+      level /= static_cast<double>(K.size());
+      for (std::size_t p = 0; p < K.size(); ++p) y_[p] = alpha * (settled ? level : y_[p]) + beta * u_per_level_ * K[p];
+    }
+    for (std::size_t p = 0; p < K.size(); ++p) frame_[p] = static_cast<std::uint16_t>(std::lround(y_[p] + offset));
+    return frame_;
+  }
+
+ private:
+  double tau_, u_per_level_;
+  std::vector<double> y_;
+  std::vector<std::uint16_t> frame_;
+};
+
 // A VO for the wall's camera, with its arena.
 struct WallOdometry {
   vo::VoConfig config = [] {
@@ -265,7 +296,7 @@ TEST_CASE("a shutter event's step response measures tau and its offset step is f
   // terms: y_i = alpha y_{i-1} + (1 - alpha) K_i, K the static level. At frame 40 a shutter event:
   // the pixels settled on the shutter (at the scene's mean level), and the camera's offset jumped
   // by 25 counts for every frame from then on (what a flat-field correction does).
-  const double tau = 0.010, period = 1 / 60.0, alpha = std::exp(-0.5 * period / tau);
+  const double tau = 0.010, period = 1 / 60.0;
   // A second event at frame 55 whose frame the camera delivers settled (no step response, as a
   // camera that shows frames again only once the shutter has been open a while): not taken.
   const int n = 70, event = 40, settled_event = 55;
@@ -277,21 +308,13 @@ TEST_CASE("a shutter event's step response measures tau and its offset step is f
   std::vector<std::byte> arena(vo::Odometry::arena_bytes(c));
   vo::Odometry odometry(c, arena);
   REQUIRE(odometry.ok());
-  std::vector<double> y;
-  std::vector<std::uint16_t> frame(std::size_t{kW} * kH);
+  CarriedWall wall(tau, 0.5 * period, 0.5 * period);
   double measured = 0, rms_before = 0, rms_after = 0;
   int lost_after = 0, posed_after = 0;
   for (int i = 0; i < n; ++i) {
-    const std::vector<std::uint16_t> K = render(i * period);
-    if (i == 0) y.assign(K.begin(), K.end());
-    double level = 0;
-    for (const std::uint16_t k : K) level += k;
-    level /= static_cast<double>(K.size());
-    for (std::size_t p = 0; p < K.size(); ++p) {
-      const double before = i == event ? level : y[p];  // settled_event: the chain goes on
-      if (i > 0) y[p] = alpha * before + (1 - alpha) * K[p];
-      frame[p] = static_cast<std::uint16_t>(std::lround(y[p] + (i >= event ? offset_step : 0.0)));
-    }
+    // settled_event: the chain goes on (the camera's frame is already settled).
+    const std::vector<std::uint16_t>& frame =
+        wall.next(render(i * period), 0.5 * period, 0.5 * period, i == event, i >= event ? offset_step : 0.0);
     vo::FrameInput in;
     in.raw = frame;
     in.t_s = i * period, in.exposure_s = 0.5 * period, in.readout_prev_s = i > 0 ? 0.5 * period : 0.0;
@@ -337,22 +360,12 @@ TEST_CASE("frames whose exposure changes keep the carry-over fit unbiased", "[vo
   std::vector<std::byte> arena(vo::Odometry::arena_bytes(c));
   vo::Odometry odometry(c, arena);
   REQUIRE(odometry.ok());
-  std::vector<double> y;
-  std::vector<std::uint16_t> frame(std::size_t{kW} * kH);
-  // The scene u such that the first frame's static level is the rendered value.
-  const double alpha0 = std::exp(-(period - exposure(0)) / tau), beta0 = 1 - std::exp(-exposure(0) / tau);
+  CarriedWall wall(tau, exposure(0), period - exposure(0));
   double tau_end = 0;
   int posed = 0;
   for (int i = 0; i < n; ++i) {
-    const std::vector<std::uint16_t> K = render(i * period);
     const double te = exposure(i), tr_prev = period - exposure(std::max(i - 1, 0));
-    const double alpha = std::exp(-tr_prev / tau), beta = 1 - std::exp(-te / tau);
-    if (i == 0) y.assign(K.begin(), K.end());
-    for (std::size_t p = 0; p < K.size(); ++p) {
-      const double u = K[p] * (1 - alpha0) / beta0;
-      if (i > 0) y[p] = alpha * y[p] + beta * u;
-      frame[p] = static_cast<std::uint16_t>(std::lround(y[p]));
-    }
+    const std::vector<std::uint16_t>& frame = wall.next(render(i * period), te, tr_prev);
     vo::FrameInput in;
     in.raw = frame;
     in.t_s = i * period, in.exposure_s = te, in.readout_prev_s = i > 0 ? tr_prev : 0.0;
