@@ -17,13 +17,17 @@
 // any sub-pixel position (the fit without interpolation error); PWARP=1 projects every pattern
 // pixel on its own instead of shifting the pattern. It also prints an instrumental-variable fit
 // sum A Z / sum B Z with Z the gradient along the change of image velocity, GRAD y1|u (the raw
-// previous frame's or the noise-free scene's gradient).
+// previous frame's or the noise-free scene's gradient), the per-point fits' medians (plain and
+// B^2-weighted), and the pairs taken against the host keyframe (frame i and its predecessor at
+// p_i against the keyframe and its predecessor at the host pixel) instead of frame i - 1.
 //   TAU=0.008 K=4 ./test_vo_core "[tau-experiment]" -s
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <span>
 #include <string>
 #include <vector>
@@ -298,6 +302,12 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
   const bool pattern_warp = env_num("PWARP", 0) != 0;
   const std::string grad_src = env_str("GRAD", "y1");
   std::vector<double> pairs_a, pairs_b;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<double, double>> per_point;  // (AB, BB)
+  struct HostImages {
+    std::vector<double> y, y1, u;
+  };
+  std::map<std::uint32_t, HostImages> host_images;  // by keyframe id: its raw frame, the one before, its scene
+  double kab = 0, kbb = 0, kdb = 0;
   const auto sample = [&](const std::vector<double>& img, double x, double yy) {
     if (interp.rfind("lanczos", 0) == 0) return lanczos(img, w, x, yy, std::atoi(interp.c_str() + 7));
     return interp == "cubic" ? bicubic(img, w, x, yy) : interp == "equal" ? equalised(img, w, x, yy) : bilin(img, w, x, yy);
@@ -346,6 +356,10 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
       test::keyframe_at_true_depth(*s, [&](double pu, double pv) { return seq.depth(t + pose_dt, pu, pv); },
                                    [&](double z) { return (1 / z) * (1 + idepth_noise * noise_unit()); });
       have_keyframe = true;
+      std::uint32_t newest = 0;
+      for (const vo::Keyframe& kf : s->kf)
+        if (kf.used) newest = std::max(newest, kf.id);
+      host_images[newest] = {y, y1, u};
     }
     if (!have_keyframe) continue;
     vo::refine_tau(*s);
@@ -401,6 +415,18 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
           const double B = sample(y1, xi, yi) - sample(y2, xp, yp);
           const double D = sample(u, xi, yi) - sample(u1, xp, yp);
           sab += A * B, sbb += B * B, sdb += beta * D * B;
+          if (const auto hi = host_images.find(host.id); hi != host_images.end() && k > 1) {
+            // Against the host keyframe: A' - alpha B' = beta (u_i(p_i) - u_k(q)), q the host pixel.
+            const double qx = p.u + vo::kPatternX[j], qy = p.v + vo::kPatternY[j];
+            const double A2 = sample(y, xi, yi) - sample(hi->second.y, qx, qy);
+            const double B2 = sample(y1, xi, yi) - sample(hi->second.y1, qx, qy);
+            const double D2 = sample(u, xi, yi) - sample(hi->second.u, qx, qy);
+            kab += A2 * B2, kbb += B2 * B2, kdb += beta * D2 * B2;
+          }
+          {
+            auto& pp = per_point[{host.id, i}];
+            pp.first += A * B, pp.second += B * B;
+          }
           {
             // Instrument: the gradient along the change of image velocity (odd in the texture).
             const double ddx = (xi - xp) - (xp - xq), ddy = (yi - yp) - (yp - yq);
@@ -447,6 +473,26 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
     }
     std::printf("ROBUST %.1f: plain fit with Huber weights %.2f ms\n", robust_k, -tr / std::log(a) * 1e3);
   }
+  {
+    // Per-point fits, pooled by their B^2-weighted median (a point over a depth edge is one vote).
+    std::vector<std::pair<double, double>> fits;
+    double total = 0;
+    for (const auto& [key, ab] : per_point)
+      if (ab.second > 0) fits.push_back({ab.first / ab.second, ab.second}), total += ab.second;
+    std::sort(fits.begin(), fits.end());
+    double acc = 0, med = 0;
+    for (const auto& [a, wgt] : fits)
+      if ((acc += wgt) >= 0.5 * total) {
+        med = a;
+        break;
+      }
+    std::vector<double> plain_alphas;
+    for (const auto& f : fits) plain_alphas.push_back(f.first);
+    std::nth_element(plain_alphas.begin(), plain_alphas.begin() + static_cast<long>(plain_alphas.size() / 2), plain_alphas.end());
+    std::printf("per-point fits (%zu points): weighted median %.2f ms, median %.2f ms\n", fits.size(), -tr / std::log(med) * 1e3,
+                -tr / std::log(plain_alphas[plain_alphas.size() / 2]) * 1e3);
+  }
+  std::printf("against the host keyframe: %.2f ms (dalpha %.4f)\n", -tr / std::log(kab / kbb) * 1e3, kdb / kbb);
   std::printf("displacement between frames: mean %.2f px, B^2-weighted %.2f px\n", disp_sum / disp_n, disp_bb / sbb);
   if (m > 0)
     std::printf("EXACT %d: sum B^2 (bilinear) %.3g, (area) %.3g, of the bilinear error %.3g; error A.B / B.B %.3f, error corr %.3f\n", m, sbb, ebb, err_bb,
