@@ -139,7 +139,7 @@ TEST_CASE("street frames stay within 225-375 K and show hot spots", "[scene][sce
   const Scene s = make_scene("street", 1);
   const Camera cam(160, 128, 50.0);
   const Renderer r(s, cam);
-  for (const char* name : {"drive", "handheld", "static", "pan"}) {
+  for (const char* name : {"drive", "handheld", "flyover", "static", "pan"}) {
     const Trajectory tr = make_trajectory(name, 1);
     float lo = 1e9f, hi = 0.0f;
     for (double t : {1.0, 9.5, 17.0, 31.0}) {

@@ -38,7 +38,7 @@ TEST_CASE("trajectories by name, an unknown name lists the valid ones", "[scene]
     CHECK_NOTHROW(make_scene(t.scene(), 1));
   }
   CHECK_THROWS_WITH(make_trajectory("orbit", 1), Catch::Contains("'orbit'") && Catch::Contains("drive") &&
-                                                     Catch::Contains("handheld") && Catch::Contains("static") &&
+                                                     Catch::Contains("handheld") && Catch::Contains("flyover") && Catch::Contains("static") &&
                                                      Catch::Contains("pan") && Catch::Contains("blackbody"));
 }
 

@@ -160,6 +160,24 @@ Trajectory make_handheld(std::uint64_t seed) {
   return Trajectory("handheld", "street", 60.0, pose);
 }
 
+// --- flyover --------------------------------------------------------------------------------
+
+// A drone along the main street at roof height, the camera pitched down at the road: image motion
+// mostly parallel to the image plane over a near-planar ground, unlike the drive's forward motion.
+Trajectory make_flyover(std::uint64_t seed) {
+  Rng rng(seed ^ 0xF1E0Dull);
+  const double speed = rng.uniform(5.5, 6.5), x0 = -100.0;
+  const double altitude = rng.uniform(11.0, 13.0), pitch0 = -rng.uniform(40.0, 50.0) * kDeg;
+  const Wobble climb(rng, 0.8, 0.05, 0.12), drift(rng, 1.5, 0.03, 0.08);
+  const Wobble yaw_w(rng, 3.0 * kDeg, 0.05, 0.2), pitch_w(rng, 2.0 * kDeg, 0.1, 0.3), roll_w(rng, 1.5 * kDeg, 0.1, 0.4);
+  const Wobble gust(rng, 0.05, 1.0, 2.5);
+  auto pose = [=](double t) {
+    const Eigen::Vector3d p(x0 + speed * t + gust(t), drift(t), altitude + climb(t) + gust(t + 0.5));
+    return camera_pose(p, yaw_w(t), pitch0 + pitch_w(t), roll_w(t));
+  };
+  return Trajectory("flyover", "street", 80.0, pose);
+}
+
 }  // namespace
 
 Trajectory::Trajectory(std::string name, std::string scene, double duration_s, std::function<Pose(double)> pose)
@@ -167,11 +185,12 @@ Trajectory::Trajectory(std::string name, std::string scene, double duration_s, s
   if (!pose_) throw std::invalid_argument("trajectory '" + name_ + "': empty pose function");
 }
 
-std::vector<std::string> trajectory_names() { return {"drive", "handheld", "static", "pan", "blackbody"}; }
+std::vector<std::string> trajectory_names() { return {"drive", "handheld", "flyover", "static", "pan", "blackbody"}; }
 
 Trajectory make_trajectory(const std::string& name, std::uint64_t seed) {
   if (name == "drive") return make_drive(seed);
   if (name == "handheld") return make_handheld(seed);
+  if (name == "flyover") return make_flyover(seed);
   if (name == "static") {
     const Pose p = camera_pose(Eigen::Vector3d(150.0, -7.2, L::kSidewalkHeight + 1.5), kPi / 3.0, -3.0 * kDeg);
     return Trajectory("static", "street", 30.0, [p](double) { return p; });
