@@ -22,10 +22,10 @@ struct RenderedSequence {
 
   // `supersample` n: n x n rays per pixel (1 = what `bolo simulate` renders: aliased).
   RenderedSequence(const char* scene, const char* trajectory_name, std::uint32_t w, std::uint32_t h,
-                   unsigned supersample = 1)
+                   unsigned supersample = 1, std::uint64_t seed = 1)
       : width(w), height(h), camera(w, h, 50.0),
-        renderer(sim::scene::make_scene(scene, 1), camera, {1, supersample}),
-        trajectory(sim::scene::make_trajectory(trajectory_name, 1)) {}
+        renderer(sim::scene::make_scene(scene, seed), camera, {1, supersample}),
+        trajectory(sim::scene::make_trajectory(trajectory_name, seed)) {}
 
   vo::Camera intrinsics() const {
     const auto j = camera.to_json();

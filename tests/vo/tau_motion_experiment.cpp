@@ -19,7 +19,11 @@
 // sum A Z / sum B Z with Z the gradient along the change of image velocity, GRAD y1|u (the raw
 // previous frame's or the noise-free scene's gradient), the per-point fits' medians (plain and
 // B^2-weighted), and the pairs taken against the host keyframe (frame i and its predecessor at
-// p_i against the keyframe and its predecessor at the host pixel) instead of frame i - 1.
+// p_i against the keyframe and its predecessor at the host pixel) instead of frame i - 1, the
+// estimator's per-frame fits (batch-means standard error), B^2 / (A - alpha B)^2, and the plain
+// fit over the points whose pattern energy is within GATE times the frame's median, judged at
+// GATE_TAU (s; default the truth) or with GATE_OWN=1 at each point's own best alpha. FREEZE=1
+// renders the world as at t = 0 in every frame (moving cars stand still).
 //   TAU=0.008 K=4 ./test_vo_core "[tau-experiment]" -s
 
 #include <algorithm>
@@ -197,6 +201,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
 
   // The exposure-weighted scene of the frame starting at t.
   const double blur_scale = env_num("BLUR_SCALE", 1);
+  const bool freeze = env_num("FREEZE", 0) != 0;  // the world at t = 0 in every frame (parked cars only)
   const Eigen::Vector3d const_velocity = (seq.trajectory.pose(1.001).position - seq.trajectory.pose(0.999).position) / 0.002;
   std::vector<double> hb;  // the latest exposure's box-filtered high-resolution image (EXACT)
   const auto exposure = [&](double t) {
@@ -227,7 +232,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
         pose = seq.trajectory.pose(t + te / 2);
         pose.position += const_velocity * (ts - t - te / 2);
       }
-      const std::vector<float> kel = seq.renderer.render(pose, t_scene);
+      const std::vector<float> kel = seq.renderer.render(pose, freeze ? 0.0 : t_scene);
       for (std::size_t i = 0; i < n; ++i) u[i] += wk[static_cast<std::size_t>(k)] * (8000.0 + 40.0 * (kel[i] - 300.0));
     }
     // BLUR px: a fixed horizontal box blur of that width on every frame (no change between frames).
@@ -314,7 +319,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
   };
   double disp_sum = 0, disp_n = 0, disp_bb = 0;
   double bin_ab[3] = {}, bin_bb[3] = {}, bin_n[3] = {};
-  double sab = 0, sbb = 0, sdb = 0, xab = 0, xbb = 0, xdb = 0, zab = 0, zbb = 0, zdb = 0;
+  double saa = 0, sab = 0, sbb = 0, sdb = 0, xab = 0, xbb = 0, xdb = 0, zab = 0, zbb = 0, zdb = 0;
   const double xsign = env_num("XSIGN", 1), xscale = env_num("XSCALE", 1);
   // Centred exposure offsets (fractions of the frame period) and their weights.
   std::vector<double> xoff(static_cast<std::size_t>(substeps));
@@ -330,6 +335,11 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
   const double idepth_noise = env_num("IDEPTH_NOISE", 0), rot_noise = env_num("ROT_NOISE", 0);
   test::ApproxNormal noise_unit(777);
   bool have_keyframe = false;
+  const double gate = env_num("GATE", 9);
+  const bool gate_own = env_num("GATE_OWN", 0) != 0;
+  const double gate_alpha = std::exp(-tr / env_num("GATE_TAU", tau));  // the alpha the energies are judged at
+  double gab = 0, gbb = 0, gkept = 0, gall = 0;
+  std::vector<std::pair<double, double>> frame_fits;  // the estimator's per-frame alpha and its information
   const vo::Scaled kc = vo::camera_at(cfg.camera, 0);
   for (int k = 0; k <= frames; ++k) {
     const double t = t0 + k / fps;
@@ -362,8 +372,17 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
       host_images[newest] = {y, y1, u};
     }
     if (!have_keyframe) continue;
-    vo::refine_tau(*s);
+    {
+      const double sab0 = s->tau_sab, sbb0 = s->tau_sbb;
+      vo::refine_tau(*s);
+      const double fab = s->tau_sab - 0.995 * sab0, fbb = s->tau_sbb - 0.995 * sbb0;
+      if (fbb > 0) frame_fits.push_back({fab / fbb, fbb});
+    }
     if (k < 2) continue;
+    struct PointPairs {
+      double ab, bb, energy, aa = 0;
+    };
+    std::vector<PointPairs> frame_points;
     // The plain fit over the same pairs, noise-free images, and its scene-difference term
     // D = u_i(p_i) - u_{i-1}(p_{i-1}) (A - alpha B = beta D exactly).
     for (std::uint32_t slot = 0; slot < vo::kMaxKeyframes; ++slot) {
@@ -373,6 +392,18 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
       const vo::Se3 Mq = T_prev2 * host.T_cw.inverse();
       for (std::uint32_t i = 0; i < host.count; ++i) {
         const vo::Point& p = host.points[i];
+        PointPairs here{0, 0, 0};
+        struct Flush {
+          std::vector<PointPairs>& to;
+          PointPairs& what;
+          bool gate_own;
+          ~Flush() {
+            if (what.bb <= 0) return;
+            // GATE_OWN: judged at the point's own best alpha (no lean towards any alpha).
+            if (gate_own) what.energy = what.aa - what.ab * what.ab / what.bb;
+            to.push_back(what);
+          }
+        } flush{frame_points, here, gate_own};
         if (p.status != vo::PointStatus::active) continue;
         const Eigen::Vector3d nrm((p.u - kc.cx) / kc.fx, (p.v - kc.cy) / kc.fy, 1.0);
         const Eigen::Vector3d Xi = Mi.R * nrm + Mi.t * p.idepth, Xp = Mp.R * nrm + Mp.t * p.idepth;
@@ -414,7 +445,8 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
           const double A = sample(y, xi, yi) - sample(y1, xp, yp);
           const double B = sample(y1, xi, yi) - sample(y2, xp, yp);
           const double D = sample(u, xi, yi) - sample(u1, xp, yp);
-          sab += A * B, sbb += B * B, sdb += beta * D * B;
+          sab += A * B, sbb += B * B, sdb += beta * D * B, saa += A * A;
+          here.ab += A * B, here.bb += B * B, here.energy += (A - gate_alpha * B) * (A - gate_alpha * B), here.aa += A * A;
           if (const auto hi = host_images.find(host.id); hi != host_images.end() && k > 1) {
             // Against the host keyframe: A' - alpha B' = beta (u_i(p_i) - u_k(q)), q the host pixel.
             const double qx = p.u + vo::kPatternX[j], qy = p.v + vo::kPatternY[j];
@@ -457,6 +489,19 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
         }
       }
     }
+    {
+      // Points whose pattern energy of A - alpha B exceeds GATE times the frame's median are left
+      // out (moving objects, occlusions).
+      std::vector<double> e;
+      for (const auto& q : frame_points) e.push_back(q.energy);
+      if (!e.empty()) {
+        std::nth_element(e.begin(), e.begin() + static_cast<long>(e.size() / 2), e.end());
+        const double med = e[e.size() / 2];
+        for (const auto& q : frame_points)
+          if (q.energy <= gate * med) gab += q.ab, gbb += q.bb, gkept += 1;
+        gall += static_cast<double>(frame_points.size());
+      }
+    }
   }
   const double a_plain = sab / sbb;
   if (robust_k > 0) {
@@ -492,6 +537,21 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
     std::printf("per-point fits (%zu points): weighted median %.2f ms, median %.2f ms\n", fits.size(), -tr / std::log(med) * 1e3,
                 -tr / std::log(plain_alphas[plain_alphas.size() / 2]) * 1e3);
   }
+  {
+    // Batch means: each frame's eliminated fit as one observation (its pairs' errors are alike).
+    double sw = 0, swa = 0, sw2 = 0;
+    for (const auto& [a, wgt] : frame_fits) sw += wgt, swa += wgt * a;
+    const double mean = swa / sw;
+    double var = 0;
+    for (const auto& [a, wgt] : frame_fits) var += wgt * wgt * (a - mean) * (a - mean), sw2 += wgt * wgt;
+    const double se = std::sqrt(var) / sw, se_naive = 0;
+    (void)se_naive;
+    std::printf("per-frame fits (%zu): alpha %.4f, batch-means SE %.4f, effective frames %.1f, info %.3g\n", frame_fits.size(), mean, se,
+                sw * sw / sw2, sw);
+  }
+  std::printf("plain sums: B^2 / (A - alpha B)^2 at the true alpha %.3f, at the fit %.3f\n", sbb / (saa - 2 * alpha * sab + alpha * alpha * sbb),
+              sbb / (saa - sab * sab / sbb));
+  std::printf("gated at %.0f x the median point energy: %.2f ms (%.1f %% of points kept)\n", gate, -tr / std::log(gab / gbb) * 1e3, 100 * gkept / gall);
   std::printf("against the host keyframe: %.2f ms (dalpha %.4f)\n", -tr / std::log(kab / kbb) * 1e3, kdb / kbb);
   std::printf("displacement between frames: mean %.2f px, B^2-weighted %.2f px\n", disp_sum / disp_n, disp_bb / sbb);
   if (m > 0)
