@@ -2,7 +2,9 @@
 // in-process with Gaussian pixel noise and no sensor model, and after every keyframe the median
 // ratio of each window keyframe's active inverse depths to the true ones (1 / the map's scale
 // there). Options from the environment: TRAJ, SEED, NOISE (counts), SS rays per axis, FRAMES,
-// MODE none|affine, TAU (s, the two-frame model's carry-over; 0: none).
+// MODE none|affine, TAU (s, the two-frame model's carry-over; 0: none), NOISE_SEED, RENDER_DT (s
+// added to the render time), NOBA=1 (no window BA), REC (a recording's frames.npy instead), ACT=1
+// (every activation), VERBOSE=1 (every frame's rotation and translation-direction error).
 //   TRAJ=flyover SEED=3 NOISE=6 ./test_vo_core "[scale-drift-experiment]" -s
 
 #include <algorithm>
@@ -74,21 +76,19 @@ TEST_CASE("scale drift experiment", "[vo][scale-drift-experiment][.]") {
     std::memcpy(recorded.data(), bytes.data() + header, recorded.size() * 2);
     truth_dt = 0.5 / fps / 2;
   }
-  const vo::Scaled k = vo::camera_at(cfg.camera, 0);
   for (int i = 0; i < frames; ++i) {
     const double t = i / fps;
     std::vector<std::uint16_t> raw;
     if (!recorded.empty()) {
       raw.assign(recorded.begin() + static_cast<long>(i * plane), recorded.begin() + static_cast<long>((i + 1) * plane));
-      goto have_frame;
+    } else {
+      raw = seq.frame(t + env_or("RENDER_DT", 0));
+      // TAU s: the two-frame model's carry-over (exposure = readout = half the period) before the noise.
+      if (carry.empty()) carry.assign(raw.begin(), raw.end());
+      for (std::size_t q = 0; q < raw.size(); ++q) carry[q] = alpha * carry[q] + (1 - alpha) * raw[q];
+      for (std::size_t q = 0; q < raw.size(); ++q)
+        raw[q] = static_cast<std::uint16_t>(std::clamp(std::lround(carry[q] + noise * gauss()), 0L, 65535L));
     }
-    raw = seq.frame(t + env_or("RENDER_DT", 0));
-    // TAU s: the two-frame model's carry-over (exposure = readout = half the period) before the noise.
-    if (carry.empty()) carry.assign(raw.begin(), raw.end());
-    for (std::size_t q = 0; q < raw.size(); ++q) carry[q] = alpha * carry[q] + (1 - alpha) * raw[q];
-    for (std::size_t q = 0; q < raw.size(); ++q)
-      raw[q] = static_cast<std::uint16_t>(std::clamp(std::lround(carry[q] + noise * gauss()), 0L, 65535L));
-  have_frame:
     vo::FrameInput in;
     in.raw = raw;
     in.t_s = t, in.chain_broken = i == 0;
@@ -175,7 +175,6 @@ TEST_CASE("scale drift experiment", "[vo][scale-drift-experiment][.]") {
     const double est = (a.T_cw.inverse().t - b.T_cw.inverse().t).norm();
     const double tru = (seq.T_cw(a.t_s + truth_dt).inverse().t - seq.T_cw(b.t_s + truth_dt).inverse().t).norm();
     std::printf("  window baseline scale %.3f\n", tru > 0 ? est / tru : 0.0);
-    (void)k;
   }
   std::printf("activations: mean ratio of fresh to settled median q %.3f over %.0f frames\n", activation_log / activation_n, activation_n);
   SUCCEED();
