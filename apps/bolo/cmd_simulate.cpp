@@ -215,7 +215,7 @@ Command add_simulate_command(CLI::App& parent) {
   app->add_option("--out", *out_flag, "Recording folder to write (same as OUT)");
   app->add_option("--preset", o->preset, "Sensor preset: generic, lepton3, boson320, boson640, tau2")->capture_default_str();
   app->add_option("--scene", o->scene, "Scene: " + simulated_scene_names())->capture_default_str();
-  app->add_option("--trajectory", o->trajectory, "Camera trajectory for 3D scenes: drive, handheld, flyover, static, pan, blackbody");
+  app->add_option("--trajectory", o->trajectory, "Camera trajectory for 3D scenes: " + simulated_trajectory_names());
   // Unsigned options take "-3" as a huge number unless the text is checked first.
   app->add_option("--frames", o->frames, "Number of frames")
       ->check(not_negative())->capture_default_str();

@@ -44,6 +44,7 @@ std::string default_trajectory(const std::string& scene) {
 }  // namespace
 
 std::string simulated_scene_names() { return "demo, " + join(sim::scene::scene_names()); }
+std::string simulated_trajectory_names() { return join(sim::scene::trajectory_names()); }
 
 SimulatedScene make_simulated_scene(const std::string& scene_name, const std::string& trajectory_name,
                                     const sim::SensorPreset& preset, const sim::SimulationInfo& info,
@@ -59,7 +60,7 @@ SimulatedScene make_simulated_scene(const std::string& scene_name, const std::st
   bool known_path = false;
   for (const auto& n : sim::scene::trajectory_names()) known_path = known_path || n == path;
   if (!known_path)
-    fail("--trajectory ", path, ": unknown trajectory (known: ", join(sim::scene::trajectory_names()), ")");
+    fail("--trajectory ", path, ": unknown trajectory (known: ", simulated_trajectory_names(), ")");
 
   auto trajectory = std::make_shared<sim::scene::Trajectory>(sim::scene::make_trajectory(path, info.seed));
   if (trajectory->scene() != scene_name && scene_name != "checker")

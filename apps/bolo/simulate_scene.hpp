@@ -29,5 +29,6 @@ SimulatedScene make_simulated_scene(const std::string& scene, const std::string&
                                     const sim::SensorPreset& preset, const sim::SimulationInfo& info,
                                     unsigned supersample = 1, const std::vector<double>& distortion = {});
 std::string simulated_scene_names();
+std::string simulated_trajectory_names();
 
 }  // namespace bolo::cli

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "bolo/sim/scene/trajectory.hpp"
 #include "cli_test_support.hpp"
 
 using namespace bolo;
@@ -130,4 +131,19 @@ TEST_CASE("simulate a 3D scene: camera.json, one pose per frame, counts from kel
   CHECK(ss_rec.info().source.find("3x3 rays per pixel") != std::string::npos);
   CHECK(run_bolo({"simulate", (tmp / "x").string(), "--scene", "street", "--trajectory", "warp"}).code == 2);
   CHECK(run_bolo({"simulate", (tmp / "y").string(), "--scene", "street", "--trajectory", "blackbody"}).err.find("laid out for the lab scene") != std::string::npos);
+}
+
+TEST_CASE("simulate's help and its unknown-trajectory error list every trajectory the scene library has", "[cli][simulate]") {
+  const CliResult help = run_bolo({"simulate", "--help"});
+  REQUIRE(help.code == 0);
+  const auto tmp = std::filesystem::temp_directory_path() / "bolo_cli_trajectory_names";
+  std::filesystem::remove_all(tmp);
+  const CliResult refused = run_bolo({"simulate", (tmp / "x").string(), "--scene", "street", "--trajectory", "warp"});
+  CHECK(refused.code == 2);
+  CHECK_FALSE(std::filesystem::exists(tmp / "x"));
+  for (const auto& name : sim::scene::trajectory_names()) {
+    INFO(name);
+    CHECK(help.out.find(name) != std::string::npos);
+    CHECK(refused.err.find(name) != std::string::npos);
+  }
 }

@@ -30,7 +30,7 @@ class Trajectory {
   std::function<Pose(double)> pose_;
 };
 
-std::vector<std::string> trajectory_names();  // {"drive", "handheld", "static", "pan", "blackbody"}
+std::vector<std::string> trajectory_names();  // the names make_trajectory() knows, in help order
 
 // A named trajectory, deterministic from the seed (street trajectories use street_layout):
 //   drive      car-mounted camera, 1.4 m high, in the right lane of the main street at
