@@ -32,6 +32,9 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   if (!(o.intensity_scale >= 0.0 && o.intensity_scale <= 1e4))
     fail("--intensity-scale: must be within 0..10000 (0: measured), got ", o.intensity_scale);
   options.intensity_scale = o.intensity_scale;
+  if (!(o.carry_coring >= 0.0 && o.carry_coring <= 100.0))
+    fail("--carry-coring: must be within 0..100 (0: the full correction), got ", o.carry_coring);
+  options.carry_coring = o.carry_coring;
   options.exposure_s = o.exposure_s;
   options.readout_s = o.readout_s;
   options.estimate_tau = !o.fixed_tau;
@@ -126,6 +129,11 @@ Command add_odometry_command(CLI::App& parent) {
   app->add_option("--intensity-scale", o->intensity_scale,
                   "Counts per count of the scale the VO's thresholds were tuned for (0, the default: from the "
                   "pixel noise, 1 up to 4 counts and noise/4 above)");
+  app->add_option("--carry-coring", o->carry_coring,
+                  "ir modes: leave out of the tracking image the part of the carry-over correction within K "
+                  "times its noise (0: the paper's full correction, whose inverse filter "
+                  "multiplies the noise of still pixels)")
+      ->capture_default_str();
   app->add_option("--frames", o->frames, "Use only the first N frames")->check(not_negative());
   app->add_option("--max-keyframes", o->max_keyframes,
                   "Keyframes in the sliding window, 2..8 (default 8; 6 is about a quarter faster)");

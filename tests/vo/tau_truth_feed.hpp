@@ -30,8 +30,8 @@ class ApproxNormal {
 
 // Frame k of an unbroken chain: the raw buffers move back one, fill_raw(s.raw) writes the new
 // frame, and the frame's pose becomes T_cw (the previous one T_prev). As Odometry::process() in
-// `ir` mode, the tracking image is the scene estimate made with the current tau and the pixel
-// noise is measured.
+// `ir` mode, the pixel noise is measured and the tracking image is the scene estimate made with
+// the current tau (its carry-over correction cored against that noise).
 template <typename FillRaw>
 void push_truth_frame(vo::State& s, int k, double exposure_s, double readout_s, double t_s, const vo::Se3& T_cw,
                       FillRaw fill_raw) {
@@ -46,13 +46,13 @@ void push_truth_frame(vo::State& s, int k, double exposure_s, double readout_s, 
   s.T_prev = s.T_cw;
   s.prev_posed = k > 0;
   s.T_cw = T_cw;
+  if (s.chain_ok && s.chain_ok_prev) vo::update_noise_variance(s);
   if (s.chain_ok) {
     vo::write_scene_estimate(s);
   } else {
     std::copy(s.raw.begin(), s.raw.end(), s.frame.level[0].value.data);
   }
   vo::build_frame_images(s);
-  if (s.chain_ok && s.chain_ok_prev) vo::update_noise_variance(s);
 }
 
 // A keyframe made from the current frame's tracking image, its points active at inverse depth

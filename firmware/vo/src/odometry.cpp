@@ -224,6 +224,21 @@ void measure_intensity_scale(State& s) {
 }
 
 namespace {
+// Takes back the part of the carry-over correction (what the scene estimate adds to the raw
+// frame: gain_alpha (raw_i - raw_{i-1}) at a steady timing) that its own noise could explain:
+// config.hpp, carry_coring. Still pixels then keep the raw frame's noise instead of the inverse
+// filter's, and moving edges (a correction far above the noise) are still deghosted. Until the
+// noise is measured, nothing is taken back.
+void core_carry_correction(State& s, float gain_alpha) {
+  if (!(s.cfg.carry_coring > 0) || !(s.noise_var > 0)) return;
+  const auto limit = static_cast<float>(s.cfg.carry_coring * std::sqrt(2.0 * s.noise_var)) * gain_alpha;
+  float* level0 = s.frame.level[0].value.data;
+  for (std::size_t i = 0; i < plane(s.cfg); ++i) {
+    const float correction = gain_alpha * (s.raw[i] - s.raw_prev[i]);
+    level0[i] -= std::max(-limit, std::min(limit, correction));
+  }
+}
+
 double mean_level(const float* image, std::size_t pixels) {
   double sum = 0;
   for (std::size_t i = 0; i < pixels; ++i) sum += image[i];
@@ -250,6 +265,7 @@ void write_scene_estimate(State& s) {
   const auto gain = static_cast<float>(s.scene_scale / s.carry.beta);
   float* level0 = s.frame.level[0].value.data;
   for (std::size_t i = 0; i < plane(s.cfg); ++i) level0[i] = (s.raw[i] - alpha * s.raw_prev[i]) * gain;
+  core_carry_correction(s, alpha * gain);
 }
 
 void build_frame_images(State& s) {
@@ -369,6 +385,8 @@ FrameResult Odometry::process(const FrameInput& in) {
   const bool ir = c.photometric == Photometric::ir || c.photometric == Photometric::ir_loop;
   if (ir && had_prev) count_unchanged_frames(s);
   if (s.intensity_pending && ++s.raw_frames >= 3) measure_intensity_scale(s);
+  // Before the tracking image: its carry-over correction is cored against this noise.
+  if (ir && s.chain_ok && s.chain_ok_prev) update_noise_variance(s);
 
   // The tracking image: what the photometric model says is comparable between frames.
   float* level0 = s.frame.level[0].value.data;
@@ -381,6 +399,8 @@ FrameResult Odometry::process(const FrameInput& in) {
     s.scene_scale = scene_level_scale(s);
     const auto scale = static_cast<float>(s.scene_scale);
     for (std::size_t i = 0; i < plane(c); ++i) level0[i] = static_cast<float>(in.corrected[i]) * scale;
+    const CarryCoefficients k = carry_coefficients(s.tau, s.readout_prev_s, s.exposure_s);
+    core_carry_correction(s, static_cast<float>(k.alpha * s.scene_scale / k.beta));
   } else {
     std::memcpy(level0, s.raw.data(), plane(c) * sizeof(float));
   }
@@ -517,7 +537,6 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.posed = true;
 
   if (ir && c.estimate_tau) {
-    if (s.chain_ok && s.chain_ok_prev) update_noise_variance(s);
     refine_tau(s);
   }
   search_immature_points(s);

@@ -106,6 +106,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   config.window_ba = options.window_ba;
   config.max_keyframes = options.max_keyframes;
   config.intensity_scale = static_cast<float>(options.intensity_scale);
+  config.carry_coring = static_cast<float>(options.carry_coring);
   config.estimate_tau = options.estimate_tau;
   if (const char* why = vo::invalid_reason(config)) throw Error(options.recording.string() + ": " + why);
 
@@ -299,6 +300,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                                   {"cy", remap.pinhole().cy}}},
                       {"tau_init_s", options.tau_init_s},
                       {"tau_estimated", options.estimate_tau},
+                      {"carry_coring", options.carry_coring},
                       {"max_keyframes", options.max_keyframes},
                       {"timing_from_options", summary.timing_from_options},
                       {"timing_assumed", summary.timing_assumed},

@@ -32,6 +32,7 @@ struct OdometryOptions {
   std::optional<double> exposure_s, readout_s;
   // VoConfig::intensity_scale: 0 = measured from the pixel noise.
   double intensity_scale = 0.0;
+  double carry_coring = 1.0;  // vo::VoConfig::carry_coring
   bool window_ba = true;
   std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;  // sliding window, 2..8
   bool overwrite = false;
