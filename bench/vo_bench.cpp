@@ -6,7 +6,7 @@
 // were posed moves the average: the CPU time of the posed frames alone is printed too (ms/posed),
 // with the number of keyframes (each runs the window bundle adjustment).
 //
-//   bolo-vo-bench [--frames N] [--mode none|affine|ir] [--sizes WxH,...] [--max-keyframes N]
+//   bolo-vo-bench [--frames N] [--mode none|affine|ir] [--sizes WxH,...] [--max-keyframes N] [--carry-coring K]
 
 #include <algorithm>
 #include <chrono>
@@ -76,6 +76,7 @@ Frames render(std::uint32_t w, std::uint32_t h, int count, double fps) {
 
 constexpr const char* kUsage =
     "usage: bolo-vo-bench [--frames N] [--mode none|affine|ir] [--sizes WxH[,WxH...]] [--max-keyframes N]\n"
+    "                     [--carry-coring K]\n"
     "\n"
     "Times the VO core (firmware/vo) on one core over street/drive frames rendered through the\n"
     "two-frame bolometer model (60 Hz, tau 12 ms): CPU ms per frame and per posed frame, the\n"
@@ -86,12 +87,14 @@ constexpr const char* kUsage =
     "  --mode M           photometric model (default ir)\n"
     "  --sizes LIST       frame sizes (default 160x120,320x256,640x512)\n"
     "  --max-keyframes N  sliding-window size, 2..8 (default 8, the VO's default)\n"
+    "  --carry-coring K   ir: the carry-over correction's coring, 0..100 (default 1, the VO's default)\n"
     "  --help             this text\n";
 
 int main(int argc, char** argv) {
   int frames = 120;
   std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;
   std::string mode_name = "ir";
+  float carry_coring = vo::VoConfig{}.carry_coring;
   std::vector<bench::Size> sizes = {{160, 120}, {320, 256}, {640, 512}};
   for (int i = 1; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
@@ -106,6 +109,8 @@ int main(int argc, char** argv) {
       if (!bench::parse_size_list(argv[++i], sizes, "bolo-vo-bench")) return 2;
     } else if (!std::strcmp(argv[i], "--max-keyframes") && has_value) {
       max_keyframes = static_cast<std::uint32_t>(std::atoi(argv[++i]));
+    } else if (!std::strcmp(argv[i], "--carry-coring") && has_value) {
+      carry_coring = static_cast<float>(std::atof(argv[++i]));
     } else {
       std::fprintf(stderr, "bolo-vo-bench: unknown option or missing value: %s\n%s", argv[i], kUsage);
       return 2;
@@ -113,8 +118,8 @@ int main(int argc, char** argv) {
   }
   vo::Photometric mode;
   if (!vo::parse_photometric(mode_name.c_str(), mode) || mode == vo::Photometric::ir_loop || frames < 10 ||
-      max_keyframes < 2 || max_keyframes > vo::kMaxKeyframes) {
-    std::fprintf(stderr, "bolo-vo-bench: --mode none|affine|ir, --frames >= 10, --max-keyframes 2..8\n");
+      max_keyframes < 2 || max_keyframes > vo::kMaxKeyframes || !(carry_coring >= 0 && carry_coring <= 100)) {
+    std::fprintf(stderr, "bolo-vo-bench: --mode none|affine|ir, --frames >= 10, --max-keyframes 2..8, --carry-coring 0..100\n");
     return 2;
   }
   // Sizes the VO refuses (the camera does not matter for that) are refused before any work.
@@ -127,15 +132,15 @@ int main(int argc, char** argv) {
     }
   }
   const double fps = 60;
-  std::printf("bolo-vo-bench: VO (%s, %u keyframes) on street/drive, %d frames at 60 Hz, tau 12 ms, one core (thread CPU time)\n",
-              mode_name.c_str(), max_keyframes, frames);
+  std::printf("bolo-vo-bench: VO (%s, %u keyframes, carry coring %g) on street/drive, %d frames at 60 Hz, tau 12 ms, one core (thread CPU time)\n",
+              mode_name.c_str(), max_keyframes, static_cast<double>(carry_coring), frames);
   std::printf("%-9s %9s %9s %10s %9s %12s %12s %14s\n", "size", "ms/frame", "fps", "x realtime", "ms/posed", "arena KiB", "peak RSS KiB", "RSS growth KiB");
   for (const bench::Size& size : sizes) {
     const std::uint32_t w = size.width, h = size.height;
     const Frames f = render(w, h, frames, fps);
     vo::VoConfig cfg;
     cfg.width = w, cfg.height = h, cfg.camera = f.camera, cfg.photometric = mode, cfg.tau_init_s = 0.012f;
-    cfg.max_keyframes = max_keyframes;
+    cfg.max_keyframes = max_keyframes, cfg.carry_coring = carry_coring;
     std::vector<std::byte> arena(vo::Odometry::arena_bytes(cfg));
     std::memset(arena.data(), 0, arena.size());  // touch it: the peak below includes the arena
     vo::Odometry odometry(cfg, arena);
