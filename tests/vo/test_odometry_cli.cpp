@@ -314,14 +314,15 @@ TEST_CASE("the ir modes initialise on a handheld walk within a fifth of a second
   }
 }
 
-TEST_CASE("none and affine hold on a drone's view of the road", "[vo][cli]") {
+TEST_CASE("every photometric mode holds on a drone's view of the road", "[vo][cli]") {
   // The flyover: image motion across a near-planar ground seen 40-50 degrees down, which the VO
-  // was not developed on (the study's "A trajectory the VO was not developed on"; the IR modes'
-  // scale drift there is a known gap). Measured when written: 0.94 / 0.91 % of the path, 110 of 120
-  // frames posed.
+  // was not developed on (the study's "A trajectory the VO was not developed on"; over 4 s the IR
+  // modes still lose the scale on seed 3). Measured when written: none / affine 0.94 / 0.91 % of
+  // the path, 110 of 120 frames posed; with the carry-over correction cored, ir / ir-loop 0.96 /
+  // 0.90 %, 109 posed.
   TempDir tmp;
   const fs::path seq = street_ss3(tmp / "fly", "flyover", "120", "0.010", "1");
-  for (const char* mode : {"none", "affine"}) {
+  for (const char* mode : {"none", "affine", "ir", "ir-loop"}) {
     const nlohmann::json e = odometry_evaluated(seq, tmp / mode, mode);
     INFO(mode << ": " << e.dump(2));
     CHECK(e["ate_relative"].get<double>() < 0.03);
