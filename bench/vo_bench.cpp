@@ -23,6 +23,7 @@
 #include "bolo/sim/scene/renderer.hpp"
 #include "bolo/sim/scene/trajectory.hpp"
 #include "bolo/vo/odometry.hpp"
+#include "number_arg.hpp"
 #include "size_list.hpp"
 
 namespace {
@@ -102,15 +103,15 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, stdout);
       return 0;
     } else if (!std::strcmp(argv[i], "--frames") && has_value) {
-      frames = std::atoi(argv[++i]);
+      if (!bench::parse_number_arg(argv[++i], frames, "bolo-vo-bench", "--frames")) return 2;
     } else if (!std::strcmp(argv[i], "--mode") && has_value) {
       mode_name = argv[++i];
     } else if (!std::strcmp(argv[i], "--sizes") && has_value) {
       if (!bench::parse_size_list(argv[++i], sizes, "bolo-vo-bench")) return 2;
     } else if (!std::strcmp(argv[i], "--max-keyframes") && has_value) {
-      max_keyframes = static_cast<std::uint32_t>(std::atoi(argv[++i]));
+      if (!bench::parse_number_arg(argv[++i], max_keyframes, "bolo-vo-bench", "--max-keyframes")) return 2;
     } else if (!std::strcmp(argv[i], "--carry-coring") && has_value) {
-      carry_coring = static_cast<float>(std::atof(argv[++i]));
+      if (!bench::parse_number_arg(argv[++i], carry_coring, "bolo-vo-bench", "--carry-coring")) return 2;
     } else {
       std::fprintf(stderr, "bolo-vo-bench: unknown option or missing value: %s\n%s", argv[i], kUsage);
       return 2;
