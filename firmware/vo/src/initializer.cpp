@@ -126,7 +126,7 @@ InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, bool with_jac
       Vec6 J;
       for (int q = 0; q < 6; ++q) J[q] = gx[j] * du[q] + gy[j] * dv[q];
       const double Jd = gx[j] * dud + gy[j] * dvd;
-      sys.H.selfadjointView<Eigen::Upper>().rankUpdate(J, w[j]);
+      add_weighted_outer_upper(sys.H, J, w[j]);
       sys.g += J * (w[j] * r[j]);
       for (int q = 0; q < 6; ++q) row[q] += static_cast<float>(J[q] * w[j] * Jd);
       row[6] += static_cast<float>(w[j] * Jd * Jd);

@@ -278,16 +278,12 @@ void refine_tau(State& s) {
         const Sample before = bilinear_with_gradient(s.previous_texels, op_x, op_y);
         Vec5 v;
         v << beta_now * now.gx, beta_now * now.gy, -beta_prev * before.gx, -beta_prev * before.gy, jac_alpha;
-        S.selfadjointView<Eigen::Upper>().rankUpdate(v, wt);
+        add_weighted_outer_upper(S, v, wt);
         sr += (wt * r0) * v;
         noise[j].slope = v.head<4>().dot(Eigen::Vector4d(c_px.x(), c_px.y(), c_pp.x(), c_pp.y()));
       }
       S.triangularView<Eigen::StrictlyLower>() = S.triangularView<Eigen::StrictlyUpper>().transpose();
-      Eigen::Matrix<double, 13, 5> T = Eigen::Matrix<double, 13, 5>::Zero();
       const Mat26 Di = pixel_jacobian(k, Xi, p.idepth), Dp = pixel_jacobian(k, Xp, p.idepth);
-      T.block<6, 2>(0, 0) = Di.transpose();
-      T.block<6, 2>(6, 2) = Dp.transpose();
-      T(12, 4) = 1.0;
       Vec5 c;
       c << c_px.x(), c_px.y(), c_pp.x(), c_pp.y(), 0.0;
       // The noise's expected share of S's and sr's alpha entries, less the part the inverse
@@ -310,8 +306,22 @@ void refine_tau(State& s) {
         S.noalias() -= (inv * Sc) * Sc.transpose();
         sr -= (inv * c.dot(sr)) * Sc;
       }
-      H.noalias() += T * S * T.transpose();
-      g.noalias() += T * sr;
+      // H += T S T^T and g += T sr, with T = diag(Di^T, Dp^T, 1) taken block by block: the dense
+      // 13x5 product went through Eigen's general matrix product, a quarter of this function's instructions.
+      const Eigen::Matrix<double, 6, 5> DiS = Di.transpose() * S.topRows<2>();
+      const Eigen::Matrix<double, 6, 5> DpS = Dp.transpose() * S.middleRows<2>(2);
+      H.block<6, 6>(0, 0).noalias() += DiS.leftCols<2>() * Di;
+      H.block<6, 6>(0, 6).noalias() += DiS.middleCols<2>(2) * Dp;
+      H.block<6, 6>(6, 0).noalias() += DpS.leftCols<2>() * Di;
+      H.block<6, 6>(6, 6).noalias() += DpS.middleCols<2>(2) * Dp;
+      H.block<6, 1>(0, 12) += DiS.col(4);
+      H.block<6, 1>(6, 12) += DpS.col(4);
+      H.block<1, 6>(12, 0).noalias() += S.block<1, 2>(4, 0) * Di;
+      H.block<1, 6>(12, 6).noalias() += S.block<1, 2>(4, 2) * Dp;
+      H(12, 12) += S(4, 4);
+      g.head<6>().noalias() += Di.transpose() * sr.head<2>();
+      g.segment<6>(6).noalias() += Dp.transpose() * sr.segment<2>(2);
+      g(12) += sr(4);
     }
   }
   // The poses eliminated (a tiny damping keeps a pose no point constrains solvable).
