@@ -63,7 +63,6 @@ inline Scaled camera_at(const Camera& c, std::uint32_t level) {
   const float s = 1.0f / static_cast<float>(1u << level);
   return {c.fx * s, c.fy * s, (c.cx + 0.5f) * s - 0.5f, (c.cy + 0.5f) * s - 0.5f};
 }
-// The upper median of v[0 .. n) (0 when n is 0); reorders v.
 // H += w v v^T on the upper triangle, with Eigen's rankUpdate's arithmetic (a column at a time,
 // w v_c first) but inline: its out-of-line call per residual was a quarter of the initialiser's
 // instructions.
@@ -75,6 +74,7 @@ inline void add_weighted_outer_upper(Eigen::Matrix<double, N, N>& H, const Eigen
   }
 }
 
+// The upper median of v[0 .. n) (0 when n is 0); reorders v.
 inline float upper_median(float* v, std::size_t n) {
   if (n == 0) return 0.0f;
   std::nth_element(v, v + n / 2, v + n);

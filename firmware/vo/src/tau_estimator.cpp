@@ -307,7 +307,8 @@ void refine_tau(State& s) {
         sr -= (inv * c.dot(sr)) * Sc;
       }
       // H += T S T^T and g += T sr, with T = diag(Di^T, Dp^T, 1) taken block by block: the dense
-      // 13x5 product went through Eigen's general matrix product, a quarter of this function's instructions.
+      // 13x5 product went through Eigen's general matrix product, a quarter of this function's
+      // instructions.
       const Eigen::Matrix<double, 6, 5> DiS = Di.transpose() * S.topRows<2>();
       const Eigen::Matrix<double, 6, 5> DpS = Dp.transpose() * S.middleRows<2>(2);
       H.block<6, 6>(0, 0).noalias() += DiS.leftCols<2>() * Di;
