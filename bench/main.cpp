@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "harness.hpp"
+#include "number_arg.hpp"
 #include "scene.hpp"
 #include "size_list.hpp"
 #include "workloads.hpp"
@@ -98,34 +99,15 @@ bool parse_options(int argc, char** argv, Options& o) {
       }
     } else if (arg == "--input-frames") {
       const char* v = value("--input-frames");
-      if (v == nullptr) return false;
-      char* end = nullptr;
-      const long n = std::strtol(v, &end, 10);
-      if (end == v || *end != '\0' || n < 1 || n > 256) {
-        std::fprintf(stderr, "bolo-bench: --input-frames wants 1..256, got '%s'\n", v);
+      if (v == nullptr || !parse_number_arg(v, o.input_frames, std::size_t{1}, std::size_t{256}, "bolo-bench", "--input-frames", "1..256"))
         return false;
-      }
-      o.input_frames = static_cast<std::size_t>(n);
     } else if (arg == "--repetitions") {
       const char* v = value("--repetitions");
-      if (v == nullptr) return false;
-      char* end = nullptr;
-      const long n = std::strtol(v, &end, 10);
-      if (end == v || *end != '\0' || n < 1 || n > 1000) {
-        std::fprintf(stderr, "bolo-bench: --repetitions wants 1..1000, got '%s'\n", v);
-        return false;
-      }
-      o.repetitions = static_cast<int>(n);
+      if (v == nullptr || !parse_number_arg(v, o.repetitions, 1, 1000, "bolo-bench", "--repetitions", "1..1000")) return false;
     } else if (arg == "--seconds") {
       const char* v = value("--seconds");
-      if (v == nullptr) return false;
-      char* end = nullptr;
-      const double s = std::strtod(v, &end);
-      if (end == v || *end != '\0' || !(s > 0.0) || s > 600.0) {
-        std::fprintf(stderr, "bolo-bench: --seconds wants a number in (0, 600], got '%s'\n", v);
+      if (v == nullptr || !parse_number_arg(v, o.seconds, 0.0, 600.0, "bolo-bench", "--seconds", "a number in (0, 600]", true))
         return false;
-      }
-      o.seconds = s;
     } else {
       std::fprintf(stderr, "bolo-bench: unknown argument '%s' (try --help)\n", argv[i]);
       return false;

@@ -1,7 +1,8 @@
 #pragma once
-// Numeric values on a bench's command line, read whole: atoi/atof would read a typo ("1,5",
-// "x") as 0, which for --carry-coring is a valid setting (the paper's full correction) and would
-// be timed without a word.
+// Numeric values on a bench's command line (bolo-bench, bolo-vo-bench), read whole and checked
+// against their range: atoi/atof would read a typo ("1,5", "x") as 0, which for
+// bolo-vo-bench --carry-coring is a valid setting (the paper's full correction) and would be timed
+// without a word.
 
 #include <charconv>
 #include <cstdio>
@@ -10,15 +11,17 @@
 
 namespace bolo::bench {
 
-// False (after a message naming `tool`, the option and the text on stderr) unless `text` is a
-// number of T and nothing else.
+// False (after "TOOL: OPTION wants WANTS, got 'TEXT'" on stderr) unless `text` is a number of T
+// and nothing else, within [lo, hi] (exclusive of lo when `lo_open`).
 template <typename T>
-bool parse_number_arg(const char* text, T& out, const char* tool, const char* option) {
+bool parse_number_arg(const char* text, T& out, T lo, T hi, const char* tool, const char* option, const char* wants,
+                      bool lo_open = false) {
   const char* end = text + std::strlen(text);
   T value{};
   const auto [stop, error] = std::from_chars(text, end, value);
-  if (error != std::errc{} || stop != end || stop == text) {
-    std::fprintf(stderr, "%s: %s: '%s' is not a valid number\n", tool, option, text);
+  const bool in_range = (lo_open ? value > lo : value >= lo) && value <= hi;
+  if (error != std::errc{} || stop != end || stop == text || !in_range) {
+    std::fprintf(stderr, "%s: %s wants %s, got '%s'\n", tool, option, wants, text);
     return false;
   }
   out = value;

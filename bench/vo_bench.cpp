@@ -15,6 +15,7 @@
 #include <cstring>
 #include <ctime>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -103,24 +104,24 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, stdout);
       return 0;
     } else if (!std::strcmp(argv[i], "--frames") && has_value) {
-      if (!bench::parse_number_arg(argv[++i], frames, "bolo-vo-bench", "--frames")) return 2;
+      if (!bench::parse_number_arg(argv[++i], frames, 10, std::numeric_limits<int>::max(), "bolo-vo-bench", "--frames", "at least 10")) return 2;
     } else if (!std::strcmp(argv[i], "--mode") && has_value) {
       mode_name = argv[++i];
     } else if (!std::strcmp(argv[i], "--sizes") && has_value) {
       if (!bench::parse_size_list(argv[++i], sizes, "bolo-vo-bench")) return 2;
     } else if (!std::strcmp(argv[i], "--max-keyframes") && has_value) {
-      if (!bench::parse_number_arg(argv[++i], max_keyframes, "bolo-vo-bench", "--max-keyframes")) return 2;
+      if (!bench::parse_number_arg(argv[++i], max_keyframes, std::uint32_t{2}, vo::kMaxKeyframes, "bolo-vo-bench", "--max-keyframes", "2..8"))
+        return 2;
     } else if (!std::strcmp(argv[i], "--carry-coring") && has_value) {
-      if (!bench::parse_number_arg(argv[++i], carry_coring, "bolo-vo-bench", "--carry-coring")) return 2;
+      if (!bench::parse_number_arg(argv[++i], carry_coring, 0.0f, 100.0f, "bolo-vo-bench", "--carry-coring", "0..100")) return 2;
     } else {
       std::fprintf(stderr, "bolo-vo-bench: unknown option or missing value: %s\n%s", argv[i], kUsage);
       return 2;
     }
   }
   vo::Photometric mode;
-  if (!vo::parse_photometric(mode_name.c_str(), mode) || mode == vo::Photometric::ir_loop || frames < 10 ||
-      max_keyframes < 2 || max_keyframes > vo::kMaxKeyframes || !(carry_coring >= 0 && carry_coring <= 100)) {
-    std::fprintf(stderr, "bolo-vo-bench: --mode none|affine|ir, --frames >= 10, --max-keyframes 2..8, --carry-coring 0..100\n");
+  if (!vo::parse_photometric(mode_name.c_str(), mode) || mode == vo::Photometric::ir_loop) {
+    std::fprintf(stderr, "bolo-vo-bench: --mode wants none, affine or ir, got '%s'\n", mode_name.c_str());
     return 2;
   }
   // Sizes the VO refuses (the camera does not matter for that) are refused before any work.
