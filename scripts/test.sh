@@ -12,11 +12,20 @@ cd "$(dirname "$0")/.."
 scripts/deps.sh || exit 1
 scripts/build.sh || exit 1
 failed=()
-scripts/cross-test.sh || failed+=(cross-test)
-scripts/static-analysis.sh || failed+=(static-analysis)
-scripts/sanitize.sh || failed+=(sanitize)
-scripts/fuzz-smoke.sh || failed+=(fuzz-smoke)
-toolchain/vm/hil-arm64.sh || failed+=(hil-arm64)   # the HIL suite in an arm64 VM (docs/hil.md)
+timings=()
+# Runs one stage, records its wall time for the summary, and notes it when it fails.
+stage() {
+    local name=$1 start=$SECONDS
+    shift
+    "$@" || failed+=("$name")
+    timings+=("$name $((SECONDS - start)) s")
+}
+stage cross-test scripts/cross-test.sh
+stage static-analysis scripts/static-analysis.sh
+stage sanitize scripts/sanitize.sh
+stage fuzz-smoke scripts/fuzz-smoke.sh
+stage hil-arm64 toolchain/vm/hil-arm64.sh   # the HIL suite in an arm64 VM (docs/hil.md)
+echo "test.sh: stage times: $(IFS=,; echo "${timings[*]}" | sed 's/,/, /g')"
 ctest --test-dir build --output-on-failure -j "$(nproc)"
 host=$?
 [ ${#failed[@]} -eq 0 ] || echo "test.sh: failed: ${failed[*]} (see above)" >&2
