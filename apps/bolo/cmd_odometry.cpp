@@ -39,6 +39,7 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   options.readout_s = o.readout_s;
   options.estimate_tau = !o.fixed_tau;
   options.window_ba = !o.no_ba;
+  options.marginalisation_prior = o.marginalisation_prior;
   if (o.max_keyframes < 2 || o.max_keyframes > vo::kMaxKeyframes)
     fail("--max-keyframes: must be within 2..", vo::kMaxKeyframes, ", got ", o.max_keyframes);
   options.max_keyframes = o.max_keyframes;
@@ -138,6 +139,9 @@ Command add_odometry_command(CLI::App& parent) {
   app->add_option("--max-keyframes", o->max_keyframes,
                   "Keyframes in the sliding window, 2..8 (default 8; 6 is about a quarter faster)");
   app->add_flag("--no-ba", o->no_ba, "Skip the sliding-window bundle adjustment (tracking and depth search only)");
+  app->add_flag("--marginalisation-prior", o->marginalisation_prior,
+                "Keep a retired keyframe's information as a prior on the window (DSO's marginalisation) "
+                "instead of dropping it");
   app->add_flag("--overwrite", o->overwrite, "Replace DIR if it exists");
   app->add_flag("--no-progress", [o](std::int64_t) { o->progress = false; }, "Never draw the progress bar");
   return {app, [o](std::ostream& out) { return run_odometry(*o, out); }};

@@ -100,7 +100,7 @@ struct DiagnoseOptions {
 int run_diagnose(const DiagnoseOptions& options, std::ostream& out);
 
 // bolo odometry REC --out DIR [--photometric none|affine|ir|ir-loop] [--tau-init S] [--fixed-tau] [--frames N]
-//               [--no-ba] [--overwrite]
+//               [--no-ba] [--marginalisation-prior] [--overwrite]
 struct OdometryOptions {
   std::filesystem::path input;
   std::filesystem::path output;
@@ -113,6 +113,7 @@ struct OdometryOptions {
   double carry_coring = 1.0;
   std::optional<std::uint64_t> frames;
   bool no_ba = false;
+  bool marginalisation_prior = false;
   std::uint32_t max_keyframes = 8;
   bool overwrite = false;
   bool progress = true;

@@ -204,3 +204,49 @@ TEST_CASE("window bundle adjustment's system matches finite differences of its e
   }
   CHECK(b_checked == 24);
 }
+
+// A retired keyframe's information stays as a prior on the rest of the window. A monocular
+// window's scale is free, so the prior must hold the window's shape without holding its scale:
+// a quadratic prior read naively pulls the scale towards 0 (the drive's scale shrank 20 % in
+// 3 s before it was read in its linearisation's scale).
+TEST_CASE("the marginalisation prior holds the window's shape but not its scale", "[vo][ba]") {
+  Fixture f;
+  vo::State& s = *f.s;
+  s.cfg.max_keyframes = 4;
+  s.cfg.marginalisation_prior = true;
+  for (int k = 0; k < 4; ++k) f.keyframe(2.0 + 0.2 * k, true);
+  REQUIRE(s.kf_count == 4);
+  CHECK_FALSE(s.prior.set);
+  CHECK(vo::marginal_prior_energy(s) == 0.0);
+  f.keyframe(2.8, true);  // the oldest retires: its points and then its pose are eliminated
+  REQUIRE(s.prior.set);
+  CHECK(s.kf_count == 4);
+  // At its linearisation point the prior costs nothing (up to rounding).
+  const double at_linearisation = vo::marginal_prior_energy(s);
+  vo::Keyframe saved[vo::kMaxKeyframes];
+  for (std::uint32_t k = 0; k < vo::kMaxKeyframes; ++k) saved[k] = s.kf[k];
+  const auto restore = [&] {
+    for (std::uint32_t k = 0; k < vo::kMaxKeyframes; ++k) s.kf[k] = saved[k];
+  };
+  const auto centre = [](const vo::Se3& T) -> vo::Vec3 { return -(T.R.transpose() * T.t); };
+  // The window 25 % larger about its oldest keyframe: no cost.
+  const vo::Vec3 c0 = centre(s.kf[s.order[0]].T_cw);
+  for (std::uint32_t k = 1; k < s.kf_count; ++k) {
+    vo::Se3& T = s.kf[s.order[k]].T_cw;
+    T.t = -(T.R * (c0 + 1.25 * (centre(T) - c0)));
+  }
+  const double scaled = vo::marginal_prior_energy(s);
+  restore();
+  // One keyframe 3 cm to the side (its neighbours ~0.3 m away): a change of shape.
+  {
+    vo::Se3& T = s.kf[s.order[1]].T_cw;
+    T.t = -(T.R * (centre(T) + T.R.transpose() * vo::Vec3(0.03, 0, 0)));
+  }
+  const double reshaped = vo::marginal_prior_energy(s);
+  restore();
+  INFO("prior energy: at its linearisation point " << at_linearisation << ", window scaled by 1.25 " << scaled
+                                                   << ", one keyframe moved 3 cm " << reshaped);
+  CHECK(reshaped > 1.0);
+  CHECK(std::fabs(at_linearisation) < 1e-6 * reshaped);
+  CHECK(std::fabs(scaled) < 1e-6 * reshaped);
+}

@@ -128,6 +128,27 @@ TEST_CASE("odometry: --max-keyframes sets the sliding window", "[vo][cli]") {
   CHECK(e["ate_relative"].get<double>() < 0.10);
 }
 
+TEST_CASE("odometry: --marginalisation-prior keeps what retired keyframes knew", "[vo][cli]") {
+  const fs::path& seq = sequence("drive", "0.0002");
+  TempDir out;
+  const fs::path with = out / "prior", without = out / "plain";
+  // A window of 3 keyframes, so that keyframes retire within the 36 frames.
+  odometry(seq, with, {"--max-keyframes", "3", "--marginalisation-prior"});
+  odometry(seq, without, {"--max-keyframes", "3"});
+  CHECK(summary_of(with)["marginalisation_prior"].get<bool>());
+  CHECK_FALSE(summary_of(without)["marginalisation_prior"].get<bool>());
+  const nlohmann::json e = evaluate(with);
+  INFO(e.dump(2));
+  REQUIRE(e["keyframes"].get<int>() > 3);  // at least one retired
+  CHECK(e["ate_relative"].get<double>() < 0.10);
+  // The prior took part: the trajectories differ.
+  const auto read = [](const fs::path& file) {
+    std::ifstream in(file);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  CHECK(read(with / "trajectory.tum") != read(without / "trajectory.tum"));
+}
+
 TEST_CASE("every photometric mode runs on a ghosting sequence", "[vo][cli]") {
   const fs::path& seq = sequence("drive", "0.012");
   TempDir out;

@@ -233,6 +233,7 @@ void start_initialisation(State& s) {
     kf.used = false, kf.count = 0;
   }
   s.kf_count = 0;
+  clear_marginal_prior(s);
   const std::uint32_t slot = new_keyframe_slot(s);
   make_keyframe(s, slot, true);
   Keyframe& host = s.kf[slot];

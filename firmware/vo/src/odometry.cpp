@@ -157,6 +157,7 @@ void retire_points(State& s, const Keyframe& old) {
 std::uint32_t new_keyframe_slot(State& s) {
   if (s.kf_count == s.cfg.max_keyframes) {
     // Retire the oldest keyframe; its active points leave the window as map output.
+    if (s.cfg.window_ba && s.cfg.marginalisation_prior) marginalise_oldest_keyframe(s);
     Keyframe& old = s.kf[s.order[0]];
     retire_points(s, old);
     old.used = false;

@@ -131,6 +131,18 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   std::span<std::uint32_t> ba_index;
   BaMatrix ba_H;
   BaVector ba_b;
+  // What retired keyframes left on the window (window_ba.cpp): a Gaussian on the keyframe
+  // parameters, 8 a slot, in the BA's half-gradient convention (energy/2 ~ b.d + d.H.d/2),
+  // d the parameters' offsets from the linearisation point (left pose increment, a, b).
+  struct MarginalPrior {
+    BaMatrix H = BaMatrix::Zero();
+    BaVector b = BaVector::Zero();
+    Se3 T_cw[kMaxKeyframes];
+    double a[kMaxKeyframes] = {}, b_offset[kMaxKeyframes] = {};
+    bool in_prior[kMaxKeyframes] = {};  // the slot's rows are not all zero
+    bool set = false;
+  } prior;
+  BaMatrix ba_prior_H;  // the prior's Hessian in the BA's window order
 
   // Motion
   Se3 T_cw;                    // current frame
@@ -237,6 +249,13 @@ void start_initialisation(State& s);
 void search_immature_points(State& s);
 void activate_mature_points(State& s);
 void window_bundle_adjustment(State& s);
+// Before the oldest keyframe leaves the window: its points' observations, the points and then
+// its own parameters eliminated, join the marginalisation prior on the remaining keyframes.
+void marginalise_oldest_keyframe(State& s);
+void clear_marginal_prior(State& s);
+// The prior's energy at the current keyframe parameters, in the photometric energy's units
+// (0 without a prior); exposed for tests.
+double marginal_prior_energy(const State& s);
 // The window's robust photometric energy at the current parameters, with the Gauss-Newton system
 // of the keyframe parameters (before the points are eliminated) left in s.ba_H (lower and upper
 // blocks) and s.ba_b; keyframe k's 8 parameters (left pose increment, a, b) start at 8 * its

@@ -3,8 +3,10 @@
 // the robust photometric error of every point in every other keyframe of the window. The points
 // are eliminated by the Schur complement (each inverse depth couples only to the keyframe
 // parameters), Levenberg-Marquardt on the reduced system. The oldest keyframe fixes the gauge;
-// brightness parameters are held unless the mode is `affine`. Retired keyframes are dropped
-// without a marginalisation prior.
+// brightness parameters are held unless the mode is `affine`. Retired keyframes are folded
+// into a marginalisation prior on the rest: their points' information, the points and then their
+// own parameters eliminated (DSO's marginalisation, relinearised at each retirement rather than
+// held at first estimates).
 
 #include <cmath>
 
@@ -102,8 +104,9 @@ struct PatternSums {
 };
 
 // drop_outliers: points that fit most of the keyframes they are seen in badly are marked `leaving`.
-// Pair by pair (host, target), so each pass walks one target image at a time.
-Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_outliers) {
+// Pair by pair (host, target), so each pass walks one target image at a time. only_host >= 0:
+// the points of that slot only.
+Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_outliers, int only_host = -1) {
   Totals tot;
   const Scaled k = camera_at(s.cfg.camera, 0);
   const float hub = huber_threshold(s), c2 = gradient_weight_c(s) * gradient_weight_c(s);
@@ -123,6 +126,7 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
   for (std::uint32_t hs = 0; hs < kMaxKeyframes; ++hs) {
     const Keyframe& host = s.kf[hs];
     if (!host.used || win.points_of[hs] == 0) continue;
+    if (only_host >= 0 && hs != static_cast<std::uint32_t>(only_host)) continue;
     const int hi = win.index[hs];
     for (std::uint32_t ts = 0; ts < kMaxKeyframes; ++ts) {
       const Keyframe& target = s.kf[ts];
@@ -231,6 +235,105 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
   return tot;
 }
 
+// The prior evaluated at the current parameters. A quadratic prior is not invariant to the
+// scale of a monocular window: with its linearisation point x0 in its null space, the window
+// scaled by k about x0's shape costs k^2 (x - x0)^T H (x - x0) and is pulled towards scale 0
+// (measured: the drive's scale shrank 20 % in 3 s). So it is read in the linearisation's scale:
+// the linearisation point's camera centres are scaled by the ratio k of the current spread to
+// theirs (about the current centroid), and translation offsets are divided by k (D = diag(1/k)).
+struct PriorAtCurrent {
+  BaVector d = BaVector::Zero();  // D times the offsets, by slot
+  double inv_scale = 1;           // 1/k: D's translation entries
+};
+
+PriorAtCurrent prior_at_current(const State& s) {
+  PriorAtCurrent out;
+  Vec3 centroid_now = Vec3::Zero(), centroid_lin = Vec3::Zero();
+  Vec3 centre_now[kMaxKeyframes], centre_lin[kMaxKeyframes];
+  int n = 0;
+  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
+    if (!s.kf[slot].used || !s.prior.in_prior[slot]) continue;
+    const Se3& now = s.kf[slot].T_cw;
+    const Se3& lin = s.prior.T_cw[slot];
+    centre_now[slot] = -(now.R.transpose() * now.t), centre_lin[slot] = -(lin.R.transpose() * lin.t);
+    centroid_now += centre_now[slot], centroid_lin += centre_lin[slot], ++n;
+  }
+  double spread_now = 0, spread_lin = 0;
+  if (n > 0) {
+    centroid_now /= n, centroid_lin /= n;
+    for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
+      if (s.kf[slot].used && s.prior.in_prior[slot])
+        spread_now += (centre_now[slot] - centroid_now).squaredNorm(), spread_lin += (centre_lin[slot] - centroid_lin).squaredNorm();
+  }
+  const double k = n >= 2 && spread_lin > 0 && spread_now > 0 ? std::sqrt(spread_now / spread_lin) : 1.0;
+  out.inv_scale = 1 / k;
+  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
+    if (!s.kf[slot].used || !s.prior.in_prior[slot]) continue;
+    const Keyframe& kf = s.kf[slot];
+    Se3 lin = s.prior.T_cw[slot];
+    if (n >= 2) lin.t = -(lin.R * (centroid_now + k * (centre_lin[slot] - centroid_lin)));
+    Vec8 d;
+    d.head<6>() = (kf.T_cw * lin.inverse()).log();
+    d.head<3>() *= out.inv_scale;
+    d[6] = kf.a - s.prior.a[slot], d[7] = kf.b - s.prior.b_offset[slot];
+    out.d.segment<8>(Eigen::Index{8} * slot) = d;
+  }
+  return out;
+}
+
+// D as a vector, by slot.
+BaVector prior_scaling(double inv_scale) {
+  BaVector D = BaVector::Ones();
+  for (Eigen::Index slot = 0; slot < kMaxKeyframes; ++slot) D.segment<3>(8 * slot).setConstant(inv_scale);
+  return D;
+}
+
+// The current window's scale direction in window order (left increments; the oldest keyframe,
+// the BA's gauge, stays), normalised: the prior must neither push nor hold along it.
+BaVector scale_direction(const State& s) {
+  BaVector v = BaVector::Zero();
+  const Se3& oldest = s.kf[s.order[0]].T_cw;
+  const Vec3 c0 = -(oldest.R.transpose() * oldest.t);
+  for (std::uint32_t k = 1; k < s.kf_count; ++k) {
+    const Se3& T = s.kf[s.order[k]].T_cw;
+    v.segment<3>(Eigen::Index{8} * k) = -(T.R * (-(T.R.transpose() * T.t) - c0));
+  }
+  const double norm = v.norm();
+  return norm > 0 ? BaVector(v / norm) : v;
+}
+
+// The prior's Hessian D H D in window order (the BA's parameter layout).
+void prior_hessian_in_window(const State& s, const Window& win, BaMatrix& H) {
+  H.setZero();
+  if (!s.prior.set) return;
+  const BaVector D = prior_scaling(prior_at_current(s).inv_scale);
+  const BaMatrix DHD = D.asDiagonal() * s.prior.H * D.asDiagonal();
+  for (std::uint32_t si = 0; si < kMaxKeyframes; ++si) {
+    if (win.index[si] < 0) continue;
+    for (std::uint32_t sj = 0; sj < kMaxKeyframes; ++sj)
+      if (win.index[sj] >= 0)
+        H.block<8, 8>(Eigen::Index{8} * win.index[si], Eigen::Index{8} * win.index[sj]) =
+            DHD.block<8, 8>(Eigen::Index{8} * si, Eigen::Index{8} * sj);
+  }
+  const BaVector v = scale_direction(s);
+  const BaVector Hv = H * v;
+  H -= Hv * v.transpose() + v * Hv.transpose() - v.dot(Hv) * v * v.transpose();  // P H P
+}
+
+// The prior's half-gradient D (b + H d) at the current parameters in window order; returns its
+// energy in the photometric energy's units (twice the quadratic model).
+double prior_gradient_in_window(const State& s, const Window& win, BaVector& b) {
+  b.setZero();
+  if (!s.prior.set) return 0;
+  const PriorAtCurrent at = prior_at_current(s);
+  const BaVector g = prior_scaling(at.inv_scale).cwiseProduct(s.prior.b + s.prior.H * at.d);
+  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
+    if (win.index[slot] >= 0) b.segment<8>(Eigen::Index{8} * win.index[slot]) = g.segment<8>(Eigen::Index{8} * slot);
+  const BaVector v = scale_direction(s);
+  b -= v.dot(b) * v;
+  return 2 * s.prior.b.dot(at.d) + at.d.dot(s.prior.H * at.d);  // marginal_prior_energy()
+}
+
 void set_status(State& s, PointStatus from, PointStatus to) {
   for (Keyframe& kf : s.kf)
     if (kf.used)
@@ -242,6 +345,87 @@ void set_status(State& s, PointStatus from, PointStatus to) {
 
 double window_system(State& s) { return accumulate(s, window_of(s), true, false).energy; }
 
+double marginal_prior_energy(const State& s) {
+  if (!s.prior.set) return 0;
+  const PriorAtCurrent at = prior_at_current(s);
+  return 2 * s.prior.b.dot(at.d) + at.d.dot(s.prior.H * at.d);
+}
+
+void clear_marginal_prior(State& s) {
+  for (bool& in : s.prior.in_prior) in = false;
+  s.prior.H.setZero();
+  s.prior.b.setZero();
+  s.prior.set = false;
+}
+
+void marginalise_oldest_keyframe(State& s) {
+  if (s.kf_count < 2) return;
+  const std::uint32_t old = s.order[0];
+  const Window win = window_of(s);
+  const int n = static_cast<int>(8 * win.count);
+  const bool affine = s.cfg.photometric == Photometric::affine;
+  accumulate(s, win, true, false, static_cast<int>(old));
+  // Eliminate the retiring keyframe's points from their observations' system.
+  BaMatrix& H = s.ba_H;
+  BaVector& b = s.ba_b;
+  const std::uint32_t end = win.first[old] + win.points_of[old];
+  for (std::uint32_t pi = win.first[old]; pi < end; ++pi) {
+    const float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
+    if (row[kRowHrr] <= 0) continue;
+    const double hrr = row[kRowHrr] + 1e-6;
+    const float* coupling = row + kRowCoupling;
+    for (int q = 0; q < n; ++q) {
+      const double cq = coupling[q] / hrr;
+      if (cq == 0) continue;
+      b[q] -= cq * row[kRowGr];
+      for (int r = q; r < n; ++r) H(r, q) -= cq * coupling[r];
+    }
+  }
+  H = H.selfadjointView<Eigen::Lower>();
+  // Move the prior's linearisation point to the current parameters, then add the new terms
+  // (window order to slots).
+  if (s.prior.set) {
+    const PriorAtCurrent at = prior_at_current(s);
+    const BaVector D = prior_scaling(at.inv_scale);
+    s.prior.b = D.cwiseProduct(s.prior.b + s.prior.H * at.d);
+    s.prior.H = D.asDiagonal() * s.prior.H * D.asDiagonal();
+  }
+  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
+    const Keyframe& kf = s.kf[slot];
+    s.prior.in_prior[slot] = kf.used && slot != old;
+    if (kf.used) s.prior.T_cw[slot] = kf.T_cw, s.prior.a[slot] = kf.a, s.prior.b_offset[slot] = kf.b;
+  }
+  for (std::uint32_t si = 0; si < kMaxKeyframes; ++si) {
+    if (win.index[si] < 0) continue;
+    const Eigen::Index wi = Eigen::Index{8} * win.index[si], pi = Eigen::Index{8} * si;
+    s.prior.b.segment<8>(pi) += b.segment<8>(wi);
+    for (std::uint32_t sj = 0; sj < kMaxKeyframes; ++sj)
+      if (win.index[sj] >= 0)
+        s.prior.H.block<8, 8>(pi, Eigen::Index{8} * sj) += H.block<8, 8>(wi, Eigen::Index{8} * win.index[sj]);
+  }
+  // Brightness parameters the mode holds carry no information.
+  if (!affine)
+    for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
+      for (Eigen::Index q = 8 * Eigen::Index{slot} + 6; q < 8 * Eigen::Index{slot} + 8; ++q)
+        s.prior.H.row(q).setZero(), s.prior.H.col(q).setZero(), s.prior.b[q] = 0;
+  // Eliminate the retiring keyframe's own parameters.
+  const Eigen::Index o = Eigen::Index{8} * old, m = affine ? 8 : 6;
+  Eigen::Matrix<double, 8, 8> Hoo = s.prior.H.block<8, 8>(o, o);
+  for (Eigen::Index q = 0; q < m; ++q) Hoo(q, q) += 1e-9 * (1 + Hoo(q, q));
+  for (Eigen::Index q = m; q < 8; ++q) Hoo(q, q) = 1;
+  const Eigen::LDLT<Eigen::Matrix<double, 8, 8>> Hoo_ldlt(Hoo);
+  const Eigen::Matrix<double, 8, kMaxBaParams> Hor = s.prior.H.middleRows<8>(o);
+  const Eigen::Matrix<double, 8, kMaxBaParams> X = Hoo_ldlt.solve(Hor);
+  const Eigen::Matrix<double, 8, 1> y = Hoo_ldlt.solve(s.prior.b.segment<8>(o));
+  if (X.allFinite() && y.allFinite()) {
+    s.prior.H.noalias() -= Hor.transpose() * X;
+    s.prior.b.noalias() -= Hor.transpose() * y;
+  }
+  s.prior.H.middleRows<8>(o).setZero(), s.prior.H.middleCols<8>(o).setZero(), s.prior.b.segment<8>(o).setZero();
+  s.prior.H = (0.5 * (s.prior.H + s.prior.H.transpose())).eval();
+  s.prior.set = true;
+}
+
 void window_bundle_adjustment(State& s) {
   const Window win = window_of(s);
   // Eigen::Index is int on 32-bit boards: signed loop indices throughout.
@@ -250,10 +434,16 @@ void window_bundle_adjustment(State& s) {
   const bool affine = s.cfg.photometric == Photometric::affine;
   double lambda = 1e-3;
   bool outliers_marked = false;
+  BaMatrix& prior_H = s.ba_prior_H;
+  prior_hessian_in_window(s, win, prior_H);
+  BaVector prior_b;
   Totals cur = accumulate(s, win, true, false);
+  double prior_energy = prior_gradient_in_window(s, win, prior_b);
+  cur.energy += prior_energy;
   for (int it = 0; it < kIterations && cur.inliers > 0; ++it) {
     BaMatrix& H = s.ba_H;
-    BaVector b = s.ba_b;
+    if (s.prior.set) H += prior_H;
+    BaVector b = s.ba_b + prior_b;
     const std::uint32_t points = win.points;
     // Schur complement onto the keyframe parameters.
     BaMatrix Hs = H;
@@ -308,11 +498,15 @@ void window_bundle_adjustment(State& s) {
     // iteration no system is needed, so that trial only sums the energy and marks the outliers
     // (when it is accepted, as it usually is, no pass of its own is needed for them).
     const bool last = it + 1 == kIterations;
-    const Totals next = accumulate(s, win, !last, last);
+    Totals next = accumulate(s, win, !last, last);
+    BaVector next_prior_b;
+    const double next_prior_energy = prior_gradient_in_window(s, win, next_prior_b);
+    next.energy += next_prior_energy;
     if (last) outliers_marked = true;
     if (next.energy < cur.energy) {
       lambda = std::max(lambda * 0.5, 1e-6);
       cur = next;
+      prior_b = next_prior_b, prior_energy = next_prior_energy;
     } else {
       for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
         if (s.kf[slot].used) s.kf[slot].T_cw = saved_pose[slot], s.kf[slot].a = saved_a[slot], s.kf[slot].b = saved_b[slot];
@@ -322,7 +516,7 @@ void window_bundle_adjustment(State& s) {
       if (last) set_status(s, PointStatus::leaving, PointStatus::active), outliers_marked = false;
       // The refused trial overwrote the system: rebuild it at the restored parameters (an
       // energy-only trial leaves it alone).
-      if (!last) cur = accumulate(s, win, true, false);
+      if (!last) cur = accumulate(s, win, true, false), cur.energy += prior_energy;
     }
   }
   if (!outliers_marked) accumulate(s, win, false, true);

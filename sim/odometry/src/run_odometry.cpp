@@ -104,6 +104,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   config.photometric = options.photometric;
   config.tau_init_s = static_cast<float>(options.tau_init_s);
   config.window_ba = options.window_ba;
+  config.marginalisation_prior = options.marginalisation_prior;
   config.max_keyframes = options.max_keyframes;
   config.intensity_scale = static_cast<float>(options.intensity_scale);
   config.carry_coring = static_cast<float>(options.carry_coring);
@@ -302,6 +303,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"tau_estimated", options.estimate_tau},
                       {"carry_coring", options.carry_coring},
                       {"max_keyframes", options.max_keyframes},
+                      {"window_ba", options.window_ba},
+                      {"marginalisation_prior", options.window_ba && options.marginalisation_prior},
                       {"timing_from_options", summary.timing_from_options},
                       {"timing_assumed", summary.timing_assumed},
                       {"timing_assumed_s", summary.timing_assumed ? nlohmann::json(summary.assumed_half_period_s)

@@ -43,6 +43,10 @@ struct VoConfig {
   // gain than the simulator's then sees the same thresholds relative to its noise).
   float intensity_scale = 0.0f;
   bool window_ba = true;       // sliding-window bundle adjustment at every keyframe
+  // A retired keyframe's information stays as a prior on the window (DSO's marginalisation)
+  // instead of being dropped. Off by default: on the study's sequences it was no better overall
+  // (docs/odometry-study.md, "A marginalisation prior").
+  bool marginalisation_prior = false;
   // ir modes: the carry-over correction (deghosted minus raw) is kept only where it stands out
   // of its own noise: its part within carry_coring times that noise's sigma is left out of the
   // tracking image (a soft threshold). Deghosting is an inverse filter: at tau 12 ms and 60 Hz it

@@ -34,6 +34,7 @@ struct OdometryOptions {
   double intensity_scale = 0.0;
   double carry_coring = 1.0;  // vo::VoConfig::carry_coring
   bool window_ba = true;
+  bool marginalisation_prior = false;  // retired keyframes leave a prior on the window
   std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;  // sliding window, 2..8
   bool overwrite = false;
   std::optional<std::uint64_t> max_frames;
