@@ -45,9 +45,17 @@ int main() {
   for (int i = 59; i >= 0; i -= 6) frames.push_back(frames[static_cast<std::size_t>(i)]);
   std::vector<std::uint16_t> corrected(frames[0].size());
 
-  for (vo::Photometric mode : {vo::Photometric::none, vo::Photometric::affine, vo::Photometric::ir, vo::Photometric::ir_loop}) {
+  struct Run {
+    vo::Photometric mode;
+    bool marginalisation_prior;  // with a window of 3, so that keyframes retire into it
+  };
+  for (const Run run : {Run{vo::Photometric::none, false}, Run{vo::Photometric::affine, false},
+                        Run{vo::Photometric::ir, false}, Run{vo::Photometric::ir_loop, false},
+                        Run{vo::Photometric::affine, true}}) {
+    const vo::Photometric mode = run.mode;
     vo::VoConfig cfg;
     cfg.width = 160, cfg.height = 120, cfg.camera = seq.intrinsics(), cfg.photometric = mode;
+    if (run.marginalisation_prior) cfg.marginalisation_prior = true, cfg.max_keyframes = 3;
     std::vector<std::byte> arena(vo::Odometry::arena_bytes(cfg));
     vo::Odometry odometry(cfg, arena);
     check(odometry.ok(), "set up");
@@ -64,9 +72,11 @@ int main() {
       posed += r.has_pose, keyframes += r.keyframe;
     }
     g_counting = false;
-    std::printf("%s: %u of %zu frames posed, %u keyframes, %ld allocations\n", vo::to_string(mode), posed,
-                frames.size(), keyframes, g_allocations.load());
+    std::printf("%s%s: %u of %zu frames posed, %u keyframes, %ld allocations\n", vo::to_string(mode),
+                run.marginalisation_prior ? " (marginalisation prior)" : "", posed, frames.size(), keyframes,
+                g_allocations.load());
     check(posed > 10 && keyframes > 1, "the VO tracked and made keyframes (the paths ran)");
+    if (run.marginalisation_prior) check(keyframes > cfg.max_keyframes, "keyframes retired into the prior");
     check(g_allocations.load() == 0, "no heap allocation while processing frames");
   }
   return failures == 0 ? 0 : 1;
