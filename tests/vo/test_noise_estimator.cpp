@@ -65,7 +65,7 @@ double measured_sigma(double white_sigma, double row_sigma, double fixed_pattern
 
 }  // namespace
 
-TEST_CASE("the VO measures the temporal pixel noise of a moving textured scene", "[vo][tau][noise]") {
+TEST_CASE("the VO measures the temporal pixel noise of a moving textured scene", "[vo][tau][noise][long]") {
   for (const double sigma : {2.0, 3.0, 6.0}) {
     // Whole counts add 1/12 count^2 of rounding noise.
     const double expected = std::sqrt(sigma * sigma + 1.0 / 12.0);

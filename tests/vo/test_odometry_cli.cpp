@@ -164,7 +164,7 @@ TEST_CASE("every photometric mode runs on a ghosting sequence", "[vo][cli]") {
   }
 }
 
-TEST_CASE("the ir modes track a ghosting drive and estimate tau", "[vo][cli][tau]") {
+TEST_CASE("the ir modes track a ghosting drive and estimate tau", "[vo][cli][tau][long]") {
   // 2.5 s of street/drive at 60 Hz with tau 12 ms, rendered over each pixel's area (3 x 3 rays,
   // as a lens and a pixel integrate; one ray per pixel aliases, see docs/odometry-study.md).
   // Measured with the marginalised tau fit and the fresh-start initialiser: ATE 0.08-0.1 % of the
@@ -184,7 +184,7 @@ TEST_CASE("the ir modes track a ghosting drive and estimate tau", "[vo][cli][tau
   }
 }
 
-TEST_CASE("the tau estimate does not depend on its start (handheld, tau 8 ms)", "[vo][cli][tau]") {
+TEST_CASE("the tau estimate does not depend on its start (handheld, tau 8 ms)", "[vo][cli][tau][long]") {
   // 2.5 s of street/handheld at 60 Hz with tau 8 ms (3 x 3 rays), `ir` started from 10 and from
   // 15 ms. The estimate used to glide slowly from its start, because each frame's pose is tracked
   // on the image made with the current tau and the carry-over pairs were sampled at that pose:
@@ -209,7 +209,7 @@ TEST_CASE("the tau estimate does not depend on its start (handheld, tau 8 ms)", 
   CHECK(std::abs(tau_2s[0] - tau_2s[1]) < 0.001);
 }
 
-TEST_CASE("repeated frames are skipped and break the carry-over chain", "[vo][cli][tau]") {
+TEST_CASE("repeated frames are skipped and break the carry-over chain", "[vo][cli][tau][long]") {
   // The simulator's frame_duplication effect: every 10th frame repeats the one before bit for
   // bit, and the sensor frame it stands for never arrives (2.5 s of street/drive, 60 Hz, tau
   // 12 ms, 3 x 3 rays). Taken as frames, the repeats paired identical frames as carry-over and
@@ -244,7 +244,7 @@ TEST_CASE("repeated frames are skipped and break the carry-over chain", "[vo][cl
   }
 }
 
-TEST_CASE("dead pixels do not pull the tau estimate", "[vo][cli][tau]") {
+TEST_CASE("dead pixels do not pull the tau estimate", "[vo][cli][tau][long]") {
   // Ten pixels stuck at 0 or full scale (the simulator's dead_pixels; no bad-pixel replacement
   // in front of the VO), 2.5 s of street/drive, 60 Hz, tau 12 ms, 3 x 3 rays. A dead pixel in a
   // carry-over sample's interpolation footprint puts a step of thousands of counts into A and B
@@ -261,7 +261,7 @@ TEST_CASE("dead pixels do not pull the tau estimate", "[vo][cli][tau]") {
   }
 }
 
-TEST_CASE("shutter events give tau from their step response and reset the offset", "[vo][cli][tau]") {
+TEST_CASE("shutter events give tau from their step response and reset the offset", "[vo][cli][tau][long]") {
   // 2.5 s of street/drive, 60 Hz, tau 10 ms, rendered with 6 x 6 rays (smooth images, where the
   // carry-over pairs read tau 27-52 % high: odometry-study.md, "Render smoothness"), with a flagged
   // shutter event every 50 frames: the pixels settle on the shutter and the camera's offset jumps
@@ -291,7 +291,7 @@ TEST_CASE("shutter events give tau from their step response and reset the offset
   }
 }
 
-TEST_CASE("the ir modes hold when exposure and readout split the frame unevenly", "[vo][cli][tau]") {
+TEST_CASE("the ir modes hold when exposure and readout split the frame unevenly", "[vo][cli][tau][long]") {
   // 2.5 s of street/drive, 60 Hz, tau 10 ms, 3 x 3 rays, with t_e 12.5 / t_r 4.1 ms and the other
   // way round. The scene estimate's static level is (1 - alpha) / beta times the raw one, which
   // moves with tau unless t_e = t_r; the tracking images are now scaled back to the raw level.
@@ -317,7 +317,7 @@ TEST_CASE("the ir modes hold when exposure and readout split the frame unevenly"
   }
 }
 
-TEST_CASE("the ir modes initialise on a handheld walk within a fifth of a second", "[vo][cli][init]") {
+TEST_CASE("the ir modes initialise on a handheld walk within a fifth of a second", "[vo][cli][init][long]") {
   // 1 s of street/handheld (walking forward along the optical axis with hand shake) at 60 Hz,
   // tau 15 ms. Forward motion is the hard case of monocular initialisation: the warm-started
   // solve used to keep a lateral translation that a wrong rotation cancelled (35-45 degrees off)
@@ -335,7 +335,7 @@ TEST_CASE("the ir modes initialise on a handheld walk within a fifth of a second
   }
 }
 
-TEST_CASE("every photometric mode holds on a drone's view of the road", "[vo][cli]") {
+TEST_CASE("every photometric mode holds on a drone's view of the road", "[vo][cli][long]") {
   // The flyover: image motion across a near-planar ground seen 40-50 degrees down, which the VO
   // was not developed on (the study's "A trajectory the VO was not developed on"; over 4 s the IR
   // modes still lose the scale on seed 3). Measured when written: none / affine 0.94 / 0.91 % of
@@ -352,7 +352,7 @@ TEST_CASE("every photometric mode holds on a drone's view of the road", "[vo][cl
   }
 }
 
-TEST_CASE("the ir modes hold the scale on a handheld sequence once the carry-over correction is cored", "[vo][cli]") {
+TEST_CASE("the ir modes hold the scale on a handheld sequence once the carry-over correction is cored", "[vo][cli][long]") {
   // The full correction (the paper's, --carry-coring 0) is an inverse filter: at tau 12 ms and
   // 60 Hz it leaves 2.2 times the pixel noise in still image regions, and on this handheld
   // sequence the map's scale drifted. Measured when written (3 s, seed 2): ir 0.23 % of the path,
@@ -405,7 +405,7 @@ TEST_CASE("odometry: --hfov stands in for a missing camera.json", "[vo][cli]") {
         std::string::npos);
 }
 
-TEST_CASE("odometry: a lens with distortion is resampled onto a pinhole", "[vo][cli][remap]") {
+TEST_CASE("odometry: a lens with distortion is resampled onto a pinhole", "[vo][cli][remap][long]") {
   TempDir tmp;
   const fs::path seq = tmp / "barrel";
   REQUIRE(run_bolo({"simulate", seq.string(), "--scene", "street", "--trajectory", "drive", "--fps", "60", "--frames",
@@ -466,7 +466,7 @@ fs::path with_gain(const fs::path& seq, const fs::path& out, double gain) {
   return out;
 }
 
-TEST_CASE("odometry: frames with five times the counts track as the originals", "[vo][cli][tau]") {
+TEST_CASE("odometry: frames with five times the counts track as the originals", "[vo][cli][tau][long]") {
   // The VO's thresholds in counts (Huber, gradient weight, point selection, tau prior) were tuned
   // on the simulator's scale; they now follow the measured pixel noise above 4 counts. Measured
   // when written (160x120, 3 x 3 rays, 180 frames, seed 1, tau 10 ms, noise 3, x5): with the

@@ -70,7 +70,7 @@ double estimate_after_2s(unsigned supersample, double tau, double tau_start, con
 
 }  // namespace
 
-TEST_CASE("tau estimate converges to the bolometer's time constant with true geometry", "[vo][tau]") {
+TEST_CASE("tau estimate converges to the bolometer's time constant with true geometry", "[vo][tau][long]") {
   struct Case {
     double tau, start;
   };
@@ -81,7 +81,7 @@ TEST_CASE("tau estimate converges to the bolometer's time constant with true geo
   }
 }
 
-TEST_CASE("tau estimate with twice the pixel noise (handheld)", "[vo][tau]") {
+TEST_CASE("tau estimate with twice the pixel noise (handheld)", "[vo][tau][long]") {
   // The pixel noise in the carry-over pairs biases alpha low, and eliminating the poses and depths
   // leaves it a larger share of what remains; the estimator subtracts the noise's expected share,
   // with the noise measured from the frames (noise_estimator.cpp). Handheld, tau 15 ms, 6 counts,
