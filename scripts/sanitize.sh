@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Sanitizer run for CI: builds the `asan` preset (gcc, AddressSanitizer + UndefinedBehaviorSanitizer,
-# RelWithDebInfo, errors fatal) into build-asan and runs the whole host test suite there, the
-# fuzz corpus and regression replays included; then the `tsan` preset (ThreadSanitizer) on the
-# threaded code. See docs/hardening.md.
+# -O2 -g1, errors fatal) into build-asan and runs the host test suite there, the fuzz corpus and
+# regression replays included, the VO's long accuracy tests (label vo-long) left out; then the
+# `tsan` preset (ThreadSanitizer) on the threaded code. See docs/hardening.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --preset asan >/dev/null

@@ -259,7 +259,8 @@ double marginal_prior_energy(const State& s);
 // The window's robust photometric energy at the current parameters, with the Gauss-Newton system
 // of the keyframe parameters (before the points are eliminated) left in s.ba_H (lower and upper
 // blocks) and s.ba_b; keyframe k's 8 parameters (left pose increment, a, b) start at 8 * its
-// place in s.order. What window_bundle_adjustment() solves; exposed for tests.
+// place in s.order. What window_bundle_adjustment() solves, less the marginalisation prior;
+// exposed for tests.
 double window_system(State& s);
 void refine_tau(State& s);
 // A shutter event's step response gave `tau_s` (tau_estimator.cpp; 0: none in range): from the
