@@ -19,6 +19,9 @@ namespace {
 
 constexpr int kIterations = 4;
 
+// The first of slot (or window place) k's 8 parameters; Eigen::Index is int on 32-bit boards.
+Eigen::Index block8(std::uint32_t k) { return static_cast<Eigen::Index>(8 * k); }
+
 struct Totals {
   double energy = 0;
   std::uint32_t blocks = 0, inliers = 0;
@@ -276,7 +279,7 @@ PriorAtCurrent prior_at_current(const State& s) {
     d.head<6>() = (kf.T_cw * lin.inverse()).log();
     d.head<3>() *= out.inv_scale;
     d[6] = kf.a - s.prior.a[slot], d[7] = kf.b - s.prior.b_offset[slot];
-    out.d.segment<8>(Eigen::Index{8} * slot) = d;
+    out.d.segment<8>(block8(slot)) = d;
   }
   return out;
 }
@@ -284,7 +287,7 @@ PriorAtCurrent prior_at_current(const State& s) {
 // D as a vector, by slot.
 BaVector prior_scaling(double inv_scale) {
   BaVector D = BaVector::Ones();
-  for (Eigen::Index slot = 0; slot < kMaxKeyframes; ++slot) D.segment<3>(8 * slot).setConstant(inv_scale);
+  for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) D.segment<3>(block8(slot)).setConstant(inv_scale);
   return D;
 }
 
@@ -296,7 +299,7 @@ BaVector scale_direction(const State& s) {
   const Vec3 c0 = -(oldest.R.transpose() * oldest.t);
   for (std::uint32_t k = 1; k < s.kf_count; ++k) {
     const Se3& T = s.kf[s.order[k]].T_cw;
-    v.segment<3>(Eigen::Index{8} * k) = -(T.R * (-(T.R.transpose() * T.t) - c0));
+    v.segment<3>(block8(k)) = -(T.R * (-(T.R.transpose() * T.t) - c0));
   }
   const double norm = v.norm();
   return norm > 0 ? BaVector(v / norm) : v;
@@ -313,7 +316,7 @@ void prior_hessian_in_window(const State& s, const Window& win, BaMatrix& H) {
     for (std::uint32_t sj = 0; sj < kMaxKeyframes; ++sj)
       if (win.index[sj] >= 0)
         H.block<8, 8>(Eigen::Index{8} * win.index[si], Eigen::Index{8} * win.index[sj]) =
-            DHD.block<8, 8>(Eigen::Index{8} * si, Eigen::Index{8} * sj);
+            DHD.block<8, 8>(block8(si), block8(sj));
   }
   const BaVector v = scale_direction(s);
   const BaVector Hv = H * v;
@@ -328,7 +331,7 @@ double prior_gradient_in_window(const State& s, const Window& win, BaVector& b) 
   const PriorAtCurrent at = prior_at_current(s);
   const BaVector g = prior_scaling(at.inv_scale).cwiseProduct(s.prior.b + s.prior.H * at.d);
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
-    if (win.index[slot] >= 0) b.segment<8>(Eigen::Index{8} * win.index[slot]) = g.segment<8>(Eigen::Index{8} * slot);
+    if (win.index[slot] >= 0) b.segment<8>(Eigen::Index{8} * win.index[slot]) = g.segment<8>(block8(slot));
   const BaVector v = scale_direction(s);
   b -= v.dot(b) * v;
   return 2 * s.prior.b.dot(at.d) + at.d.dot(s.prior.H * at.d);  // marginal_prior_energy()
@@ -397,19 +400,19 @@ void marginalise_oldest_keyframe(State& s) {
   }
   for (std::uint32_t si = 0; si < kMaxKeyframes; ++si) {
     if (win.index[si] < 0) continue;
-    const Eigen::Index wi = Eigen::Index{8} * win.index[si], pi = Eigen::Index{8} * si;
+    const Eigen::Index wi = Eigen::Index{8} * win.index[si], pi = block8(si);
     s.prior.b.segment<8>(pi) += b.segment<8>(wi);
     for (std::uint32_t sj = 0; sj < kMaxKeyframes; ++sj)
       if (win.index[sj] >= 0)
-        s.prior.H.block<8, 8>(pi, Eigen::Index{8} * sj) += H.block<8, 8>(wi, Eigen::Index{8} * win.index[sj]);
+        s.prior.H.block<8, 8>(pi, block8(sj)) += H.block<8, 8>(wi, Eigen::Index{8} * win.index[sj]);
   }
   // Brightness parameters the mode holds carry no information.
   if (!affine)
     for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
-      for (Eigen::Index q = 8 * Eigen::Index{slot} + 6; q < 8 * Eigen::Index{slot} + 8; ++q)
+      for (Eigen::Index q = block8(slot) + 6; q < block8(slot) + 8; ++q)
         s.prior.H.row(q).setZero(), s.prior.H.col(q).setZero(), s.prior.b[q] = 0;
   // Eliminate the retiring keyframe's own parameters.
-  const Eigen::Index o = Eigen::Index{8} * old, m = affine ? 8 : 6;
+  const Eigen::Index o = block8(old), m = affine ? 8 : 6;
   Eigen::Matrix<double, 8, 8> Hoo = s.prior.H.block<8, 8>(o, o);
   for (Eigen::Index q = 0; q < m; ++q) Hoo(q, q) += 1e-9 * (1 + Hoo(q, q));
   for (Eigen::Index q = m; q < 8; ++q) Hoo(q, q) = 1;
