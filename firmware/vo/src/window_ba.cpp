@@ -20,7 +20,7 @@ namespace {
 constexpr int kIterations = 4;
 
 // The first of slot (or window place) k's 8 parameters; Eigen::Index is int on 32-bit boards.
-Eigen::Index block8(std::uint32_t k) { return static_cast<Eigen::Index>(8 * k); }
+Eigen::Index block8(std::uint32_t k) { return 8 * static_cast<Eigen::Index>(k); }
 
 struct Totals {
   double energy = 0;
