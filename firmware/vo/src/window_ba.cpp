@@ -249,6 +249,8 @@ struct PriorAtCurrent {
   double inv_scale = 1;           // 1/k: D's translation entries
 };
 
+Vec3 camera_centre(const Se3& T_cw) { return -(T_cw.R.transpose() * T_cw.t); }
+
 PriorAtCurrent prior_at_current(const State& s) {
   PriorAtCurrent out;
   Vec3 centroid_now = Vec3::Zero(), centroid_lin = Vec3::Zero();
@@ -258,7 +260,7 @@ PriorAtCurrent prior_at_current(const State& s) {
     if (!s.kf[slot].used || !s.prior.in_prior[slot]) continue;
     const Se3& now = s.kf[slot].T_cw;
     const Se3& lin = s.prior.T_cw[slot];
-    centre_now[slot] = -(now.R.transpose() * now.t), centre_lin[slot] = -(lin.R.transpose() * lin.t);
+    centre_now[slot] = camera_centre(now), centre_lin[slot] = camera_centre(lin);
     centroid_now += centre_now[slot], centroid_lin += centre_lin[slot], ++n;
   }
   double spread_now = 0, spread_lin = 0;
@@ -291,15 +293,24 @@ BaVector prior_scaling(double inv_scale) {
   return D;
 }
 
+// The prior's half-gradient D (b + H d) by slot, and its energy in the photometric energy's
+// units (twice the quadratic model).
+BaVector prior_gradient(const State& s, const PriorAtCurrent& at) {
+  return prior_scaling(at.inv_scale).cwiseProduct(s.prior.b + s.prior.H * at.d);
+}
+double prior_energy(const State& s, const PriorAtCurrent& at) {
+  return 2 * s.prior.b.dot(at.d) + at.d.dot(s.prior.H * at.d);
+}
+
 // The current window's scale direction in window order (left increments; the oldest keyframe,
 // the BA's gauge, stays), normalised: the prior must neither push nor hold along it.
 BaVector scale_direction(const State& s) {
   BaVector v = BaVector::Zero();
   const Se3& oldest = s.kf[s.order[0]].T_cw;
-  const Vec3 c0 = -(oldest.R.transpose() * oldest.t);
+  const Vec3 c0 = camera_centre(oldest);
   for (std::uint32_t k = 1; k < s.kf_count; ++k) {
     const Se3& T = s.kf[s.order[k]].T_cw;
-    v.segment<3>(block8(k)) = -(T.R * (-(T.R.transpose() * T.t) - c0));
+    v.segment<3>(block8(k)) = -(T.R * (camera_centre(T) - c0));
   }
   const double norm = v.norm();
   return norm > 0 ? BaVector(v / norm) : v;
@@ -323,18 +334,17 @@ void prior_hessian_in_window(const State& s, const Window& win, BaMatrix& H) {
   H -= Hv * v.transpose() + v * Hv.transpose() - v.dot(Hv) * v * v.transpose();  // P H P
 }
 
-// The prior's half-gradient D (b + H d) at the current parameters in window order; returns its
-// energy in the photometric energy's units (twice the quadratic model).
+// The prior's half-gradient at the current parameters in window order; returns its energy.
 double prior_gradient_in_window(const State& s, const Window& win, BaVector& b) {
   b.setZero();
   if (!s.prior.set) return 0;
   const PriorAtCurrent at = prior_at_current(s);
-  const BaVector g = prior_scaling(at.inv_scale).cwiseProduct(s.prior.b + s.prior.H * at.d);
+  const BaVector g = prior_gradient(s, at);
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
     if (win.index[slot] >= 0) b.segment<8>(Eigen::Index{8} * win.index[slot]) = g.segment<8>(block8(slot));
   const BaVector v = scale_direction(s);
   b -= v.dot(b) * v;
-  return 2 * s.prior.b.dot(at.d) + at.d.dot(s.prior.H * at.d);  // marginal_prior_energy()
+  return prior_energy(s, at);
 }
 
 void set_status(State& s, PointStatus from, PointStatus to) {
@@ -348,11 +358,7 @@ void set_status(State& s, PointStatus from, PointStatus to) {
 
 double window_system(State& s) { return accumulate(s, window_of(s), true, false).energy; }
 
-double marginal_prior_energy(const State& s) {
-  if (!s.prior.set) return 0;
-  const PriorAtCurrent at = prior_at_current(s);
-  return 2 * s.prior.b.dot(at.d) + at.d.dot(s.prior.H * at.d);
-}
+double marginal_prior_energy(const State& s) { return s.prior.set ? prior_energy(s, prior_at_current(s)) : 0.0; }
 
 void clear_marginal_prior(State& s) {
   for (bool& in : s.prior.in_prior) in = false;
@@ -390,7 +396,7 @@ void marginalise_oldest_keyframe(State& s) {
   if (s.prior.set) {
     const PriorAtCurrent at = prior_at_current(s);
     const BaVector D = prior_scaling(at.inv_scale);
-    s.prior.b = D.cwiseProduct(s.prior.b + s.prior.H * at.d);
+    s.prior.b = prior_gradient(s, at);
     s.prior.H = D.asDiagonal() * s.prior.H * D.asDiagonal();
   }
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
