@@ -33,7 +33,9 @@ Command add_evaluate_command(CLI::App& parent) {
       "total tracked points, map points on the road plane (|z| < 0.3 m after alignment) with the\n"
       "plane fit's RMSE/std, line fits of the camera positions on straight segments of the true\n"
       "path (heading within 2 degrees for >= 1 s), and the tau estimate against the simulation's\n"
-      "truth/effects.json when present. --json writes the same as one JSON object.");
+      "truth/effects.json when present. A run that restarted after losing the track is a chain of\n"
+      "maps, each with its own scale and origin: each tracking segment is also aligned on its own\n"
+      "(its ATE and scale; the ATE over the segments). --json writes the same as one JSON object.");
   app->add_option("RUN", o->run, "Output folder of `bolo odometry`")->required();
   app->add_option("--truth", o->truth, "Ground-truth TUM file (default: <recording>/poses.tum)");
   app->add_option("--json", o->json, "Write the metrics as JSON to this file");

@@ -54,6 +54,36 @@ std::vector<StatsRow> read_stats(const fs::path& file) {
   return rows;
 }
 
+// The tracking segment of each stats row: a restart (an `initialising` row after a posed one)
+// begins a new one. Rows that were never posed keep the segment they are in.
+std::vector<std::size_t> segment_of_rows(const std::vector<StatsRow>& stats) {
+  std::vector<std::size_t> segment(stats.size(), 0);
+  std::size_t current = 0;
+  bool posed_in_current = false;
+  for (std::size_t i = 0; i < stats.size(); ++i) {
+    if (stats[i].state == "initialising" && posed_in_current) ++current, posed_in_current = false;
+    if (stats[i].state == "tracking") posed_in_current = true;
+    segment[i] = current;
+  }
+  return segment;
+}
+
+// Each matched pose's segment, through the stats row of its time (nearest within half a period).
+std::vector<std::size_t> segment_of_matches(const std::vector<StampedPose>& est, const Association& a,
+                                            const std::vector<StatsRow>& stats, double period, const fs::path& run) {
+  const std::vector<std::size_t> row_segment = segment_of_rows(stats);
+  std::vector<std::size_t> out;
+  std::size_t row = 0;
+  for (const std::size_t e : a.estimate) {
+    const double t = est[e].t;
+    while (row + 1 < stats.size() && std::fabs(stats[row + 1].t - t) <= std::fabs(stats[row].t - t)) ++row;
+    if (stats.empty() || std::fabs(stats[row].t - t) > 0.5 * period)
+      throw Error((run / "trajectory.tum").string() + ": pose at t = " + std::to_string(t) + " s has no row in stats.csv");
+    out.push_back(row_segment[row]);
+  }
+  return out;
+}
+
 double yaw_of(const vo::Vec3& d) { return std::atan2(d.y(), d.x()); }
 double angle_diff(double a, double b) {
   double d = a - b;
@@ -103,6 +133,34 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
   e.ate_rmse = std::sqrt(sq / static_cast<double>(from.size()));
   for (std::size_t k = 1; k < to.size(); ++k) e.path_length_m += (to[k] - to[k - 1]).norm();
   e.ate_rmse_relative = e.path_length_m > 0 ? e.ate_rmse / e.path_length_m : 0;
+
+  // The same per tracking segment, each with its own alignment.
+  const std::vector<std::size_t> match_segment = segment_of_matches(est, a, stats, period, options.run);
+  double segments_sq = 0, segments_path = 0;
+  std::size_t segments_n = 0;
+  for (std::size_t k = 0; k < from.size();) {
+    std::size_t m = k;
+    while (m < from.size() && match_segment[m] == match_segment[k]) ++m;
+    TrackedSegment seg;
+    seg.first_t = est[a.estimate[k]].t, seg.last_t = est[a.estimate[m - 1]].t, seg.poses = m - k;
+    for (std::size_t q = k + 1; q < m; ++q) seg.path_length_m += (to[q] - to[q - 1]).norm();
+    if (seg.poses >= 3) {
+      const std::vector<vo::Vec3> seg_from(from.begin() + static_cast<std::ptrdiff_t>(k), from.begin() + static_cast<std::ptrdiff_t>(m));
+      const std::vector<vo::Vec3> seg_to(to.begin() + static_cast<std::ptrdiff_t>(k), to.begin() + static_cast<std::ptrdiff_t>(m));
+      const Similarity seg_sim = umeyama(seg_from, seg_to, true);
+      double seg_sq = 0;
+      for (std::size_t q = 0; q < seg_from.size(); ++q) seg_sq += (seg_sim.apply(seg_from[q]) - seg_to[q]).squaredNorm();
+      seg.ate_rmse = std::sqrt(seg_sq / static_cast<double>(seg.poses));
+      seg.scale = seg_sim.s;
+      segments_sq += seg_sq, segments_n += seg.poses, segments_path += seg.path_length_m;
+    }
+    e.segments.push_back(seg);
+    k = m;
+  }
+  if (segments_n) {
+    e.segments_ate_rmse = std::sqrt(segments_sq / static_cast<double>(segments_n));
+    e.segments_ate_relative = segments_path > 0 ? e.segments_ate_rmse / segments_path : 0;
+  }
 
   // RPE over rpe_delta_s: relative motions of the estimate (scaled) against the truth's.
   double rpe_t = 0, rpe_r = 0;
@@ -207,6 +265,14 @@ nlohmann::json to_json(const Evaluation& e) {
   j["tau_c_at_2s_s"] = e.tau_c_at_2s ? nlohmann::json(*e.tau_c_at_2s) : nlohmann::json(nullptr);
   j["tau_c_error_final"] = e.tau_c_error_final ? nlohmann::json(*e.tau_c_error_final) : nlohmann::json(nullptr);
   j["tau_c_error_2s"] = e.tau_c_error_2s ? nlohmann::json(*e.tau_c_error_2s) : nlohmann::json(nullptr);
+  nlohmann::json segments = nlohmann::json::array();
+  for (const TrackedSegment& seg : e.segments)
+    segments.push_back({{"first_t_s", seg.first_t}, {"last_t_s", seg.last_t}, {"poses", seg.poses},
+                        {"ate_rmse_m", seg.ate_rmse ? nlohmann::json(*seg.ate_rmse) : nlohmann::json(nullptr)},
+                        {"path_length_m", seg.path_length_m}, {"scale", seg.scale}});
+  j["segments"] = segments;
+  j["segments_ate_rmse_m"] = e.segments_ate_rmse;
+  j["segments_ate_relative"] = e.segments_ate_relative;
   return j;
 }
 
@@ -228,6 +294,19 @@ std::string to_table(const Evaluation& e) {
   row("keyframes", std::to_string(e.keyframes));
   row("reinitialisations", std::to_string(e.reinitialisations));
   row("ATE rmse (Sim3)", num(e.ate_rmse, "%.3f m") + num(100 * e.ate_rmse_relative, " (%.2f %% of ") + num(e.path_length_m, "%.1f m)"));
+  if (e.segments.size() > 1) {
+    row("tracking segments", std::to_string(e.segments.size()) + " (a restart begins a new map: each aligned on its own)");
+    for (std::size_t i = 0; i < e.segments.size(); ++i) {
+      const TrackedSegment& seg = e.segments[i];
+      const std::string ate = seg.ate_rmse ? num(*seg.ate_rmse, "ATE %.3f m") +
+                                                 num(seg.path_length_m > 0 ? 100 * *seg.ate_rmse / seg.path_length_m : 0.0, " (%.2f %% of ") +
+                                                 num(seg.path_length_m, "%.1f m)") + num(seg.scale, ", scale %.3g")
+                                           : std::string("too short to align");
+      row(("  segment " + std::to_string(i + 1)).c_str(),
+          num(seg.first_t, "%.2f-") + num(seg.last_t, "%.2f s, ") + std::to_string(seg.poses) + " poses, " + ate);
+    }
+    row("ATE over the segments", num(e.segments_ate_rmse, "%.3f m") + num(100 * e.segments_ate_relative, " (%.2f %% of their path)"));
+  }
   row("RPE trans / rot", num(e.rpe_trans_rmse, "%.3f m / ") + num(e.rpe_rot_rmse_deg, "%.2f deg"));
   row("tracked points (total)", std::to_string(e.tracked_points_total));
   row("map / road points", std::to_string(e.map_points) + " / " + std::to_string(e.road_points));

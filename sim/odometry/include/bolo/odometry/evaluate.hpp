@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +16,16 @@ struct EvaluateOptions {
   std::optional<std::filesystem::path> truth;  // default: <recording>/poses.tum from summary.json
   double rpe_delta_s = 1.0;
   double road_band_m = 0.3;                   // |z| below this (aligned) counts as road plane
+};
+
+// A stretch of the trajectory between restarts (the VO reinitialised after losing the track):
+// each starts a new map with its own scale and origin, so it is aligned on its own as well.
+struct TrackedSegment {
+  double first_t = 0, last_t = 0;  // of its poses, seconds
+  std::size_t poses = 0;           // matched with the ground truth
+  std::optional<double> ate_rmse;  // metres, after its own Sim(3) alignment (3 poses or more)
+  double path_length_m = 0;        // of the ground truth over its poses
+  double scale = 1;
 };
 
 struct Evaluation {
@@ -38,6 +49,10 @@ struct Evaluation {
   std::optional<double> tau_c_at_2s;   // estimate 2 s after tracking started
   std::optional<double> tau_c_error_final, tau_c_error_2s;  // relative
   double vo_ms_per_frame = 0;
+  std::vector<TrackedSegment> segments;
+  // Over the segments with an alignment, each aligned on its own: how well the VO tracks where it
+  // tracks, apart from the scale and origin each restart begins anew.
+  double segments_ate_rmse = 0, segments_ate_relative = 0;
 };
 
 Evaluation evaluate_run(const EvaluateOptions& options);
