@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bolo/odometry/evaluate.hpp"
+#include "bolo/odometry/trajectory_plot.hpp"
 #include "bolo/odometry/tum.hpp"
 #include "../test_support.hpp"
 
@@ -152,4 +153,34 @@ TEST_CASE("evaluate refuses a pose without a stats row", "[vo][evaluate][refusal
     CHECK(message.find("trajectory.tum: pose at t = 0.5") != std::string::npos);
     CHECK(message.find("has no row in stats.csv") != std::string::npos);
   }
+}
+
+TEST_CASE("the trajectory plot draws each tracking segment aligned on its own", "[vo][evaluate][plot]") {
+  std::vector<odo::StampedPose> truth, trajectory;
+  std::vector<std::size_t> segment;
+  for (int i = 0; i < 120; ++i) truth.push_back({i / kFps, truth_pose(i)});
+  for (int i = 10; i < 50; ++i) trajectory.push_back({i / kFps, in_map(truth_pose(i), 0.5, vo::Mat3::Identity(), vo::Vec3::Zero())}), segment.push_back(0);
+  for (int i = 70; i < 110; ++i) trajectory.push_back({i / kFps, in_map(truth_pose(i), 3.0, vo::Mat3::Identity(), vo::Vec3(5, 0, 0))}), segment.push_back(1);
+
+  const auto series = odo::trajectory_series(trajectory, segment, truth, 1 / kFps, "estimate (none)");
+  REQUIRE(series.size() == 3);  // the truth and two segments
+  CHECK(series[0].label == "ground truth");
+  CHECK(series[1].label == "estimate (none), segment 1 (aligned on its own)");
+  CHECK(series[2].points.size() == 40);
+  CHECK(series[1].colour != series[2].colour);
+  // Each segment lands on the truth it covers.
+  for (std::size_t k = 0; k < 40; ++k) {
+    CHECK((series[1].points[k] - truth[10 + k].T_wc.t).norm() < 1e-9);
+    CHECK((series[2].points[k] - truth[70 + k].T_wc.t).norm() < 1e-9);
+  }
+
+  // One segment: one series, aligned as a whole; without a truth, the segments still apart.
+  const std::vector<odo::StampedPose> first(trajectory.begin(), trajectory.begin() + 40);
+  const auto single = odo::trajectory_series(first, std::vector<std::size_t>(40, 0), truth, 1 / kFps, "estimate (ir)");
+  REQUIRE(single.size() == 2);
+  CHECK(single[1].label == "estimate (ir)");
+  const auto untruthed = odo::trajectory_series(trajectory, segment, std::nullopt, 1 / kFps, "estimate (ir)");
+  REQUIRE(untruthed.size() == 2);
+  CHECK(untruthed[1].label == "estimate (ir), segment 2");
+  CHECK(untruthed[1].points.front() == trajectory[40].T_wc.t);
 }

@@ -43,6 +43,37 @@ Similarity umeyama(const std::vector<vo::Vec3>& from, const std::vector<vo::Vec3
   return sim;
 }
 
+std::vector<std::size_t> tracking_segments(const std::vector<std::string>& states) {
+  std::vector<std::size_t> segment(states.size(), 0);
+  std::size_t current = 0;
+  bool posed_in_current = false;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    if (states[i] == "initialising" && posed_in_current) ++current, posed_in_current = false;
+    if (states[i] == "tracking") posed_in_current = true;
+    segment[i] = current;
+  }
+  return segment;
+}
+
+std::vector<SegmentAlignment> align_segments(const std::vector<vo::Vec3>& from, const std::vector<vo::Vec3>& to,
+                                             const std::vector<std::size_t>& segment_of) {
+  std::vector<SegmentAlignment> out;
+  for (std::size_t k = 0; k < from.size();) {
+    SegmentAlignment seg;
+    seg.begin = k;
+    while (k < from.size() && segment_of[k] == segment_of[seg.begin]) ++k;
+    seg.end = k;
+    if (seg.end - seg.begin >= 3) {
+      const auto first = static_cast<std::ptrdiff_t>(seg.begin), last = static_cast<std::ptrdiff_t>(seg.end);
+      const std::vector<vo::Vec3> f(from.begin() + first, from.begin() + last), t(to.begin() + first, to.begin() + last);
+      seg.similarity = umeyama(f, t, true);
+      for (std::size_t q = 0; q < f.size(); ++q) seg.squared_error += (seg.similarity->apply(f[q]) - t[q]).squaredNorm();
+    }
+    out.push_back(seg);
+  }
+  return out;
+}
+
 namespace {
 // Distances of points to the best-fitting affine subspace spanned by the top `dims` directions.
 Fit subspace_fit(const std::vector<vo::Vec3>& points, int dims) {

@@ -54,24 +54,12 @@ std::vector<StatsRow> read_stats(const fs::path& file) {
   return rows;
 }
 
-// The tracking segment of each stats row: a restart (an `initialising` row after a posed one)
-// begins a new one. Rows that were never posed keep the segment they are in.
-std::vector<std::size_t> segment_of_rows(const std::vector<StatsRow>& stats) {
-  std::vector<std::size_t> segment(stats.size(), 0);
-  std::size_t current = 0;
-  bool posed_in_current = false;
-  for (std::size_t i = 0; i < stats.size(); ++i) {
-    if (stats[i].state == "initialising" && posed_in_current) ++current, posed_in_current = false;
-    if (stats[i].state == "tracking") posed_in_current = true;
-    segment[i] = current;
-  }
-  return segment;
-}
-
 // Each matched pose's segment, through the stats row of its time (nearest within half a period).
 std::vector<std::size_t> segment_of_matches(const std::vector<StampedPose>& est, const Association& a,
                                             const std::vector<StatsRow>& stats, double period, const fs::path& run) {
-  const std::vector<std::size_t> row_segment = segment_of_rows(stats);
+  std::vector<std::string> states;
+  for (const StatsRow& r : stats) states.push_back(r.state);
+  const std::vector<std::size_t> row_segment = tracking_segments(states);
   std::vector<std::size_t> out;
   std::size_t row = 0;
   for (const std::size_t e : a.estimate) {
@@ -138,24 +126,16 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
   const std::vector<std::size_t> match_segment = segment_of_matches(est, a, stats, period, options.run);
   double segments_sq = 0, segments_path = 0;
   std::size_t segments_n = 0;
-  for (std::size_t k = 0; k < from.size();) {
-    std::size_t m = k;
-    while (m < from.size() && match_segment[m] == match_segment[k]) ++m;
+  for (const SegmentAlignment& fit : align_segments(from, to, match_segment)) {
     TrackedSegment seg;
-    seg.first_t = est[a.estimate[k]].t, seg.last_t = est[a.estimate[m - 1]].t, seg.poses = m - k;
-    for (std::size_t q = k + 1; q < m; ++q) seg.path_length_m += (to[q] - to[q - 1]).norm();
-    if (seg.poses >= 3) {
-      const std::vector<vo::Vec3> seg_from(from.begin() + static_cast<std::ptrdiff_t>(k), from.begin() + static_cast<std::ptrdiff_t>(m));
-      const std::vector<vo::Vec3> seg_to(to.begin() + static_cast<std::ptrdiff_t>(k), to.begin() + static_cast<std::ptrdiff_t>(m));
-      const Similarity seg_sim = umeyama(seg_from, seg_to, true);
-      double seg_sq = 0;
-      for (std::size_t q = 0; q < seg_from.size(); ++q) seg_sq += (seg_sim.apply(seg_from[q]) - seg_to[q]).squaredNorm();
-      seg.ate_rmse = std::sqrt(seg_sq / static_cast<double>(seg.poses));
-      seg.scale = seg_sim.s;
-      segments_sq += seg_sq, segments_n += seg.poses, segments_path += seg.path_length_m;
+    seg.first_t = est[a.estimate[fit.begin]].t, seg.last_t = est[a.estimate[fit.end - 1]].t, seg.poses = fit.end - fit.begin;
+    for (std::size_t q = fit.begin + 1; q < fit.end; ++q) seg.path_length_m += (to[q] - to[q - 1]).norm();
+    if (fit.similarity) {
+      seg.ate_rmse = std::sqrt(fit.squared_error / static_cast<double>(seg.poses));
+      seg.scale = fit.similarity->s;
+      segments_sq += fit.squared_error, segments_n += seg.poses, segments_path += seg.path_length_m;
     }
     e.segments.push_back(seg);
-    k = m;
   }
   if (segments_n) {
     e.segments_ate_rmse = std::sqrt(segments_sq / static_cast<double>(segments_n));

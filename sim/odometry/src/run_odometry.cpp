@@ -5,8 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -16,6 +19,7 @@
 #include "bolo/odometry/pinhole_remap.hpp"
 #include "bolo/odometry/plot.hpp"
 #include "bolo/odometry/ply.hpp"
+#include "bolo/odometry/trajectory_plot.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/vo/odometry.hpp"
 
@@ -179,6 +183,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   std::vector<std::uint16_t> raw(std::size_t{w} * h), previous_raw(raw.size());
   std::vector<std::uint16_t> distorted(remap.identity() ? 0 : raw.size());
   std::vector<StampedPose> trajectory;
+  std::vector<std::size_t> pose_frame;  // the frame of each trajectory pose
+  std::vector<std::string> states;      // every frame's VO state
   std::vector<vo::WorldPoint> points;
   std::ostringstream stats;
   stats << "index,t_s,state,tracked_points,keyframe,residual_rms,tau_h_s,tau_c_s,time_ms\n";
@@ -228,7 +234,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     for (const vo::WorldPoint& p : odometry.retired_points()) points.push_back(p);
     // A pose the VO reports but that has run away (scale blow-up) is not written as one.
     const bool sane = r.has_pose && r.T_wc.t.allFinite() && r.T_wc.R.allFinite() && r.T_wc.t.norm() < 1e6;
-    if (sane) trajectory.push_back({*row.t_s, r.T_wc}), ++summary.posed;
+    if (sane) trajectory.push_back({*row.t_s, r.T_wc}), pose_frame.push_back(i), ++summary.posed;
+    states.emplace_back(vo::to_string(r.state));
     summary.lost += r.state == vo::TrackingState::lost;
     summary.duplicates += r.state == vo::TrackingState::duplicate;
     summary.keyframes += r.keyframe;
@@ -261,25 +268,14 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   write_text(tmp.path / "points.ply", ply_text(points));
 
   // The plot: the estimate aligned (Sim(3)) onto the ground truth when there is one.
-  std::vector<PlotSeries> series;
-  PlotSeries estimate{"estimate (" + std::string(vo::to_string(options.photometric)) + ")", "#d62728", {}};
-  for (const StampedPose& p : trajectory) estimate.points.push_back(p.T_wc.t);
+  const std::vector<std::size_t> frame_segment = tracking_segments(states);
+  std::vector<std::size_t> pose_segment;
+  for (const std::size_t frame : pose_frame) pose_segment.push_back(frame_segment[frame]);
   const fs::path truth_file = recording.dir() / "poses.tum";
-  if (fs::exists(truth_file)) {
-    const std::vector<StampedPose> truth = read_tum(truth_file);
-    const Association a = associate(trajectory, truth, 0.5 * (period > 0 ? period : 0.01));
-    std::vector<vo::Vec3> from, to;
-    for (std::size_t k = 0; k < a.estimate.size(); ++k)
-      from.push_back(trajectory[a.estimate[k]].T_wc.t), to.push_back(truth[a.truth[k]].T_wc.t);
-    const Similarity sim = umeyama(from, to, true);
-    for (vo::Vec3& p : estimate.points) p = sim.apply(p);
-    PlotSeries gt{"ground truth", "#1f77b4", {}};
-    const double t_end = trajectory.empty() ? 0 : trajectory.back().t;
-    for (const StampedPose& p : truth)
-      if (p.t <= t_end + 1e-9) gt.points.push_back(p.T_wc.t);
-    series.push_back(gt);
-  }
-  series.push_back(estimate);
+  std::optional<std::vector<StampedPose>> truth;
+  if (fs::exists(truth_file)) truth = read_tum(truth_file);
+  const std::vector<PlotSeries> series = trajectory_series(
+      trajectory, pose_segment, truth, period, "estimate (" + std::string(vo::to_string(options.photometric)) + ")");
   write_text(tmp.path / "trajectory.svg", trajectory_svg("bolo odometry: " + recording.dir().filename().string() +
                                                              ", top view (x, y)", series));
   nlohmann::json shutter_json = nlohmann::json::array();
