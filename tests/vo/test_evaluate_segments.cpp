@@ -184,3 +184,17 @@ TEST_CASE("the trajectory plot draws each tracking segment aligned on its own", 
   CHECK(untruthed[1].label == "estimate (ir), segment 2");
   CHECK(untruthed[1].points.front() == trajectory[40].T_wc.t);
 }
+
+TEST_CASE("the trajectory plot numbers segments as evaluate lists them", "[vo][evaluate][plot]") {
+  std::vector<odo::StampedPose> truth, trajectory;
+  std::vector<std::size_t> segment;
+  for (int i = 0; i < 120; ++i) truth.push_back({i / kFps, truth_pose(i)});
+  // Segments 0 (20 poses), 1 (2 poses: too short to align), 2 (20 poses).
+  for (int i = 10; i < 30; ++i) trajectory.push_back({i / kFps, truth_pose(i)}), segment.push_back(0);
+  for (int i = 50; i < 52; ++i) trajectory.push_back({i / kFps, truth_pose(i)}), segment.push_back(1);
+  for (int i = 80; i < 100; ++i) trajectory.push_back({i / kFps, truth_pose(i)}), segment.push_back(2);
+  const auto series = odo::trajectory_series(trajectory, segment, truth, 1 / kFps, "estimate (ir)");
+  REQUIRE(series.size() == 3);
+  CHECK(series[1].label == "estimate (ir), segment 1 (aligned on its own)");
+  CHECK(series[2].label == "estimate (ir), segment 3 (aligned on its own)");
+}

@@ -12,9 +12,12 @@ std::vector<PlotSeries> trajectory_series(const std::vector<StampedPose>& trajec
   static const char* const kSegmentColours[] = {"#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2"};
   std::vector<PlotSeries> series;
   const bool segmented = !pose_segment.empty() && pose_segment.back() != pose_segment.front();
-  const auto segment_series = [&](std::size_t count) {
-    return PlotSeries{label + ", segment " + std::to_string(count + 1) + (truth ? " (aligned on its own)" : ""),
-                      kSegmentColours[count % std::size(kSegmentColours)], {}};
+  // Numbered and coloured by segment, as `bolo evaluate` lists them (a segment too short to align
+  // leaves its number unused).
+  const auto segment_series = [&](std::size_t segment) {
+    const std::size_t n = segment - pose_segment.front();
+    return PlotSeries{label + ", segment " + std::to_string(n + 1) + (truth ? " (aligned on its own)" : ""),
+                      kSegmentColours[n % std::size(kSegmentColours)], {}};
   };
   if (!truth) {
     if (!segmented) {
@@ -23,7 +26,7 @@ std::vector<PlotSeries> trajectory_series(const std::vector<StampedPose>& trajec
       return series;
     }
     for (std::size_t k = 0; k < trajectory.size(); ++k) {
-      if (k == 0 || pose_segment[k] != pose_segment[k - 1]) series.push_back(segment_series(series.size()));
+      if (k == 0 || pose_segment[k] != pose_segment[k - 1]) series.push_back(segment_series(pose_segment[k]));
       series.back().points.push_back(trajectory[k].T_wc.t);
     }
     return series;
@@ -46,17 +49,15 @@ std::vector<PlotSeries> trajectory_series(const std::vector<StampedPose>& trajec
     for (const StampedPose& p : trajectory) series.back().points.push_back(sim.apply(p.T_wc.t));
     return series;
   }
-  std::size_t drawn = 0;
   for (const SegmentAlignment& fit : align_segments(from, to, match_segment)) {
     if (!fit.similarity) continue;  // under 3 poses: nothing to align it with
     const std::size_t segment = match_segment[fit.begin];
-    PlotSeries s = segment_series(drawn++);
+    PlotSeries s = segment_series(segment);
     for (std::size_t k = 0; k < trajectory.size(); ++k)
       if (pose_segment[k] == segment) s.points.push_back(fit.similarity->apply(trajectory[k].T_wc.t));
     series.push_back(s);
   }
   return series;
 }
-
 
 }  // namespace bolo::odo
