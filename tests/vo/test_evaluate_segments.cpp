@@ -103,6 +103,7 @@ TEST_CASE("evaluate aligns each tracking segment between restarts on its own", "
   CHECK(*second.ate_rmse < 1e-4);
   CHECK(second.scale == Approx(0.5).epsilon(1e-4));
   CHECK(e.segments[2].poses == 2);
+  CHECK(e.segments[2].number == 3);
   CHECK_FALSE(e.segments[2].ate_rmse);
   CHECK(e.segments_ate_rmse < 1e-4);
   CHECK(first.path_length_m + second.path_length_m > 2.0);
@@ -114,6 +115,7 @@ TEST_CASE("evaluate aligns each tracking segment between restarts on its own", "
   const std::string table = odo::to_table(e);
   CHECK(table.find("tracking segments            3") != std::string::npos);
   CHECK(table.find("too short to align") != std::string::npos);
+  CHECK(table.find("segment 3 ") != std::string::npos);
 }
 
 TEST_CASE("evaluate: a run without a restart is one segment with the whole run's ATE", "[vo][evaluate]") {

@@ -128,6 +128,7 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
   std::size_t segments_n = 0;
   for (const SegmentAlignment& fit : align_segments(from, to, match_segment)) {
     TrackedSegment seg;
+    seg.number = match_segment[fit.begin] + 1;
     seg.first_t = est[a.estimate[fit.begin]].t, seg.last_t = est[a.estimate[fit.end - 1]].t, seg.poses = fit.end - fit.begin;
     for (std::size_t q = fit.begin + 1; q < fit.end; ++q) seg.path_length_m += (to[q] - to[q - 1]).norm();
     if (fit.similarity) {
@@ -247,7 +248,7 @@ nlohmann::json to_json(const Evaluation& e) {
   j["tau_c_error_2s"] = e.tau_c_error_2s ? nlohmann::json(*e.tau_c_error_2s) : nlohmann::json(nullptr);
   nlohmann::json segments = nlohmann::json::array();
   for (const TrackedSegment& seg : e.segments)
-    segments.push_back({{"first_t_s", seg.first_t}, {"last_t_s", seg.last_t}, {"poses", seg.poses},
+    segments.push_back({{"number", seg.number}, {"first_t_s", seg.first_t}, {"last_t_s", seg.last_t}, {"poses", seg.poses},
                         {"ate_rmse_m", seg.ate_rmse ? nlohmann::json(*seg.ate_rmse) : nlohmann::json(nullptr)},
                         {"path_length_m", seg.path_length_m}, {"scale", seg.scale}});
   j["segments"] = segments;
@@ -276,13 +277,12 @@ std::string to_table(const Evaluation& e) {
   row("ATE rmse (Sim3)", num(e.ate_rmse, "%.3f m") + num(100 * e.ate_rmse_relative, " (%.2f %% of ") + num(e.path_length_m, "%.1f m)"));
   if (e.segments.size() > 1) {
     row("tracking segments", std::to_string(e.segments.size()) + " (a restart begins a new map: each aligned on its own)");
-    for (std::size_t i = 0; i < e.segments.size(); ++i) {
-      const TrackedSegment& seg = e.segments[i];
+    for (const TrackedSegment& seg : e.segments) {
       const std::string ate = seg.ate_rmse ? num(*seg.ate_rmse, "ATE %.3f m") +
                                                  num(seg.path_length_m > 0 ? 100 * *seg.ate_rmse / seg.path_length_m : 0.0, " (%.2f %% of ") +
                                                  num(seg.path_length_m, "%.1f m)") + num(seg.scale, ", scale %.3g")
                                            : std::string("too short to align");
-      row(("  segment " + std::to_string(i + 1)).c_str(),
+      row(("  segment " + std::to_string(seg.number)).c_str(),
           num(seg.first_t, "%.2f-") + num(seg.last_t, "%.2f s, ") + std::to_string(seg.poses) + " poses, " + ate);
     }
     row("ATE over the segments", num(e.segments_ate_rmse, "%.3f m") + num(100 * e.segments_ate_relative, " (%.2f %% of their path)"));

@@ -12,10 +12,10 @@ std::vector<PlotSeries> trajectory_series(const std::vector<StampedPose>& trajec
   static const char* const kSegmentColours[] = {"#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2"};
   std::vector<PlotSeries> series;
   const bool segmented = !pose_segment.empty() && pose_segment.back() != pose_segment.front();
-  // Numbered and coloured by segment, as `bolo evaluate` lists them (a segment too short to align
-  // leaves its number unused).
+  // Numbered and coloured by segment (1 + the restarts before it), as `bolo evaluate` numbers them:
+  // a segment too short to align is not drawn and leaves its number unused.
   const auto segment_series = [&](std::size_t segment) {
-    const std::size_t n = segment - pose_segment.front();
+    const std::size_t n = segment;
     return PlotSeries{label + ", segment " + std::to_string(n + 1) + (truth ? " (aligned on its own)" : ""),
                       kSegmentColours[n % std::size(kSegmentColours)], {}};
   };

@@ -21,6 +21,7 @@ struct EvaluateOptions {
 // A stretch of the trajectory between restarts (the VO reinitialised after losing the track):
 // each starts a new map with its own scale and origin, so it is aligned on its own as well.
 struct TrackedSegment {
+  std::size_t number = 1;          // 1 + the restarts before it (as trajectory.svg labels it)
   double first_t = 0, last_t = 0;  // of its poses, seconds
   std::size_t poses = 0;           // matched with the ground truth
   std::optional<double> ate_rmse;  // metres, after its own Sim(3) alignment (3 poses or more)
