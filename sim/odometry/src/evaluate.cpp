@@ -114,11 +114,11 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
   std::vector<vo::Vec3> from, to;
   for (std::size_t k = 0; k < a.estimate.size(); ++k)
     from.push_back(est[a.estimate[k]].T_wc.t), to.push_back(truth[a.truth[k]].T_wc.t);
-  const Similarity sim = umeyama(from, to, true);
+  // The whole run as one segment (at least 3 pairs, checked above).
+  const SegmentAlignment whole = align_segments(from, to, std::vector<std::size_t>(from.size(), 0)).front();
+  const Similarity sim = whole.similarity.value();
   e.scale = sim.s;
-  double sq = 0;
-  for (std::size_t k = 0; k < from.size(); ++k) sq += (sim.apply(from[k]) - to[k]).squaredNorm();
-  e.ate_rmse = std::sqrt(sq / static_cast<double>(from.size()));
+  e.ate_rmse = std::sqrt(whole.squared_error / static_cast<double>(from.size()));
   for (std::size_t k = 1; k < to.size(); ++k) e.path_length_m += (to[k] - to[k - 1]).norm();
   e.ate_rmse_relative = e.path_length_m > 0 ? e.ate_rmse / e.path_length_m : 0;
 
