@@ -60,10 +60,10 @@ Resident resident_kib() {
   return r;
 }
 
-// Heap allocations (malloc, calloc, realloc, operator new) made by `work`, or -1 where the
-// counting allocator is not linked (sanitizer builds).
+// Adds the heap allocations (malloc, calloc, realloc, operator new) made by `work` to `total`;
+// where the counting allocator is not linked (sanitizer builds) `total` stays -1, "not counted".
 template <typename Work>
-long count_allocations(long& total, Work&& work) {
+void count_allocations(long& total, Work&& work) {
 #if BOLO_VO_BENCH_COUNTS_ALLOCATIONS
   const long before = test::g_allocations.load();
   test::g_counting = true;
@@ -74,7 +74,6 @@ long count_allocations(long& total, Work&& work) {
   work();
   total = -1;
 #endif
-  return total;
 }
 
 struct Frames {
