@@ -11,10 +11,10 @@ from collections import defaultdict
 
 
 def load(index):
-    runs = defaultdict(dict)  # (traj, tau, mode) -> seed -> evaluation or None
+    runs = defaultdict(dict)  # (traj, Hz, tau, mode) -> seed -> evaluation or None
     for line in open(index):
-        traj, _fps, tau, seed, mode, path = line.split()
-        runs[(traj, float(tau), mode)][seed] = None if path == "FAILED" else json.load(open(path))
+        traj, fps, tau, seed, mode, path = line.split()
+        runs[(traj, int(fps), float(tau), mode)][seed] = None if path == "FAILED" else json.load(open(path))
     return runs
 
 
@@ -40,29 +40,29 @@ for key in sorted(before):
     for name, scale, pattern in [("ate_relative", 100, "{:.2f}"), ("posed", 1, "{:.0f}"),
                                  ("tracked_points_total", 1, "{:.0f}"), ("keyframes", 1, "{:.0f}"),
                                  ("tau_c_error_2s", 100, "{:.0f}")]:
-        if name == "tau_c_error_2s" and not key[2].startswith("ir"):
+        if name == "tau_c_error_2s" and not key[3].startswith("ir"):
             parts.append("")
             continue
         ca, cb = column(a, name, scale), column(b, name, scale)
         totals[name + " before"] += ca
         totals[name + " after"] += cb
         parts.append("/".join(fmt(x, pattern) for x in ca) + " -> " + "/".join(fmt(x, pattern) for x in cb))
-    print(f"{key[0]} {key[1] * 1e3:.0f} ms {key[2]} | " + " | ".join(parts))
+    print(f"{key[0]} {key[1]} Hz {key[2] * 1e3:.0f} ms {key[3]} | " + " | ".join(parts))
 
 print("\nATE ratios (median ATE over seeds), before -> after")
-print("trajectory tau | ir/none | ir/affine | ir-loop/none | ir-loop/affine")
-for traj, tau in sorted({(k[0], k[1]) for k in before}):
-    if (traj, tau, "ir") not in before:
+print("trajectory Hz tau | ir/none | ir/affine | ir-loop/none | ir-loop/affine")
+for traj, fps, tau in sorted({k[:3] for k in before}):
+    if (traj, fps, tau, "ir") not in before:
         continue
     cells = []
     for num, den in [("ir", "none"), ("ir", "affine"), ("ir-loop", "none"), ("ir-loop", "affine")]:
         ratios = []
         for runs in (before, after):
-            n = med([e and e["ate_rmse_m"] for e in runs.get((traj, tau, num), {}).values()])
-            d = med([e and e["ate_rmse_m"] for e in runs.get((traj, tau, den), {}).values()])
+            n = med([e and e["ate_rmse_m"] for e in runs.get((traj, fps, tau, num), {}).values()])
+            d = med([e and e["ate_rmse_m"] for e in runs.get((traj, fps, tau, den), {}).values()])
             ratios.append(None if n is None or not d else n / d)
         cells.append(fmt(ratios[0]) + " -> " + fmt(ratios[1]))
-    print(f"{traj} {tau * 1e3:.0f} ms | " + " | ".join(cells))
+    print(f"{traj} {fps} Hz {tau * 1e3:.0f} ms | " + " | ".join(cells))
 
 print("\noverall medians, before -> after")
 for name in ["ate_relative", "posed", "tracked_points_total", "tau_c_error_2s"]:
