@@ -138,7 +138,7 @@ Command add_odometry_command(CLI::App& parent) {
       ->capture_default_str();
   app->add_option("--frames", o->frames, "Use only the first N frames")->check(not_negative());
   app->add_option("--max-keyframes", o->max_keyframes,
-                  "Keyframes in the sliding window, 2..8 (default 8; 6 is about a quarter faster)");
+                  "Keyframes in the sliding window, 2..8 (default 8; 6 is about a fifth faster and less accurate: docs/odometry-study.md)");
   app->add_flag("--no-ba", o->no_ba, "Skip the sliding-window bundle adjustment (tracking and depth search only)");
   app->add_flag("--marginalisation-prior", o->marginalisation_prior,
                 "Keep a retired keyframe's information as a prior on the window (DSO's marginalisation) "
