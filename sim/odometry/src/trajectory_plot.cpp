@@ -15,9 +15,8 @@ std::vector<PlotSeries> trajectory_series(const std::vector<StampedPose>& trajec
   // Numbered and coloured by segment (1 + the restarts before it), as `bolo evaluate` numbers them:
   // a segment too short to align is not drawn and leaves its number unused.
   const auto segment_series = [&](std::size_t segment) {
-    const std::size_t n = segment;
-    return PlotSeries{label + ", segment " + std::to_string(n + 1) + (truth ? " (aligned on its own)" : ""),
-                      kSegmentColours[n % std::size(kSegmentColours)], {}};
+    return PlotSeries{label + ", segment " + std::to_string(segment + 1) + (truth ? " (aligned on its own)" : ""),
+                      kSegmentColours[segment % std::size(kSegmentColours)], {}};
   };
   if (!truth) {
     if (!segmented) {
