@@ -41,9 +41,8 @@ for traj in $TRAJECTORIES; do
         fi
         for mode in $MODES; do
           run="$seq-vo-$mode"
-          "$bolo" odometry "$seq" --out "$run" --photometric "$mode" --overwrite --no-progress > /dev/null
           # A run too short to evaluate (fewer than 3 poses) counts as a failure in the table.
-          if "$bolo" evaluate "$run" --json "$run/evaluation.json" > /dev/null 2> "$run/evaluate.err"; then
+          if "$here/scripts/study/run-vo.sh" "$bolo" "$seq" "$mode" "$run"; then
             echo "$traj $fps $tau $seed $mode $run/evaluation.json"
           else
             echo "$traj $fps $tau $seed $mode FAILED"

@@ -38,17 +38,15 @@ done
 
 run_one() {
   local traj=$1 seed=$2 mode=$3 seq=$4
-  local run="$seq-vo-$mode"
-  "$BOLO" odometry "$seq" --out "$run" --photometric "$mode" --overwrite --no-progress > /dev/null 2> "$run.err"
-  if "$BOLO" evaluate "$run" --json "$run/evaluation.json" > /dev/null 2> "$run/evaluate.err"; then
-    echo "$traj $seed $mode $run/evaluation.json"
+  if "$RUN_VO" "$BOLO" "$seq" "$mode" "$seq-vo-$mode"; then
+    echo "$traj $seed $mode $seq-vo-$mode/evaluation.json"
   else
     echo "$traj $seed $mode FAILED"
   fi
   echo "long-walks: $traj seed $seed $mode done" >&2
 }
 export -f run_one
-export BOLO="$bolo"
+export BOLO="$bolo" RUN_VO="$here/scripts/study/run-vo.sh"
 xargs -P "${JOBS:-2}" -L 1 bash -c 'run_one "$@"' _ < "$jobs_file" | sort > "$work/index.txt"
 python3 "$here/scripts/study/segments_table.py" "$work/index.txt" "$OUT_MD" \
   "street, 60 Hz, $FRAMES frames, $SIZE, tau $TAU s, noise $NOISE counts, 3 x 3 rays per pixel, seeds $SEEDS"

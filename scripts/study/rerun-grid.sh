@@ -19,14 +19,14 @@ run_one() {
   name=$(basename "$seq")-vo-$mode
   run="$OUT/$name"
   # shellcheck disable=SC2086  # the extra options are meant to split
-  "$BOLO" odometry "$seq" --out "$run" --photometric "$mode" --overwrite --no-progress $EXTRA > /dev/null 2> "$OUT/$name.err"
-  if "$BOLO" evaluate "$run" --json "$run/evaluation.json" > /dev/null 2> "$run/evaluate.err"; then
+  if "$RUN_VO" "$BOLO" "$seq" "$mode" "$run" $EXTRA; then
     echo "$traj $fps $tau $seed $mode $run/evaluation.json"
   else
     echo "$traj $fps $tau $seed $mode FAILED"
   fi
 }
 export -f run_one
-export BOLO="$bolo" OUT="$out" EXTRA="$*"
+here="$(cd "$(dirname "$0")" && pwd)"
+export BOLO="$bolo" OUT="$out" EXTRA="$*" RUN_VO="$here/run-vo.sh"
 xargs -P "${JOBS:-2}" -L 1 bash -c 'run_one "$@"' _ < "$index" | sort > "$out/index.txt"
 echo "rerun-grid: $(wc -l < "$out/index.txt") runs in $out/index.txt"
