@@ -66,8 +66,8 @@ State* lay_out(const VoConfig& config, Arena& arena) {
     s.kf[k].points = arena.take<Point>(ppk);
   }
   s.retired = arena.take<WorldPoint>(std::size_t{c.max_keyframes} * ppk);  // a restart retires all
-  // The window BA's rows, or the initialiser's 8 floats a point plus its depth backup.
-  s.ba_hxr = arena.take<float>(std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 9));
+  // The window BA's rows, or the initialiser's 8 floats a point plus two depth backups.
+  s.ba_hxr = arena.take<float>(std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 10));
   s.ba_index = arena.take<std::uint32_t>(std::size_t{c.max_keyframes} * ppk);
   s.ref = arena.take<RefPoint>(std::size_t{c.max_keyframes} * ppk);
   s.tau.h = s.tau.c = c.tau_init_s;
@@ -290,7 +290,7 @@ std::size_t Odometry::arena_bytes(const VoConfig& config) {
   bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + std::size_t{64} * 2 + 16;
   bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
   bytes += std::size_t{c.max_keyframes} * ppk * sizeof(WorldPoint) + 16;
-  bytes += std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 8) * sizeof(float) + std::size_t{c.max_keyframes} * ppk * sizeof(std::uint32_t) + 32;
+  bytes += std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 10) * sizeof(float) + std::size_t{c.max_keyframes} * ppk * sizeof(std::uint32_t) + 32;
   bytes += std::size_t{c.max_keyframes} * ppk * sizeof(RefPoint) + 16;
   return bytes + 256 + 64;  // + the buffer's own misalignment (Arena aligns addresses)
 }
