@@ -201,6 +201,12 @@ Solved refine(State& s, Se3& M) {
 // BA scratch past the rows that accumulate() writes (odometry.cpp sizes ba_hxr for all three).
 float* warm_depths(State& s) { return s.ba_hxr.subspan(std::size_t{s.cfg.points_per_keyframe} * 8).data(); }
 float* fresh_depths(State& s) { return s.ba_hxr.subspan(std::size_t{s.cfg.points_per_keyframe} * 9).data(); }
+void save_depths(const Keyframe& host, float* to) {
+  for (std::uint32_t i = 0; i < host.count; ++i) to[i] = host.points[i].idepth;
+}
+void restore_depths(Keyframe& host, const float* from) {
+  for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = from[i];
+}
 
 // Refines a solve kSolvePasses - 1 more times: one coarse-to-fine pass leaves the depths short of
 // converged, and the comparison below is only fair between solves that went equally far.
@@ -217,7 +223,7 @@ Solved solve_from_flat_depths(State& s, Se3& M) {
 }
 
 // Two solves found the same basin when their camera centres (host coordinates) point the same
-// way: the wrong basins seen were 30-70 degrees off the true direction.
+// way: the wrong basins seen were 30-75 degrees off the true direction.
 constexpr double kSameBasinCos = 0.985;  // 10 degrees
 bool same_basin(const Se3& a, const Se3& b) {
   const Vec3 ca = -(a.R.transpose() * a.t), cb = -(b.R.transpose() * b.t);
@@ -249,26 +255,24 @@ void solve_afresh_if_better(State& s, Se3& M, Solved& solved) {
   Keyframe& host = init_host(s);
   float* warm = warm_depths(s);
   float* fresh_solution = fresh_depths(s);
-  for (std::uint32_t i = 0; i < host.count; ++i) warm[i] = host.points[i].idepth;
+  save_depths(host, warm);
   Se3 M_fresh;
   Solved fresh = solve_from_flat_depths(s, M_fresh);
   bool take_fresh = fresh.energy < solved.energy;
   if (!take_fresh && !same_basin(M, M_fresh) && fits_well(solved, host)) {
     fresh = converge(s, M_fresh, fresh);
-    for (std::uint32_t i = 0; i < host.count; ++i) fresh_solution[i] = host.points[i].idepth;
+    save_depths(host, fresh_solution);
     Se3 M_warm_basin = M;
     const Solved warm_basin = converge(s, M_warm_basin, solve_from_flat_depths(s, M_warm_basin));
     take_fresh = fresh.energy < (1.0 - kBasinMargin) * warm_basin.energy;
-    if (take_fresh)
-      for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = fresh_solution[i];
+    if (take_fresh) restore_depths(host, fresh_solution);
   }
   if (take_fresh) {
     M = M_fresh, solved = fresh;
-    accumulate(s, 0, M, false);  // the points' energies of the fresh solution (outlier test at the end)
-    return;
+  } else {
+    restore_depths(host, warm);
   }
-  for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = warm[i];
-  accumulate(s, 0, M, false);  // the points' energies of the warm solution
+  accumulate(s, 0, M, false);  // the chosen solution's point energies (outlier test at the end)
 }
 
 }  // namespace
