@@ -5,8 +5,9 @@
 // 37-75 degrees off; the map then turned 15-20 degrees a second, in every photometric mode): the
 // fresh solve found the right basin, but at a higher energy than the warm solve, whose depths had
 // been refined over every earlier frame. Compared on equal terms (both from flat depths), the
-// right basin wins on 6 of the 8 when written; starts 1 and 2 still end 63-70 degrees off (their
-// wrong basin fits better even from flat depths until the initialisation ends).
+// right basin won on 6 of the 8; starts 1 and 2 still ended 63-70 degrees off, their wrong basin
+// fitting better even from flat depths until the initialisation ended at frame 10. Going on
+// while the two solves disagree, every start ends within 3 degrees when written.
 
 #include <algorithm>
 #include <cmath>
@@ -65,8 +66,8 @@ TEST_CASE("the initialiser finds the forward walk's basin whichever frame it sta
   for (std::size_t start = 1; start <= 8; ++start) {
     const double error = initial_direction_error(seq, frames, start, fps);
     errors += " " + std::to_string(static_cast<int>(std::lround(error)));
-    right += error < 20.0;
+    right += error < 10.0;
   }
   INFO("translation direction off by (degrees, starts 1-8):" << errors);
-  CHECK(right >= 6);
+  CHECK(right == 8);
 }

@@ -342,6 +342,11 @@ void record_motion(State& s, const Se3& previous) {
 }
 
 namespace {
+// More than 1 %: timings read from a camera's timestamps jitter.
+bool timing_changed(double before_s, double now_s) {
+  return before_s > 0 && now_s > 0 && std::abs(now_s - before_s) > 0.01 * before_s;
+}
+
 bool repeats(std::span<const std::uint16_t> raw, std::span<const float> previous) {
   for (std::size_t i = 0; i < raw.size(); ++i)
     if (static_cast<float>(raw[i]) != previous[i]) return false;  // noise: almost always at i = 0
@@ -379,6 +384,8 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.exposure_prev_s = s.exposure_s;
   s.readout_prev2_s = s.readout_prev_s;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
+  if (timing_changed(s.exposure_prev_s, s.exposure_s) || timing_changed(s.readout_prev2_s, s.readout_prev_s))
+    s.timing_varied = true;
   if (!(s.reference_exposure_s > 0) && in.exposure_s > 0) s.reference_exposure_s = in.exposure_s;
   if (!(s.reference_readout_s > 0) && in.readout_prev_s > 0) s.reference_readout_s = in.readout_prev_s;
   s.scene_scale_prev = s.scene_scale;

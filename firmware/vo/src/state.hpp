@@ -155,6 +155,8 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   std::uint32_t frames_since_kf = 0, inliers_after_kf = 0;
   bool initialised = false;
   std::uint32_t init_frames = 0;
+  bool init_basin_undecided = false;  // the last init frame's fresh and warm solves disagree on the basin
+  bool timing_varied = false;         // a frame's exposure or readout differed from its predecessor's
   float last_rms = 0;
 
   Se3 T_prev;                  // the previous frame's pose, when prev_posed
