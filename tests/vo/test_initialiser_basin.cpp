@@ -7,7 +7,7 @@
 // been refined over every earlier frame. Compared on equal terms (both from flat depths), the
 // right basin won on 6 of the 8; starts 1 and 2 still ended 63-70 degrees off, their wrong basin
 // fitting better even from flat depths until the initialisation ended at frame 10. Going on
-// while the two solves disagree, every start ends within 3 degrees when written.
+// while the two solves disagree, every start ends within 7 degrees when written.
 
 #include <algorithm>
 #include <cmath>

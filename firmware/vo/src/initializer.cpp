@@ -252,7 +252,8 @@ constexpr double kBasinMargin = 0.01;
 // re-initialisation across exposure switches flipped on such a frame (8 % apart) on aarch64 and
 // the run lost the track once more.
 bool fits_well(const Solved& solved, const Keyframe& host) { return solved.inliers * 5 >= host.count * 4; }
-void solve_afresh_if_better(State& s, Se3& M, Solved& solved) {
+// Returns whether the two solves ended in different basins.
+bool solve_afresh_if_better(State& s, Se3& M, Solved& solved) {
   Keyframe& host = init_host(s);
   float* warm = warm_depths(s);
   float* fresh_solution = fresh_depths(s);
@@ -260,8 +261,8 @@ void solve_afresh_if_better(State& s, Se3& M, Solved& solved) {
   Se3 M_fresh;
   Solved fresh = solve_from_flat_depths(s, M_fresh);
   bool take_fresh = fresh.energy < solved.energy;
-  s.init_basin_undecided = !same_basin(M, M_fresh);
-  if (!take_fresh && s.init_basin_undecided && fits_well(solved, host)) {
+  const bool basins_differ = !same_basin(M, M_fresh);
+  if (!take_fresh && basins_differ && fits_well(solved, host)) {
     fresh = converge(s, M_fresh, fresh);
     save_depths(host, fresh_solution);
     Se3 M_warm_basin = M;
@@ -275,6 +276,7 @@ void solve_afresh_if_better(State& s, Se3& M, Solved& solved) {
     restore_depths(host, warm);
   }
   accumulate(s, 0, M, false);  // the chosen solution's point energies (outlier test at the end)
+  return basins_differ;
 }
 
 // While the fresh and the warm solve still disagree on the basin, the initialisation goes on, up
@@ -286,9 +288,8 @@ void solve_afresh_if_better(State& s, Se3& M, Solved& solved) {
 // that waits past one loses its frames (the board tests' wall, exposure switching every 12
 // frames, tau started at 15 ms for 10: 1 of 90 frames posed instead of 60).
 constexpr std::uint32_t kBasinWaitFrames = 30;
-bool keep_waiting_for_the_basin(const State& s) {
-  const bool ir = s.cfg.photometric == Photometric::ir || s.cfg.photometric == Photometric::ir_loop;
-  return s.init_basin_undecided && s.init_frames < kBasinWaitFrames && !(ir && s.timing_varied);
+bool keep_waiting_for_the_basin(const State& s, bool basins_differ) {
+  return basins_differ && s.init_frames < kBasinWaitFrames && !(uses_carry_model(s.cfg) && s.timing_varied);
 }
 
 }  // namespace
@@ -307,7 +308,6 @@ void start_initialisation(State& s) {
   for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = 1.0f;
   s.initialised = false;
   s.init_frames = 0;
-  s.init_basin_undecided = false;
   s.motion = Se3();
   s.motion_dt_s = 0;
   s.pose_t_s = s.t_s;
@@ -317,7 +317,7 @@ bool initialise_step(State& s) {
   Keyframe& host = init_host(s);
   Se3 M = motion_step(s) * (s.T_cw * host.T_cw.inverse());  // constant-velocity guess
   Solved solved = refine(s, M);
-  if (s.init_frames > 0) solve_afresh_if_better(s, M, solved);
+  const bool basins_differ = s.init_frames > 0 && solve_afresh_if_better(s, M, solved);
   const std::uint32_t finest_inliers = solved.inliers;
   // Keep the mean inverse depth at 1: the scale of monocular odometry is free.
   const double mean = mean_idepth(host);
@@ -337,7 +337,7 @@ bool initialise_step(State& s) {
   const double baseline_flow = s.cfg.camera.fx * M.t.norm();
   const double needed = kInitFlow * (s.cfg.width + s.cfg.height);
   if (s.init_frames < kMinInitFrames || baseline_flow < needed) return false;
-  if (keep_waiting_for_the_basin(s)) return false;
+  if (keep_waiting_for_the_basin(s, basins_differ)) return false;
   // Done: the points that fit become the map.
   const float hub = huber_threshold(s);
   for (std::uint32_t i = 0; i < host.count; ++i) {

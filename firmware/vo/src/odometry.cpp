@@ -390,7 +390,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (!(s.reference_readout_s > 0) && in.readout_prev_s > 0) s.reference_readout_s = in.readout_prev_s;
   s.scene_scale_prev = s.scene_scale;
   s.scene_scale = 1.0;
-  const bool ir = c.photometric == Photometric::ir || c.photometric == Photometric::ir_loop;
+  const bool ir = uses_carry_model(c);
   if (ir && had_prev) count_unchanged_frames(s);
   if (s.intensity_pending && ++s.raw_frames >= 3) measure_intensity_scale(s);
   // Before the tracking image: its carry-over correction is cored against this noise.

@@ -59,6 +59,11 @@ inline constexpr float kPatternY[kPattern] = {0, 0, 0, 2, -2, 1, -1, -1};
 struct Scaled {
   float fx, fy, cx, cy;
 };
+// The ir modes: the tracking image is the scene estimate of the two-frame carry-over model.
+inline bool uses_carry_model(const VoConfig& c) {
+  return c.photometric == Photometric::ir || c.photometric == Photometric::ir_loop;
+}
+
 inline Scaled camera_at(const Camera& c, std::uint32_t level) {
   const float s = 1.0f / static_cast<float>(1u << level);
   return {c.fx * s, c.fy * s, (c.cx + 0.5f) * s - 0.5f, (c.cy + 0.5f) * s - 0.5f};
@@ -155,7 +160,6 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   std::uint32_t frames_since_kf = 0, inliers_after_kf = 0;
   bool initialised = false;
   std::uint32_t init_frames = 0;
-  bool init_basin_undecided = false;  // the last init frame's fresh and warm solves disagree on the basin
   bool timing_varied = false;         // a frame's exposure or readout differed from its predecessor's
   float last_rms = 0;
 
