@@ -63,6 +63,15 @@ sim::SimulatorConfig resolve(const SimulateOptions& o, const sim::SensorPreset& 
   if (i.exposure_s + i.readout_s > period * (1 + 1e-9))
     fail("--exposure + --readout: ", i.exposure_s + i.readout_s, " s do not fit one frame period (",
          period, " s at ", i.fps, " fps)");
+  if (o.alternate_exposure_s.has_value() != (o.alternate_every > 0))
+    fail("--alternate-exposure and --alternate-every: give both or neither");
+  if (o.alternate_every > 0) {
+    const double alternate = *o.alternate_exposure_s;
+    require_positive("--alternate-exposure", alternate);
+    if (alternate > i.exposure_s + i.readout_s * (1 + 1e-9))
+      fail("--alternate-exposure: ", alternate, " s does not fit exposure + readout (", i.exposure_s + i.readout_s, " s)");
+    c.exposure_schedule = {alternate, o.alternate_every};
+  }
   i.bits = o.bits.value_or(preset.bits);
   if (i.bits < 8 || i.bits > 16) fail("--bits: must be 8..16, got ", i.bits);
   i.reference_level = preset.level_300k * std::ldexp(1.0, static_cast<int>(i.bits) - 14);
@@ -118,6 +127,8 @@ void apply_simulate_config(const std::string& file, const CLI::App& app, Simulat
     else if (e.option == "tau-c") o.tau_c_s = number();
     else if (e.option == "exposure") o.exposure_s = number();
     else if (e.option == "readout") o.readout_s = number();
+    else if (e.option == "alternate-exposure") o.alternate_exposure_s = number();
+    else if (e.option == "alternate-every") o.alternate_every = static_cast<std::uint32_t>(std::min(count(), 1e6));
     else if (e.option == "noise") o.noise = number();
     else if (e.option == "noise-1f") o.noise_1f = number();
     else if (e.option == "bits") o.bits = static_cast<std::uint32_t>(count());
@@ -155,6 +166,9 @@ int run_simulate(const SimulateOptions& o, std::ostream& out) {
          << ", preset " << preset.name << ", tau_h " << i.tau_h_s << " s, tau_c " << i.tau_c_s
          << " s, noise " << config.noise_counts << " counts, seed " << o.seed;
   if (o.supersample > 1) source << ", " << o.supersample << "x" << o.supersample << " rays per pixel";
+  if (config.exposure_schedule.every_frames > 0)
+    source << ", exposure alternating with " << config.exposure_schedule.alternate_exposure_s << " s every "
+           << config.exposure_schedule.every_frames << " frames";
   if (!o.distortion.empty()) {
     source << ", lens distortion";
     for (std::size_t k = 0; k < o.distortion.size(); ++k) source << (k ? "," : " ") << o.distortion[k];
@@ -173,7 +187,7 @@ int run_simulate(const SimulateOptions& o, std::ostream& out) {
     writer.append(frame.counts, frame.row);
     writer.append_scene(frame.scene);
     // The pose at the middle of the exposure, on the frames.csv clock.
-    if (scene.pose_line) poses += scene.pose_line(*frame.row.t_s + 0.5 * i.exposure_s);
+    if (scene.pose_line) poses += scene.pose_line(*frame.row.t_s + 0.5 * *frame.row.exposure_s);
     progress.update(n + 1);
   }
   progress.finish();
@@ -192,8 +206,11 @@ int run_simulate(const SimulateOptions& o, std::ostream& out) {
   out << "simulate: wrote " << o.output.string() << ": " << o.frames << " frames of " << i.width << "x"
       << i.height << " at " << i.fps << " fps (" << preset.name << ", scene " << o.scene
       << (scene.trajectory.empty() ? "" : ", " + scene.trajectory) << "), tau_h " << i.tau_h_s
-      << " s, tau_c " << i.tau_c_s << " s, exposure " << i.exposure_s << " s, readout " << i.readout_s
-      << " s, " << o.effects.size() << " effect(s)\n";
+      << " s, tau_c " << i.tau_c_s << " s, exposure " << i.exposure_s << " s, readout " << i.readout_s << " s";
+  if (config.exposure_schedule.every_frames > 0)
+    out << " (exposure " << config.exposure_schedule.alternate_exposure_s << " s every other "
+        << config.exposure_schedule.every_frames << " frames)";
+  out << ", " << o.effects.size() << " effect(s)\n";
   return kExitOk;
 }
 
@@ -226,6 +243,11 @@ Command add_simulate_command(CLI::App& parent) {
   app->add_option("--tau-c", o->tau_c_s, "Cooling time constant, seconds (overrides --tau)");
   app->add_option("--exposure", o->exposure_s, "Exposure time t_e, seconds (default: half the frame period)");
   app->add_option("--readout", o->readout_s, "Readout time t_r, seconds (default: frame period - exposure)");
+  app->add_option("--alternate-exposure", o->alternate_exposure_s,
+                  "With --alternate-every: the exposure switches between --exposure and this, seconds; the readout "
+                  "takes up the difference (a camera changing its integration time at a fixed frame rate)");
+  app->add_option("--alternate-every", o->alternate_every, "Frames between exposure switches (with --alternate-exposure)")
+      ->check(not_negative());
   app->add_option("--noise", o->noise, "White temporal noise, standard deviation in counts (default: the preset's)");
   app->add_option("--noise-1f", o->noise_1f, "1/f temporal noise, standard deviation in counts")->capture_default_str();
   app->add_option("--bits", o->bits, "Sensor bit depth 8..16 (default: the preset's)")->check(not_negative());

@@ -52,6 +52,41 @@ TEST_CASE("simulate writes a ghosted recording that correct restores", "[cli][si
   CHECK(worst_fixed <= 3.0);  // quantisation of raw counts, amplified by g and a*g
 }
 
+TEST_CASE("simulate with an alternating exposure: frames.csv follows it and correct restores the scene", "[cli][simulate]") {
+  TempDir tmp;
+  const auto sim_dir = tmp / "sim";
+  const auto fixed_dir = tmp / "fixed";
+  const double period = 1 / 60.0, exposure = 0.5 * period, alternate = 0.3 * period;
+  auto r = run_bolo({"simulate", sim_dir.string(), "--frames", "20", "--size", "40x30", "--fps", "60", "--noise", "0",
+                     "--bits", "16", "--substeps", "1", "--tau", "0.012", "--alternate-exposure",
+                     std::to_string(alternate), "--alternate-every", "4"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("every other 4 frames") != std::string::npos);
+  rec::Recording sim(sim_dir);
+  CHECK(sim.info().source.find("exposure alternating") != std::string::npos);
+  for (std::uint64_t i = 0; i < 20; ++i) {
+    const double expected = (i / 4) % 2 == 0 ? exposure : alternate;
+    INFO("frame " << i);
+    CHECK(*sim.rows()[i].exposure_s == Approx(expected).epsilon(1e-6));
+    CHECK(*sim.rows()[i].exposure_s + *sim.rows()[i].readout_s == Approx(period).epsilon(1e-6));
+  }
+  CHECK(read_text(sim_dir / "truth" / "effects.json").find("every_frames") != std::string::npos);
+  // The corrector takes each frame's exposure and its predecessor's readout from frames.csv.
+  r = run_bolo({"correct", sim_dir.string(), fixed_dir.string(), "--tau-h", "0.012", "--tau-c", "0.012"});
+  REQUIRE(r.code == 0);
+  rec::Recording fixed(fixed_dir);
+  std::vector<float> scene(40 * 30);
+  double worst = 0;
+  for (std::uint64_t i = 1; i < 20; ++i) {
+    sim.read_scene(i, scene);
+    const auto out = read_u16_frame(fixed, i);
+    for (std::size_t p = 0; p < scene.size(); ++p) worst = std::max(worst, std::abs(out[p] - double{scene[p]}));
+  }
+  INFO("worst |corrected - scene| " << worst);
+  CHECK(worst <= 4.0);  // quantisation of raw counts, amplified by 1/beta of the shorter exposure
+}
+
 TEST_CASE("simulate refuses bad options", "[cli][simulate][refusal]") {
   TempDir tmp;
   for (const auto& [args, needle] : std::vector<std::pair<std::vector<std::string>, std::string>>{
@@ -61,6 +96,10 @@ TEST_CASE("simulate refuses bad options", "[cli][simulate][refusal]") {
            {{"--bits", "20"}, "--bits"},
            {{"--fps", "30", "--exposure", "0.05"}, "--readout"},
            {{"--effect", "warp_drive"}, "unknown effect"},
+           {{"--alternate-every", "4"}, "--alternate-exposure and --alternate-every: give both or neither"},
+           {{"--alternate-exposure", "0.005"}, "--alternate-exposure and --alternate-every: give both or neither"},
+           {{"--fps", "60", "--alternate-exposure", "0.02", "--alternate-every", "4"}, "--alternate-exposure: 0.02 s does not fit"},
+           {{"--alternate-exposure", "0", "--alternate-every", "4"}, "--alternate-exposure: must be a positive number"},
            {{"--frames", "-3"}, "--frames: must not be negative"},
            {{"--frames", "0"}, "--frames"},
            {{"--substeps", "0"}, "--substeps"},

@@ -46,14 +46,19 @@ Simulator::Simulator(SimulatorConfig config, InputSampler input)
   require(i.bits >= 8 && i.bits <= 16, "bits: 8..16");
   require(config_.substeps >= 1 && config_.substeps <= 64, "substeps: 1..64");
   require(config_.noise_counts >= 0 && config_.noise_1f_counts >= 0, "noise: must be >= 0");
+  const ExposureSchedule& schedule = config_.exposure_schedule;
+  if (schedule.every_frames > 0)
+    require(schedule.alternate_exposure_s > 0 && schedule.alternate_exposure_s <= i.exposure_s + i.readout_s,
+            "alternate exposure: must be > 0 and fit exposure + readout");
 
   const std::size_t n = std::size_t{i.width} * i.height;
-  const double d = i.exposure_s / config_.substeps;
-  row_shift_.assign(i.height, 0.0);
+  row_delay_s_.assign(i.height, 0.0);
   for (const auto& e : effects_)
-    for (std::uint32_t r = 0; r < i.height; ++r) row_shift_[r] += e->row_delay_s(r) / d;
-  // A late row reads between two grid samples: one more sample for the interpolation.
-  const double latest = *std::max_element(row_shift_.begin(), row_shift_.end());
+    for (std::uint32_t r = 0; r < i.height; ++r) row_delay_s_[r] += e->row_delay_s(r);
+  // A late row reads between two grid samples: one more sample for the interpolation. The grid
+  // is sized for the shortest exposure's sub-steps.
+  const double shortest = schedule.every_frames > 0 ? std::min(i.exposure_s, schedule.alternate_exposure_s) : i.exposure_s;
+  const double latest = *std::max_element(row_delay_s_.begin(), row_delay_s_.end()) / (shortest / config_.substeps);
   const auto grid = config_.substeps + static_cast<std::uint32_t>(std::ceil(latest)) + (latest > 0 ? 1u : 0u);
   grid_.assign(grid, std::vector<float>(n));
   substeps_.assign(config_.substeps, std::vector<float>(n));
@@ -63,15 +68,22 @@ Simulator::Simulator(SimulatorConfig config, InputSampler input)
   noise_state_.assign(n * kNoiseOctaves, 0.0);
 }
 
-void Simulator::sample_input(double t0) {
+Simulator::Timing Simulator::timing(std::uint64_t index) const {
   const SimulationInfo& i = config_.info;
-  const double d = i.exposure_s / config_.substeps;
+  const ExposureSchedule& schedule = config_.exposure_schedule;
+  if (schedule.every_frames == 0 || (index / schedule.every_frames) % 2 == 0) return {i.exposure_s, i.readout_s};
+  return {schedule.alternate_exposure_s, i.readout_s + (i.exposure_s - schedule.alternate_exposure_s)};
+}
+
+void Simulator::sample_input(double t0, double exposure_s) {
+  const SimulationInfo& i = config_.info;
+  const double d = exposure_s / config_.substeps;
   for (std::size_t j = 0; j < grid_.size(); ++j) input_(t0 + (static_cast<double>(j) + 0.5) * d, grid_[j]);
   // Row r's k-th sub-step is the scene at grid position k + shift(r), linear between samples:
   // rows exposed later see later scenes, by any fraction of a sub-step.
   for (std::uint32_t k = 0; k < config_.substeps; ++k)
     for (std::uint32_t r = 0; r < i.height; ++r) {
-      const double at = k + row_shift_[r];
+      const double at = k + row_delay_s_[r] / d;
       const auto j = static_cast<std::size_t>(at);
       const auto w = static_cast<float>(at - static_cast<double>(j));
       const auto row = std::ptrdiff_t{r} * i.width;
@@ -95,7 +107,8 @@ void Simulator::next(SimulatedFrame& out) {
   f.t_s = static_cast<double>(index_) * f.period_s;
   for (const auto& e : effects_) e->begin_frame(f);
 
-  sample_input(f.t_s);
+  const Timing timing_now = timing(index_);
+  sample_input(f.t_s, timing_now.exposure_s);
   // scene.npy is the scene over the nominal exposure, every row at the same time: what a model
   // without a rolling readout assumes. The pixels' own input (mean_input) has each row's delay.
   out.scene.assign(n, 0.0f);
@@ -123,13 +136,13 @@ void Simulator::next(SimulatedFrame& out) {
   // The camera has been running before the first frame; a shutter event leaves the pixels
   // settled on the shutter, which sits at about the scene's mean level.
   if (index_ == 0) {
-    array_.settle(pixel_input_, i.exposure_s, i.readout_s);
+    array_.settle(pixel_input_, timing_now.exposure_s, timing_now.readout_s);
   } else if (f.shutter_event) {
     const double level = std::accumulate(out.scene.begin(), out.scene.end(), 0.0) / static_cast<double>(n);
-    array_.settle(std::vector<float>(n, static_cast<float>(level)), i.exposure_s, i.readout_s);
+    array_.settle(std::vector<float>(n, static_cast<float>(level)), timing_now.exposure_s, timing_now.readout_s);
   }
   std::vector<std::span<const float>> steps(substeps_.begin(), substeps_.end());
-  array_.expose(steps, i.exposure_s, i.readout_s, reading_);
+  array_.expose(steps, timing_now.exposure_s, timing_now.readout_s, reading_);
   previous_ = reading_;
 
   for (const auto& e : effects_) e->on_reading(f, reading_);
@@ -161,8 +174,8 @@ void Simulator::next(SimulatedFrame& out) {
   out.row = rec::FrameRow{};
   out.row.index = index_;
   out.row.t_s = f.t_s;
-  out.row.exposure_s = i.exposure_s;
-  out.row.readout_s = i.readout_s;
+  out.row.exposure_s = timing_now.exposure_s;
+  out.row.readout_s = timing_now.readout_s;
   out.row.ffc = f.shutter_event && f.shutter_flagged;
   out.row.fpa_temp_c = f.fpa_temp_c;
   ++index_;
@@ -172,11 +185,14 @@ nlohmann::json Simulator::truth() const {
   const SimulationInfo& i = config_.info;
   nlohmann::json effects = nlohmann::json::object();
   for (const auto& e : effects_) effects[e->id()] = e->parameters();
-  return {{"baseline",
-           {{"model", "continuous-time bolometer (two-frame model for frame-constant input)"},
-            {"tau_h_s", i.tau_h_s}, {"tau_c_s", i.tau_c_s}, {"exposure_s", i.exposure_s},
-            {"readout_s", i.readout_s}, {"substeps", config_.substeps}, {"bits", i.bits},
-            {"reference_level", i.reference_level}, {"seed", i.seed}}},
+  nlohmann::json baseline = {{"model", "continuous-time bolometer (two-frame model for frame-constant input)"},
+                             {"tau_h_s", i.tau_h_s}, {"tau_c_s", i.tau_c_s}, {"exposure_s", i.exposure_s},
+                             {"readout_s", i.readout_s}, {"substeps", config_.substeps}, {"bits", i.bits},
+                             {"reference_level", i.reference_level}, {"seed", i.seed}};
+  if (config_.exposure_schedule.every_frames > 0)
+    baseline["exposure_schedule"] = {{"alternate_exposure_s", config_.exposure_schedule.alternate_exposure_s},
+                                     {"every_frames", config_.exposure_schedule.every_frames}};
+  return {{"baseline", baseline},
           {"noise", {{"white_counts", config_.noise_counts}, {"one_over_f_counts", config_.noise_1f_counts}}},
           {"effects", effects}};
 }

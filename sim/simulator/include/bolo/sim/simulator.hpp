@@ -18,8 +18,18 @@
 
 namespace bolo::sim {
 
+// A camera that changes its exposure (integration) time while its frame period stays: every
+// `every_frames` frames the exposure switches between SimulationInfo::exposure_s and
+// `alternate_exposure_s`, and the readout takes up what the exposure gives up (their sum stays
+// SimulationInfo's). every_frames 0: a constant timing.
+struct ExposureSchedule {
+  double alternate_exposure_s = 0.0;
+  std::uint32_t every_frames = 0;
+};
+
 struct SimulatorConfig {
   SimulationInfo info;           // size, bits, fps, exposure/readout, tau, 300 K level, seed
+  ExposureSchedule exposure_schedule;
   std::uint32_t substeps = 4;    // scene samples per exposure (motion within a frame)
   double noise_counts = 2.0;     // white temporal noise, standard deviation in counts
   double noise_1f_counts = 0.0;  // 1/f temporal noise per pixel, standard deviation in counts
@@ -40,6 +50,11 @@ class Simulator {
   // Throws std::invalid_argument naming the option or effect that is wrong.
   Simulator(SimulatorConfig config, InputSampler input);
   void next(SimulatedFrame& frame);
+  // Frame `index`'s exposure and the readout after it (the schedule applied).
+  struct Timing {
+    double exposure_s, readout_s;
+  };
+  Timing timing(std::uint64_t index) const;
   std::uint64_t frames_done() const { return index_; }
   const SimulatorConfig& config() const { return config_; }
   // truth/effects.json: the sensor model and every effect's parameters as used.
@@ -47,14 +62,14 @@ class Simulator {
   std::vector<std::pair<std::string, std::vector<float>>> truth_maps() const;
 
  private:
-  void sample_input(double t0);
+  void sample_input(double t0, double exposure_s);
 
   SimulatorConfig config_;
   InputSampler input_;
   std::vector<std::unique_ptr<Effect>> effects_;
   BolometerArray array_;
   std::vector<float> pixel_input_;           // this frame's input per pixel, each row at its own time
-  std::vector<double> row_shift_;            // sub-steps (fractional) each row's exposure starts late
+  std::vector<double> row_delay_s_;          // how late each row's exposure starts
   std::vector<std::vector<float>> grid_;     // scene samples on the sub-step time grid
   std::vector<std::vector<float>> substeps_; // the per-row assembled input of each sub-step
   std::vector<double> reading_, previous_, tau_h_, tau_c_;
