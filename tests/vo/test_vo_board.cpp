@@ -2,6 +2,7 @@
 // checks, and tracking of an analytic scene: a textured wall (sum of sinusoids) the camera
 // approaches and pans along, rendered by exact ray-plane intersection.
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -340,41 +341,87 @@ TEST_CASE("a shutter event's step response measures tau and its offset step is f
   CHECK(rms_after < 1.5 * rms_before);
 }
 
-TEST_CASE("frames whose exposure changes keep the carry-over fit unbiased", "[vo][board]") {
-  // The wall through the two-frame model with the exposure switching between 45 and 55 % of the
-  // 60 Hz period every 12 frames (readout: the rest), tau 10 ms, started at 15 ms. The carry-over
-  // pairs assumed beta_i = beta_{i-1}: at each switch A - alpha B was (beta_i - beta_{i-1}) u, a
-  // first-order error. With rho = beta_i / beta_{i-1} in the pairs the switch is a step response
-  // instead, which measures alpha at first order, once d r / d alpha takes in that rho and kappa
-  // move with tau too. Measured when written: 10.05 ms after 1.5 s (without rho: 11.25; with rho
-  // but the Jacobian -B: 11.11). The first switch, right after the initialisation and with tau
-  // still at 15 ms, loses the track for 8 frames: the scene estimate's level is right at a timing
-  // change only for the true tau, and the ir modes have no gain to absorb it.
+namespace {
+
+struct SwitchingWall {
+  int frames = 0, posed = 0;
+  double tau_end = 0;
+};
+
+// The wall through the two-frame model (tau 10 ms, 60 Hz) with the exposure switching between 45
+// and 55 % of the period every `period_frames` frames (readout: the rest), in the ir mode with
+// tau started at `tau_init_s` (and held there unless `estimate_tau`); the camera adds `offset`
+// counts. 90 frames (1.5 s).
+SwitchingWall run_switching_wall(int period_frames, float tau_init_s, double offset = 0, bool estimate_tau = true) {
   const double tau = 0.010, period = 1 / 60.0;
-  const auto exposure = [&](int i) { return ((i / 12) % 2 == 0 ? 0.45 : 0.55) * period; };
-  const int n = 90;
+  const auto exposure = [&](int i) { return ((i / period_frames) % 2 == 0 ? 0.45 : 0.55) * period; };
   vo::VoConfig c;
   c.width = kW, c.height = kH, c.camera = camera();
   c.photometric = vo::Photometric::ir;
-  c.tau_init_s = 0.015f;
+  c.tau_init_s = tau_init_s;
+  c.estimate_tau = estimate_tau;
   std::vector<std::byte> arena(vo::Odometry::arena_bytes(c));
   vo::Odometry odometry(c, arena);
-  REQUIRE(odometry.ok());
+  SwitchingWall out;
+  if (!odometry.ok()) return out;
   CarriedWall wall(tau, exposure(0), period - exposure(0));
-  double tau_end = 0;
-  int posed = 0;
-  for (int i = 0; i < n; ++i) {
+  out.frames = 90;
+  for (int i = 0; i < out.frames; ++i) {
     const double te = exposure(i), tr_prev = period - exposure(std::max(i - 1, 0));
-    const std::vector<std::uint16_t>& frame = wall.next(render(i * period), te, tr_prev);
+    const std::vector<std::uint16_t>& frame = wall.next(render(i * period), te, tr_prev, false, offset);
     vo::FrameInput in;
     in.raw = frame;
     in.t_s = i * period, in.exposure_s = te, in.readout_prev_s = i > 0 ? tr_prev : 0.0;
     in.chain_broken = i == 0;
     const vo::FrameResult r = odometry.process(in);
-    posed += r.has_pose;
-    tau_end = r.tau.c;
+    out.posed += r.has_pose;
+    out.tau_end = r.tau.c;
   }
-  INFO("tau after 1.5 s " << tau_end * 1e3 << " ms; " << posed << " of " << n << " posed");
-  CHECK(tau_end == Approx(tau).epsilon(0.05));
-  CHECK(posed >= n / 2);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("frames whose exposure changes keep the carry-over fit unbiased", "[vo][board]") {
+  // The pairs assumed beta_i = beta_{i-1}: at each switch A - alpha B was (beta_i - beta_{i-1}) u,
+  // a first-order error. With rho = beta_i / beta_{i-1} in the pairs the switch is a step response
+  // instead, which measures alpha at first order, once d r / d alpha takes in that rho and kappa
+  // move with tau too. Measured when written: 10.05 ms after 1.5 s for 10 from 15 (without rho:
+  // 11.25; with rho but the Jacobian -B: 11.11).
+  const SwitchingWall run = run_switching_wall(12, 0.015f);
+  INFO("tau after 1.5 s " << run.tau_end * 1e3 << " ms; " << run.posed << " of " << run.frames << " posed");
+  CHECK(run.tau_end == Approx(0.010).epsilon(0.05));
+  // 13 frames initialise the map. Until the brightness was freed across timing changes the first
+  // switch, right after the initialisation and with tau still at 15 ms, lost the track for 8
+  // frames (60 posed).
+  CHECK(run.posed >= run.frames - 15);
+}
+
+TEST_CASE("a change of exposure at a wrong tau does not lose the track", "[vo][board]") {
+  // The raw static level of a timing differs from another's by a factor of the true tau, and the
+  // scene estimate removes the frames before a change rightly only at the true tau: across a
+  // change (and in the initialisation) the ir modes estimate the gain and offset. Before they did,
+  // tau started at 20 ms for 10 posed 0 of 90 frames with a switch every 8 or 10 frames (the
+  // initialisation never got through one) and 1 with one every 12; every run here posed 73-77.
+  for (const int period_frames : {8, 12}) {
+    const SwitchingWall run = run_switching_wall(period_frames, 0.020f);
+    INFO("a switch every " << period_frames << " frames: " << run.posed << " of " << run.frames
+                           << " posed, tau after 1.5 s " << run.tau_end * 1e3 << " ms");
+    CHECK(run.posed >= run.frames - 17);
+    CHECK(run.tau_end == Approx(0.010).epsilon(0.05));
+  }
+}
+
+TEST_CASE("a camera offset across changes of exposure is estimated with the gain", "[vo][board]") {
+  // The raw counts of a camera start from what a pixel reads at the substrate's temperature, not
+  // from 0: between two timings the level then changes by a gain and an offset. With tau given
+  // (held at the truth or at twice it) the track holds; the first initialisation, across the
+  // first switch, restarts once (62-63 of 90 posed; before the brightness was freed there 1-2).
+  // The carry-over pairs assume no offset: with 3000 counts and tau estimated they drive it to
+  // 18-20 ms across these switches, which this test does not ask about.
+  for (const float tau_s : {0.010f, 0.020f}) {
+    const SwitchingWall run = run_switching_wall(12, tau_s, 3000.0, false);
+    INFO("camera offset 3000, tau held at " << tau_s * 1e3 << " ms: " << run.posed << " of " << run.frames << " posed");
+    CHECK(run.posed >= 58);
+  }
 }

@@ -33,9 +33,24 @@ struct InitSystem {
   Vec6 g = Vec6::Zero();
   double energy = 0;
   std::uint32_t inliers = 0;
+  // The brightness block (gain, offset), solved on its own beside the pose: sum w z z^T and
+  // sum w r z with z = (reference - host offset, 1).
+  double h_gg = 0, h_go = 0, h_oo = 0, g_g = 0, g_o = 0;
 };
 
 Keyframe& init_host(State& s) { return s.kf[s.order[0]]; }
+
+// The frame's brightness against the host, as the tracker has it (value = e^(a - a_host)
+// (reference - b_host) + b). Free only where the frame does not have the host's level
+// (same_level: across a change of exposure or readout), in the ir modes and in affine; otherwise
+// the frames are compared as they are.
+struct Brightness {
+  double a = 0, b = 0;
+};
+bool brightness_free(const State& s) {
+  const Keyframe& host = s.kf[s.order[0]];
+  return (uses_carry_model(s.cfg) || s.cfg.photometric == Photometric::affine) && !same_level(s, host);
+}
 
 constexpr std::uint32_t kCells = 8;  // prior target: the mean inverse depth of the point's cell
 
@@ -64,9 +79,12 @@ double mean_idepth(const Keyframe& host) {
 }
 
 // Per point, in s.ba_hxr (stride 8): coupling to the pose (6), H_rr, g_r.
-InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, bool with_jacobians) {
+InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, const Brightness& br, bool with_jacobians) {
   InitSystem sys;
   Keyframe& host = init_host(s);
+  const bool free = brightness_free(s);
+  const auto gain = static_cast<float>(std::exp(br.a - host.a));
+  const auto host_b = static_cast<float>(host.b), offset = static_cast<float>(br.b);
   const Level& cur = s.frame.level[level];
   const Level& ref = host.pyramid.level[level];
   const Scaled k = camera_at(s.cfg.camera, level), k0 = camera_at(s.cfg.camera, 0);
@@ -103,10 +121,12 @@ InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, bool with_jac
       continue;
     }
     float energy = 0;
-    float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
+    float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], z[kPattern];
     for (std::uint32_t j = 0; j < kPattern; ++j) {
       const Sample c = bilinear_with_gradient(s.frame_texels[level], u + kPatternX[j], v + kPatternY[j]);
-      r[j] = c.value - bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
+      const float reference = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
+      z[j] = reference - host_b;
+      r[j] = free ? c.value - (gain * z[j] + offset) : c.value - reference;
       const float hw = huber_weight(r[j], hub);
       w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
       gx[j] = c.gx, gy[j] = c.gy;
@@ -133,6 +153,13 @@ InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, bool with_jac
       row[6] += static_cast<float>(w[j] * Jd * Jd);
       row[7] += static_cast<float>(w[j] * Jd * r[j]);
     }
+    if (free)
+      for (std::uint32_t j = 0; j < kPattern; ++j) {
+        // d r / d a = -gain z, d r / d b = -1.
+        const double ja = -double{gain} * z[j], wj = w[j];
+        sys.h_gg += wj * ja * ja, sys.h_go -= wj * ja, sys.h_oo += wj;
+        sys.g_g += wj * ja * r[j], sys.g_o -= wj * r[j];
+      }
   }
   sys.H = sys.H.selfadjointView<Eigen::Upper>();
   return sys;
@@ -143,14 +170,25 @@ struct Solved {
   std::uint32_t inliers = 0;
 };
 
-// Joint pose + inverse-depth refinement, coarse to fine, from M and the host's current depths.
-Solved refine(State& s, Se3& M) {
+// The brightness step of a free brightness (none otherwise), damped as the pose's.
+Brightness brightness_step(const State& s, const InitSystem& sys, const Brightness& br, double lambda) {
+  if (!brightness_free(s)) return br;
+  Eigen::Matrix2d H;
+  H << sys.h_gg * (1 + lambda) + 1e-6, sys.h_go, sys.h_go, sys.h_oo * (1 + lambda) + 1e-6;
+  const Eigen::Vector2d d = -H.ldlt().solve(Eigen::Vector2d(sys.g_g, sys.g_o));
+  if (!d.allFinite()) return br;
+  return {br.a + d[0], br.b + d[1]};
+}
+
+// Joint pose + inverse-depth refinement, coarse to fine, from M and the host's current depths
+// (and the brightness, when it is free).
+Solved refine(State& s, Se3& M, Brightness& br) {
   Keyframe& host = init_host(s);
   Solved out;
   for (int level = static_cast<int>(s.frame.levels) - 1; level >= 0; --level) {
     const auto l = static_cast<std::uint32_t>(level);
     double lambda = 0.1;
-    InitSystem sys = accumulate(s, l, M, true);
+    InitSystem sys = accumulate(s, l, M, br, true);
     for (int it = 0; it < 6; ++it) {
       // Schur complement: eliminate every inverse depth (diagonal block) onto the pose.
       Mat6 Hs = sys.H;
@@ -180,15 +218,16 @@ Solved refine(State& s, Se3& M) {
         p.idepth_min = p.idepth;  // backup
         p.idepth = static_cast<float>(std::min(std::max(p.idepth + dr, 1e-3), 20.0));
       }
-      InitSystem next = accumulate(s, l, M_new, true);
+      const Brightness br_new = brightness_step(s, sys, br, lambda);
+      InitSystem next = accumulate(s, l, M_new, br_new, true);
       if (next.energy < sys.energy) {
-        M = M_new, sys = next;
+        M = M_new, br = br_new, sys = next;
         lambda = std::max(lambda * 0.5, 1e-4);
         if (dx.norm() < 1e-6) break;
       } else {
         for (std::uint32_t i = 0; i < host.count; ++i)
           if (host.points[i].status == PointStatus::immature) host.points[i].idepth = host.points[i].idepth_min;
-        sys = accumulate(s, l, M, true);
+        sys = accumulate(s, l, M, br, true);
         lambda *= 4;
         if (lambda > 1e3) break;
       }
@@ -212,15 +251,15 @@ void restore_depths(Keyframe& host, const float* from) {
 // Refines a solve kSolvePasses - 1 more times: one coarse-to-fine pass leaves the depths short of
 // converged, and the comparison below is only fair between solves that went equally far.
 constexpr int kSolvePasses = 3;
-Solved converge(State& s, Se3& M, Solved solved) {
-  for (int pass = 1; pass < kSolvePasses; ++pass) solved = refine(s, M);
+Solved converge(State& s, Se3& M, Brightness& br, Solved solved) {
+  for (int pass = 1; pass < kSolvePasses; ++pass) solved = refine(s, M, br);
   return solved;
 }
 
-Solved solve_from_flat_depths(State& s, Se3& M) {
+Solved solve_from_flat_depths(State& s, Se3& M, Brightness& br) {
   Keyframe& host = init_host(s);
   for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = 1.0f;
-  return refine(s, M);
+  return refine(s, M, br);
 }
 
 // Two solves found the same basin when their camera centres (host coordinates) point the same
@@ -247,35 +286,39 @@ bool same_basin(const Se3& a, const Se3& b) {
 // wall a 0.05 % difference flipped it, and the run went another way from there.
 constexpr double kBasinMargin = 0.01;
 // The comparison runs only on a frame the warm solve fits well (4 in 5 of the host's points
-// inliers): on a frame that matches poorly (the IR modes after an exposure change at a wrong tau,
-// heavy aliasing) both energies are mostly outliers and the choice is noise. On the wall, a
-// re-initialisation across exposure switches flipped on such a frame (8 % apart) on aarch64 and
-// the run lost the track once more.
+// inliers): on a frame that matches poorly (heavy aliasing; the IR modes after an exposure change
+// at a wrong tau, before the brightness was freed there) both energies are mostly outliers and the
+// choice is noise. On the wall, a re-initialisation across exposure switches flipped on such a
+// frame (8 % apart) on aarch64 and the run lost the track once more.
 bool fits_well(const Solved& solved, const Keyframe& host) { return solved.inliers * 5 >= host.count * 4; }
 // Returns whether the two solves ended in different basins.
-bool solve_afresh_if_better(State& s, Se3& M, Solved& solved) {
+// The brightness is the frame's whatever the basin: the fresh solves start from the warm one's.
+bool solve_afresh_if_better(State& s, Se3& M, Brightness& br, Solved& solved) {
   Keyframe& host = init_host(s);
   float* warm = warm_depths(s);
   float* fresh_solution = fresh_depths(s);
   save_depths(host, warm);
   Se3 M_fresh;
-  Solved fresh = solve_from_flat_depths(s, M_fresh);
+  Brightness br_fresh = br;
+  Solved fresh = solve_from_flat_depths(s, M_fresh, br_fresh);
   bool take_fresh = fresh.energy < solved.energy;
   const bool basins_differ = !same_basin(M, M_fresh);
   if (!take_fresh && basins_differ && fits_well(solved, host)) {
-    fresh = converge(s, M_fresh, fresh);
+    fresh = converge(s, M_fresh, br_fresh, fresh);
     save_depths(host, fresh_solution);
     Se3 M_warm_basin = M;
-    const Solved warm_basin = converge(s, M_warm_basin, solve_from_flat_depths(s, M_warm_basin));
+    Brightness br_warm_basin = br;
+    const Solved warm_basin =
+        converge(s, M_warm_basin, br_warm_basin, solve_from_flat_depths(s, M_warm_basin, br_warm_basin));
     take_fresh = fresh.energy < (1.0 - kBasinMargin) * warm_basin.energy;
     if (take_fresh) restore_depths(host, fresh_solution);
   }
   if (take_fresh) {
-    M = M_fresh, solved = fresh;
+    M = M_fresh, br = br_fresh, solved = fresh;
   } else {
     restore_depths(host, warm);
   }
-  accumulate(s, 0, M, false);  // the chosen solution's point energies (outlier test at the end)
+  accumulate(s, 0, M, br, false);  // the chosen solution's point energies (outlier test at the end)
   return basins_differ;
 }
 
@@ -283,13 +326,9 @@ bool solve_afresh_if_better(State& s, Se3& M, Solved& solved) {
 // to kBasinWaitFrames: with more baseline the true basin comes to fit better. Measured on the
 // handheld street renders, initialisations more than 20 degrees off: 15 -> 2 of 48 (3x3 rays,
 // seeds 4-6), 14 -> 1 of 120 (one ray, the study's grid), 13 frames on average instead of 11.
-// Not in the ir modes once the stream's timing has changed: at a timing change the scene
-// estimate's level is right only for the true tau, so while tau is still wrong an initialisation
-// that waits past one loses its frames (the board tests' wall, exposure switching every 12
-// frames, tau started at 15 ms for 10: 1 of 90 frames posed instead of 60).
 constexpr std::uint32_t kBasinWaitFrames = 30;
 bool keep_waiting_for_the_basin(const State& s, bool basins_differ) {
-  return basins_differ && s.init_frames < kBasinWaitFrames && !(uses_carry_model(s.cfg) && s.timing_varied);
+  return basins_differ && s.init_frames < kBasinWaitFrames;
 }
 
 }  // namespace
@@ -316,8 +355,11 @@ void start_initialisation(State& s) {
 bool initialise_step(State& s) {
   Keyframe& host = init_host(s);
   Se3 M = motion_step(s) * (s.T_cw * host.T_cw.inverse());  // constant-velocity guess
-  Solved solved = refine(s, M);
-  const bool basins_differ = s.init_frames > 0 && solve_afresh_if_better(s, M, solved);
+  // Where the frame has the host's level it has the host's brightness.
+  const bool level_unknown = brightness_free(s);
+  Brightness br = level_unknown ? Brightness{s.a, s.b} : Brightness{host.a, host.b};
+  Solved solved = refine(s, M, br);
+  const bool basins_differ = s.init_frames > 0 && solve_afresh_if_better(s, M, br, solved);
   const std::uint32_t finest_inliers = solved.inliers;
   // Keep the mean inverse depth at 1: the scale of monocular odometry is free.
   const double mean = mean_idepth(host);
@@ -332,6 +374,8 @@ bool initialise_step(State& s) {
   }
   const Se3 previous = s.T_cw;
   s.T_cw = (M * host.T_cw).orthonormalised();
+  s.a = br.a, s.b = br.b;
+  s.brightness_level_unknown = level_unknown;
   record_motion(s, previous);
   ++s.init_frames;
   const double baseline_flow = s.cfg.camera.fx * M.t.norm();

@@ -178,6 +178,8 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
   kf.a = s.a, kf.b = s.b;
   kf.t_s = s.t_s, kf.exposure_s = s.exposure_s, kf.readout_prev_s = s.readout_prev_s;
   kf.chain_ok = s.chain_ok;
+  kf.settled = s.frames_since_timing_change >= kTimingSettleFrames;
+  s.offset_step = 0;
   kf.count = 0;
   copy_pyramid(s.frame, kf.pyramid, s.cfg);
   s.order[s.kf_count++] = slot;
@@ -247,20 +249,31 @@ double mean_level(const float* image, std::size_t pixels) {
 }
 }  // namespace
 
-double scene_level_scale(const State& s) {
-  if (!(s.reference_exposure_s > 0) || !(s.reference_readout_s > 0)) return 1.0;
-  const CarryCoefficients k = carry_coefficients(s.tau, s.reference_readout_s, s.reference_exposure_s);
+namespace {
+double static_level_factor(Tau tau, double readout_prev_s, double exposure_s) {
+  if (!(exposure_s > 0) || !(readout_prev_s > 0)) return 1.0;
+  const CarryCoefficients k = carry_coefficients(tau, readout_prev_s, exposure_s);
   return k.beta / (1.0 - k.alpha);
+}
+}  // namespace
+
+double scene_level_scale(const State& s) { return static_level_factor(s.tau, s.readout_prev_s, s.exposure_s); }
+
+bool same_level(const State& s, const Keyframe& kf) {
+  return s.frames_since_timing_change >= kTimingSettleFrames && kf.settled &&
+         !timing_differs(kf.exposure_s, s.exposure_s) && !timing_differs(kf.readout_prev_s, s.readout_prev_s);
 }
 
 void write_scene_estimate(State& s) {
   s.carry = carry_coefficients(s.tau, s.readout_prev_s, s.exposure_s);
   // The scene estimate u = (raw_i - alpha raw_{i-1}) / beta (paper Eq. 6), scaled to the level a
-  // static pixel reads: a static pixel keeps its value whatever tau is, so a refined tau does not
-  // shift every pixel's level against the keyframes. Without the scale, u's static level is
-  // (1 - alpha) / beta times the raw one, which moves with tau unless t_e = t_r: with t_e 12.5 and
-  // t_r 4.2 ms (60 Hz, tau 10 ms) ir read tau 20 ms, ir-loop 82 ms, and the trajectories 2-12 %
-  // of the path off.
+  // static pixel reads at this frame's timing: a static pixel keeps its value whatever tau is, so
+  // a refined tau does not shift every pixel's level against the keyframes. Without the scale,
+  // u's static level is (1 - alpha) / beta times the raw one, which moves with tau unless
+  // t_e = t_r: with t_e 12.5 and t_r 4.2 ms (60 Hz, tau 10 ms) ir read tau 20 ms, ir-loop 82 ms,
+  // and the trajectories 2-12 % of the path off. At a change of the timing the raw static level
+  // itself changes (by the true tau's factor): the tracker and the initialiser free the gain and
+  // offset there (same_level).
   s.scene_scale = scene_level_scale(s);
   const auto alpha = static_cast<float>(s.carry.alpha);
   const auto gain = static_cast<float>(s.scene_scale / s.carry.beta);
@@ -342,9 +355,24 @@ void record_motion(State& s, const Se3& previous) {
 }
 
 namespace {
-// More than 1 %: timings read from a camera's timestamps jitter.
-bool timing_changed(double before_s, double now_s) {
-  return before_s > 0 && now_s > 0 && std::abs(now_s - before_s) > 0.01 * before_s;
+// Counts the frames since the exposure or readout last changed; at a change, the brightness starts
+// where the current tau puts the raw static level of the new timing against the old one's
+// (initialiser, tracker), in affine (as DSO with known exposure times) where the exposures' ratio
+// puts it.
+void follow_timing(State& s) {
+  const bool changed = timing_differs(s.exposure_prev_s, s.exposure_s) || timing_differs(s.readout_prev2_s, s.readout_prev_s);
+  if (!changed) {
+    if (s.frames_since_timing_change < 0xffffffffu) ++s.frames_since_timing_change;
+    return;
+  }
+  s.frames_since_timing_change = 0;
+  if (uses_carry_model(s.cfg) && s.chain_ok) {
+    s.a += std::log(static_level_factor(s.tau, s.readout_prev_s, s.exposure_s) /
+                    static_level_factor(s.tau, s.readout_prev2_s, s.exposure_prev_s));
+    s.brightness_level_unknown = true;
+  } else if (s.cfg.photometric == Photometric::affine && timing_differs(s.exposure_prev_s, s.exposure_s)) {
+    s.a += std::log(s.exposure_s / s.exposure_prev_s);
+  }
 }
 
 bool repeats(std::span<const std::uint16_t> raw, std::span<const float> previous) {
@@ -384,10 +412,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.exposure_prev_s = s.exposure_s;
   s.readout_prev2_s = s.readout_prev_s;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
-  if (timing_changed(s.exposure_prev_s, s.exposure_s) || timing_changed(s.readout_prev2_s, s.readout_prev_s))
-    s.timing_varied = true;
-  if (!(s.reference_exposure_s > 0) && in.exposure_s > 0) s.reference_exposure_s = in.exposure_s;
-  if (!(s.reference_readout_s > 0) && in.readout_prev_s > 0) s.reference_readout_s = in.readout_prev_s;
+  follow_timing(s);
   s.scene_scale_prev = s.scene_scale;
   s.scene_scale = 1.0;
   const bool ir = uses_carry_model(c);
@@ -451,17 +476,25 @@ FrameResult Odometry::process(const FrameInput& in) {
   // frame after it with a free offset that is then kept: a shutter event resets the camera's
   // offsets, which the scene estimate carries from then on.
   if (ir && !s.chain_ok) s.offset_pending = true;
+  // A frame without its reference keyframe's level (same_level: across a change of exposure or
+  // readout) is tracked with a free gain and offset, which are kept.
+  const Keyframe& reference = s.kf[s.order[s.kf_count - 1]];  // the tracking reference
+  const bool level_unknown = ir && s.chain_ok && !same_level(s, reference);
   FreeBrightness free;
-  free.gain = ir && !s.chain_ok;
-  free.offset = ir && (!s.chain_ok || s.offset_pending);
+  free.gain = ir && (!s.chain_ok || level_unknown);
+  free.offset = ir && (!s.chain_ok || s.offset_pending || level_unknown);
   // After a shutter event the gain starts where the current tau puts the step response, and the
   // offset where that gain puts the frame's mean level (the settled shutter's share of the counts
   // is unknown: started at the keyframes' offset, every residual would be an outlier).
-  const bool shutter_step = ir && in.shutter_event && s.reference_exposure_s > 0 && s.reference_readout_s > 0 && in.exposure_s > 0;
-  const Keyframe& reference = s.kf[s.order[s.kf_count - 1]];  // the tracking reference
+  // The reference's image has the raw static level of its own timing.
+  const bool shutter_step = ir && in.shutter_event && reference.exposure_s > 0 && reference.readout_prev_s > 0 && in.exposure_s > 0;
   double a_start = s.a, b_start = s.b;
+  // Back at the reference's level after frames that were not: its gain, and its offset as the
+  // camera's shutter events have moved it since.
+  if (ir && s.chain_ok && !level_unknown && s.brightness_level_unknown)
+    a_start = reference.a, b_start = reference.b + s.offset_step;
   if (shutter_step) {
-    const double gain = shutter_step_gain(s.tau, in.exposure_s, s.reference_readout_s, s.reference_exposure_s);
+    const double gain = shutter_step_gain(s.tau, in.exposure_s, reference.readout_prev_s, reference.exposure_s);
     a_start = reference.a + std::log(gain);
     b_start = mean_level(s.raw.data(), plane(c)) - gain * (mean_level(reference.pyramid.level[0].value.data, plane(c)) - reference.b);
   }
@@ -532,12 +565,21 @@ FrameResult Odometry::process(const FrameInput& in) {
   const Se3 previous = s.T_cw;
   s.T_cw = pose;
   record_motion(s, previous);
-  // A frame without its predecessor has an unknown gain and offset: keep the keyframes' brightness.
-  if (!free.gain) s.a = best.a, s.b = best.b, s.offset_pending = false;
+  // A frame without its predecessor (tracked on its raw counts) has an unknown gain and offset:
+  // keep the keyframes' brightness. A free offset after a shutter event is the camera's only on a
+  // frame with the reference's level.
+  if (!(ir && !s.chain_ok)) {
+    s.a = best.a, s.b = best.b;
+    s.brightness_level_unknown = level_unknown;
+    if (!level_unknown) {
+      if (s.offset_pending) s.offset_step = best.b - reference.b;
+      s.offset_pending = false;
+    }
+  }
   if (shutter_step && c.estimate_tau) {
     // The step response's contrast against the tracking reference.
     const double gain = std::exp(best.a - reference.a);
-    const double tau = tau_from_shutter_step_gain(gain, in.exposure_s, s.reference_readout_s, s.reference_exposure_s);
+    const double tau = tau_from_shutter_step_gain(gain, in.exposure_s, reference.readout_prev_s, reference.exposure_s);
     if (take_shutter_measurement(s, tau)) out.shutter_tau_s = tau;
   }
   out.state = TrackingState::tracking;

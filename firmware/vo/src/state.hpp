@@ -3,6 +3,7 @@
 // tau estimator). Everything here lives in the arena.
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <span>
 
@@ -50,6 +51,7 @@ struct Keyframe {
   Pyramid pyramid;
   std::span<Point> points;
   std::uint32_t count = 0;  // points used in `points`
+  bool settled = true;  // made kTimingSettleFrames or more after a change of timing (same_level)
 };
 
 // Pattern offsets in pixels (own choice: a spread diamond that samples both gradient directions).
@@ -62,6 +64,15 @@ struct Scaled {
 // The ir modes: the tracking image is the scene estimate of the two-frame carry-over model.
 inline bool uses_carry_model(const VoConfig& c) {
   return c.photometric == Photometric::ir || c.photometric == Photometric::ir_loop;
+}
+// Frames from a change of exposure or readout (the change frame itself first) whose image holds
+// part of the carry-over of the frames before the change, which the scene estimate removes right
+// only at the true tau: it decays by alpha (0.4-0.6 at 60 Hz) a frame, to a few per cent of its
+// first-frame share by then.
+inline constexpr std::uint32_t kTimingSettleFrames = 4;
+// More than 1 %: timings read from a camera's timestamps jitter.
+inline bool timing_differs(double before_s, double now_s) {
+  return before_s > 0 && now_s > 0 && std::abs(now_s - before_s) > 0.01 * before_s;
 }
 
 inline Scaled camera_at(const Camera& c, std::uint32_t level) {
@@ -160,7 +171,9 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   std::uint32_t frames_since_kf = 0, inliers_after_kf = 0;
   bool initialised = false;
   std::uint32_t init_frames = 0;
-  bool timing_varied = false;         // a frame's exposure or readout differed from its predecessor's
+  std::uint32_t frames_since_timing_change = 0xffffffffu;  // 0: this frame's timing changed
+  bool brightness_level_unknown = false;  // a, b are of a frame without its reference's level (same_level)
+  double offset_step = 0;  // ir modes: the camera offset's change since the newest keyframe (shutter)
   float last_rms = 0;
 
   Se3 T_prev;                  // the previous frame's pose, when prev_posed
@@ -184,9 +197,6 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   double exposure_s = 0, readout_prev_s = 0, t_s = 0;
   double exposure_prev_s = 0;  // the previous frame's
   double readout_prev2_s = 0;  // the readout before the previous frame (its readout_prev_s)
-  // The recording's first exposure and readout (0 until seen): the timing whose static level the
-  // tracking images keep (scene_level_scale).
-  double reference_exposure_s = 0, reference_readout_s = 0;
   float intensity = 1;              // the intensity scale in use (VoConfig::intensity_scale)
   bool intensity_pending = false;   // to be measured from the pixel noise
   std::uint32_t raw_frames = 0;     // frames loaded while it is pending
@@ -194,10 +204,16 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
 };
 
 // The factor that takes the scene estimate u = (raw - alpha raw_prev) / beta to the raw level a
-// static pixel reads at the reference timing, beta* / (1 - alpha*) with the current tau: the
-// tracking images then keep the keyframes' level whatever tau is and however t_e and t_r split
-// the frame period (exactly 1 when they are equal, tau_h being kept equal to tau_c).
+// static pixel reads at the frame's timing, beta / (1 - alpha) with the current tau: the tracking
+// images then keep the keyframes' level whatever tau is and however t_e and t_r split the frame
+// period (exactly 1 when they are equal, tau_h being kept equal to tau_c).
 double scene_level_scale(const State& s);
+// The current frame's tracking image has the level of keyframe kf's (in the ir modes whatever
+// tau is): both settled, at the same timing. The ir modes' images have the raw static level of
+// their timing (scene_level_scale), and the raw static levels of two timings differ by a factor
+// of the true tau: across a change of timing, and on the frames right after one, the gain and
+// offset are estimated (tracker, initialiser; affine's initialiser too).
+bool same_level(const State& s, const Keyframe& kf);
 
 // Sets s.intensity from the current frame's pixel noise (odometry.cpp), for
 // VoConfig::intensity_scale 0; leaves it pending while the noise cannot be measured yet.

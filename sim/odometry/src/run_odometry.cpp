@@ -72,7 +72,7 @@ class FrameSink final : public fw::LineSink {
 };
 
 struct FrameTiming {
-  double exposure_s = 0, readout_s = 0;  // 0 where the photometric model does not use them
+  double exposure_s = 0, readout_s = 0;  // 0 where the photometric model does not use them (or unknown)
 };
 
 std::uint32_t to_ns(double seconds) { return static_cast<std::uint32_t>(std::llround(seconds * 1e9)); }
@@ -159,6 +159,13 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
       if (!(timing[i].readout_s >= 0)) throw Error(at + "readout_s must not be negative");
     }
     if (summary.timing_assumed > 0) summary.assumed_half_period_s = half;
+  } else if (options.photometric == vo::Photometric::affine) {
+    // affine starts a frame whose exposure changed at the exposures' ratio (as DSO with known
+    // exposure times); where frames.csv does not give them, nothing is assumed.
+    for (std::uint64_t i = 0; i < frames; ++i) {
+      if (rows[i].exposure_s && *rows[i].exposure_s > 0) timing[i].exposure_s = *rows[i].exposure_s;
+      if (rows[i].readout_s && *rows[i].readout_s >= 0) timing[i].readout_s = *rows[i].readout_s;
+    }
   }
 
   std::vector<std::byte> arena(vo::Odometry::arena_bytes(config));
