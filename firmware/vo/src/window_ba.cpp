@@ -316,11 +316,23 @@ BaVector scale_direction(const State& s) {
   return norm > 0 ? BaVector(v / norm) : v;
 }
 
+// The prior read at the current parameters and the window's scale direction there: what the
+// prior's Hessian and gradient in window order are made from.
+struct PriorInWindow {
+  PriorAtCurrent at;
+  BaVector scale_dir = BaVector::Zero();
+};
+PriorInWindow prior_in_window(const State& s) {
+  PriorInWindow p;
+  if (s.prior.set) p.at = prior_at_current(s), p.scale_dir = scale_direction(s);
+  return p;
+}
+
 // The prior's Hessian D H D in window order (the BA's parameter layout).
-void prior_hessian_in_window(const State& s, const Window& win, BaMatrix& H) {
+void prior_hessian_in_window(const State& s, const Window& win, const PriorInWindow& p, BaMatrix& H) {
   H.setZero();
   if (!s.prior.set) return;
-  const BaVector D = prior_scaling(prior_at_current(s).inv_scale);
+  const BaVector D = prior_scaling(p.at.inv_scale);
   const BaMatrix DHD = D.asDiagonal() * s.prior.H * D.asDiagonal();
   for (std::uint32_t si = 0; si < kMaxKeyframes; ++si) {
     if (win.index[si] < 0) continue;
@@ -329,22 +341,20 @@ void prior_hessian_in_window(const State& s, const Window& win, BaMatrix& H) {
         H.block<8, 8>(Eigen::Index{8} * win.index[si], Eigen::Index{8} * win.index[sj]) =
             DHD.block<8, 8>(block8(si), block8(sj));
   }
-  const BaVector v = scale_direction(s);
+  const BaVector& v = p.scale_dir;
   const BaVector Hv = H * v;
   H -= Hv * v.transpose() + v * Hv.transpose() - v.dot(Hv) * v * v.transpose();  // P H P
 }
 
 // The prior's half-gradient at the current parameters in window order; returns its energy.
-double prior_gradient_in_window(const State& s, const Window& win, BaVector& b) {
+double prior_gradient_in_window(const State& s, const Window& win, const PriorInWindow& p, BaVector& b) {
   b.setZero();
   if (!s.prior.set) return 0;
-  const PriorAtCurrent at = prior_at_current(s);
-  const BaVector g = prior_gradient(s, at);
+  const BaVector g = prior_gradient(s, p.at);
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
     if (win.index[slot] >= 0) b.segment<8>(Eigen::Index{8} * win.index[slot]) = g.segment<8>(block8(slot));
-  const BaVector v = scale_direction(s);
-  b -= v.dot(b) * v;
-  return prior_energy(s, at);
+  b -= p.scale_dir.dot(b) * p.scale_dir;
+  return prior_energy(s, p.at);
 }
 
 void set_status(State& s, PointStatus from, PointStatus to) {
@@ -444,10 +454,11 @@ void window_bundle_adjustment(State& s) {
   double lambda = 1e-3;
   bool outliers_marked = false;
   BaMatrix& prior_H = s.ba_prior_H;
-  prior_hessian_in_window(s, win, prior_H);
+  const PriorInWindow prior_at_start = prior_in_window(s);
+  prior_hessian_in_window(s, win, prior_at_start, prior_H);
   BaVector prior_b;
   Totals cur = accumulate(s, win, true, false);
-  double prior_energy = prior_gradient_in_window(s, win, prior_b);
+  double prior_energy = prior_gradient_in_window(s, win, prior_at_start, prior_b);
   cur.energy += prior_energy;
   for (int it = 0; it < kIterations && cur.inliers > 0; ++it) {
     BaMatrix& H = s.ba_H;
@@ -509,7 +520,7 @@ void window_bundle_adjustment(State& s) {
     const bool last = it + 1 == kIterations;
     Totals next = accumulate(s, win, !last, last);
     BaVector next_prior_b;
-    const double next_prior_energy = prior_gradient_in_window(s, win, next_prior_b);
+    const double next_prior_energy = prior_gradient_in_window(s, win, prior_in_window(s), next_prior_b);
     next.energy += next_prior_energy;
     if (last) outliers_marked = true;
     if (next.energy < cur.energy) {

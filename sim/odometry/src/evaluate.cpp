@@ -1,5 +1,6 @@
 #include "bolo/odometry/evaluate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -122,11 +123,14 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
   for (std::size_t k = 1; k < to.size(); ++k) e.path_length_m += (to[k] - to[k - 1]).norm();
   e.ate_rmse_relative = e.path_length_m > 0 ? e.ate_rmse / e.path_length_m : 0;
 
-  // The same per tracking segment, each with its own alignment.
+  // The same per tracking segment, each with its own alignment (a run that never restarted is
+  // one segment: the whole run's).
   const std::vector<std::size_t> match_segment = segment_of_matches(est, a, stats, period, options.run);
+  const bool one_segment = std::all_of(match_segment.begin(), match_segment.end(),
+                                       [&](std::size_t m) { return m == match_segment.front(); });
   double segments_sq = 0, segments_path = 0;
   std::size_t segments_n = 0;
-  for (const SegmentAlignment& fit : align_segments(from, to, match_segment)) {
+  for (const SegmentAlignment& fit : one_segment ? std::vector<SegmentAlignment>{whole} : align_segments(from, to, match_segment)) {
     TrackedSegment seg;
     seg.number = match_segment[fit.begin] + 1;
     seg.first_t = est[a.estimate[fit.begin]].t, seg.last_t = est[a.estimate[fit.end - 1]].t, seg.poses = fit.end - fit.begin;
