@@ -78,12 +78,13 @@ double mean_idepth(const Keyframe& host) {
   return n ? sum / n : 1.0;
 }
 
-// Per point, in s.ba_hxr (stride 8): coupling to the pose (6), H_rr, g_r.
-InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, const Brightness& br, bool with_jacobians) {
+// Per point, in s.ba_hxr (stride 8): coupling to the pose (6), H_rr, g_r. kFree: the brightness
+// is free (a compile-time choice: the frames without it are most of the initialiser's time).
+template <bool kFree>
+InitSystem accumulate_with(State& s, std::uint32_t level, const Se3& M, const Brightness& br, bool with_jacobians) {
   InitSystem sys;
   Keyframe& host = init_host(s);
-  const bool free = brightness_free(s);
-  const auto gain = static_cast<float>(std::exp(br.a - host.a));
+  const auto gain = kFree ? static_cast<float>(std::exp(br.a - host.a)) : 1.0f;
   const auto host_b = static_cast<float>(host.b), offset = static_cast<float>(br.b);
   const Level& cur = s.frame.level[level];
   const Level& ref = host.pyramid.level[level];
@@ -125,8 +126,12 @@ InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, const Brightn
     for (std::uint32_t j = 0; j < kPattern; ++j) {
       const Sample c = bilinear_with_gradient(s.frame_texels[level], u + kPatternX[j], v + kPatternY[j]);
       const float reference = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
-      z[j] = reference - host_b;
-      r[j] = free ? c.value - (gain * z[j] + offset) : c.value - reference;
+      if constexpr (kFree) {
+        z[j] = reference - host_b;
+        r[j] = c.value - (gain * z[j] + offset);
+      } else {
+        r[j] = c.value - reference;
+      }
       const float hw = huber_weight(r[j], hub);
       w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
       gx[j] = c.gx, gy[j] = c.gy;
@@ -153,7 +158,7 @@ InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, const Brightn
       row[6] += static_cast<float>(w[j] * Jd * Jd);
       row[7] += static_cast<float>(w[j] * Jd * r[j]);
     }
-    if (free)
+    if constexpr (kFree)
       for (std::uint32_t j = 0; j < kPattern; ++j) {
         // d r / d a = -gain z, d r / d b = -1.
         const double ja = -double{gain} * z[j], wj = w[j];
@@ -163,6 +168,11 @@ InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, const Brightn
   }
   sys.H = sys.H.selfadjointView<Eigen::Upper>();
   return sys;
+}
+
+InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, const Brightness& br, bool with_jacobians) {
+  return brightness_free(s) ? accumulate_with<true>(s, level, M, br, with_jacobians)
+                            : accumulate_with<false>(s, level, M, br, with_jacobians);
 }
 
 struct Solved {
