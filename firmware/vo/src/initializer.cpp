@@ -46,6 +46,7 @@ Keyframe& init_host(State& s) { return s.kf[s.order[0]]; }
 // the frames are compared as they are.
 struct Brightness {
   double a = 0, b = 0;
+  bool free = false;  // brightness_free() for this frame
 };
 bool brightness_free(const State& s) {
   const Keyframe& host = s.kf[s.order[0]];
@@ -171,7 +172,7 @@ InitSystem accumulate_with(State& s, std::uint32_t level, const Se3& M, const Br
 }
 
 InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, const Brightness& br, bool with_jacobians) {
-  return brightness_free(s) ? accumulate_with<true>(s, level, M, br, with_jacobians)
+  return br.free ? accumulate_with<true>(s, level, M, br, with_jacobians)
                             : accumulate_with<false>(s, level, M, br, with_jacobians);
 }
 
@@ -181,13 +182,13 @@ struct Solved {
 };
 
 // The brightness step of a free brightness (none otherwise), damped as the pose's.
-Brightness brightness_step(const State& s, const InitSystem& sys, const Brightness& br, double lambda) {
-  if (!brightness_free(s)) return br;
+Brightness brightness_step(const InitSystem& sys, const Brightness& br, double lambda) {
+  if (!br.free) return br;
   Eigen::Matrix2d H;
   H << sys.h_gg * (1 + lambda) + 1e-6, sys.h_go, sys.h_go, sys.h_oo * (1 + lambda) + 1e-6;
   const Eigen::Vector2d d = -H.ldlt().solve(Eigen::Vector2d(sys.g_g, sys.g_o));
   if (!d.allFinite()) return br;
-  return {br.a + d[0], br.b + d[1]};
+  return {br.a + d[0], br.b + d[1], true};
 }
 
 // Joint pose + inverse-depth refinement, coarse to fine, from M and the host's current depths
@@ -228,7 +229,7 @@ Solved refine(State& s, Se3& M, Brightness& br) {
         p.idepth_min = p.idepth;  // backup
         p.idepth = static_cast<float>(std::min(std::max(p.idepth + dr, 1e-3), 20.0));
       }
-      const Brightness br_new = brightness_step(s, sys, br, lambda);
+      const Brightness br_new = brightness_step(sys, br, lambda);
       InitSystem next = accumulate(s, l, M_new, br_new, true);
       if (next.energy < sys.energy) {
         M = M_new, br = br_new, sys = next;
@@ -367,7 +368,7 @@ bool initialise_step(State& s) {
   Se3 M = motion_step(s) * (s.T_cw * host.T_cw.inverse());  // constant-velocity guess
   // Where the frame has the host's level it has the host's brightness.
   const bool level_unknown = brightness_free(s);
-  Brightness br = level_unknown ? Brightness{s.a, s.b} : Brightness{host.a, host.b};
+  Brightness br = level_unknown ? Brightness{s.a, s.b, true} : Brightness{host.a, host.b, false};
   Solved solved = refine(s, M, br);
   const bool basins_differ = s.init_frames > 0 && solve_afresh_if_better(s, M, br, solved);
   const std::uint32_t finest_inliers = solved.inliers;
