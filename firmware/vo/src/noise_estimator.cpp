@@ -63,6 +63,7 @@ double frame_noise_variance(State& s) {
   double var = 0;
   for (std::size_t i = 0; i < n; ++i) var += double{scratch[i]} * scratch[i];
   var /= static_cast<double>(n);
+  std::size_t kept_before = n + 1;
   for (int iteration = 0; iteration < 8 && var > 0; ++iteration) {
     const double limit = kClip * kClip * var;
     double sum = 0;
@@ -73,6 +74,9 @@ double frame_noise_variance(State& s) {
     }
     if (kept == 0) break;
     var = sum / static_cast<double>(kept) / kClippedVariance;
+    // The limit only grows or shrinks the kept set: the same set again gives the same variance.
+    if (kept == kept_before) break;
+    kept_before = kept;
   }
   const double frame_var = 0.5 * var;  // the difference of two frames
   return std::isfinite(frame_var) ? frame_var : -1.0;
