@@ -93,18 +93,29 @@ Vec8 host_coupling_from_target(const Mat8& A, const Vec8& c) {
 }
 
 // The distinct entries of Z = sum w z z^T and of sum w r z over a pattern, z = (gx, gy, a, 1)
-// (a: the host's pattern value less its offset).
+// (a: the host's pattern value less its offset), summed four pattern pixels at a time.
 struct PatternSums {
   double xx = 0, xy = 0, yy = 0, xa = 0, ya = 0, x1 = 0, y1 = 0, aa = 0, a1 = 0, ones = 0;
   double rx = 0, ry = 0, ra = 0, r1 = 0;
-  void add(double w, double gx, double gy, double a, double r) {
-    const double wx = w * gx, wy = w * gy, wa = w * a;
-    xx += wx * gx, xy += wx * gy, yy += wy * gy;
-    xa += wx * a, ya += wy * a, x1 += wx, y1 += wy;
-    aa += wa * a, a1 += wa, ones += w;
-    rx += wx * r, ry += wy * r, ra += wa * r, r1 += w * r;
-  }
 };
+
+PatternSums pattern_sums(const float* w, const float* gx, const float* gy, const float* host_values, float host_b,
+                         const float* r) {
+  using V = Eigen::Map<const Eigen::Array4f, Eigen::Aligned16>;
+  Eigen::Array4f xx = Eigen::Array4f::Zero(), xy = xx, yy = xx, xa = xx, ya = xx, x1 = xx, y1 = xx;
+  Eigen::Array4f aa = xx, a1 = xx, ones = xx, rx = xx, ry = xx, ra = xx, r1 = xx;
+  for (std::uint32_t h = 0; h < kPattern; h += 4) {
+    const Eigen::Array4f wh = V(w + h), gxh = V(gx + h), gyh = V(gy + h), rh = V(r + h);
+    const Eigen::Array4f a = Eigen::Map<const Eigen::Array4f>(host_values + h) - host_b;
+    const Eigen::Array4f wx = wh * gxh, wy = wh * gyh, wa = wh * a;
+    xx += wx * gxh, xy += wx * gyh, yy += wy * gyh;
+    xa += wx * a, ya += wy * a, x1 += wx, y1 += wy;
+    aa += wa * a, a1 += wa, ones += wh;
+    rx += wx * rh, ry += wy * rh, ra += wa * rh, r1 += wh * rh;
+  }
+  return {xx.sum(), xy.sum(), yy.sum(), xa.sum(), ya.sum(), x1.sum(), y1.sum(), aa.sum(), a1.sum(), ones.sum(),
+          rx.sum(),  ry.sum(), ra.sum(), r1.sum()};
+}
 
 // drop_outliers: points that fit most of the keyframes they are seen in badly are marked `leaving`.
 // Pair by pair (host, target), so each pass walks one target image at a time. only_host >= 0:
@@ -154,16 +165,25 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         if (!inside(tl.value, u, v, 3.0f)) continue;
         row[kRowObserved] += 1;
         const float* refv = row + kRowRef;
-        float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern];
-        float energy = 0;
+        alignas(16) float value[kPattern], gx[kPattern], gy[kPattern], r[kPattern], w[kPattern], terms[kPattern];
         for (std::uint32_t j = 0; j < kPattern; ++j) {
           const Sample c = bilinear_with_gradient(tl.value, tl.gx, tl.gy, u + kPatternX[j], v + kPatternY[j]);
-          r[j] = static_cast<float>(c.value - (e * (refv[j] - host.b) + target.b));
-          const float hw = huber_weight(r[j], hub);
-          w[j] = hw * c2 / (c2 + c.gx * c.gx + c.gy * c.gy);
-          gx[j] = c.gx, gy[j] = c.gy;
-          energy += hw * r[j] * r[j] * (2.0f - hw);
+          value[j] = c.value, gx[j] = c.gx, gy[j] = c.gy;
         }
+        // Residuals, Huber and gradient weights four pattern pixels at a time (the tracker's way).
+        using V = Eigen::Map<Eigen::Array4f, Eigen::Aligned16>;
+        const auto ef = static_cast<float>(e), hb = static_cast<float>(host.b), tb = static_cast<float>(target.b);
+        for (std::uint32_t h = 0; h < kPattern; h += 4) {
+          const Eigen::Array4f rr = V(value + h) - (ef * (Eigen::Map<const Eigen::Array4f>(refv + h) - hb) + tb);
+          const Eigen::Array4f ra = rr.abs();
+          const Eigen::Array4f hw = (ra <= hub).select(Eigen::Array4f::Ones(), hub / ra);
+          const Eigen::Array4f gxh = V(gx + h), gyh = V(gy + h);
+          V(r + h) = rr;
+          V(w + h) = hw * c2 / (c2 + gxh * gxh + gyh * gyh);
+          V(terms + h) = hw * rr * rr * (2.0f - hw);
+        }
+        float energy = 0;
+        for (std::uint32_t j = 0; j < kPattern; ++j) energy += terms[j];
         ++tot.blocks;
         if (energy > cutoff) {
           tot.energy += cutoff;
@@ -185,8 +205,7 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         // pattern, so the pattern adds K Z K^T with Z = sum w z z^T. K is block-diagonal (the
         // pose rows see only the gradient, a and b one column each), and the products below are
         // written per block: a dense 8x4 by 4x8 product was most of the adjustment's time.
-        PatternSums z;
-        for (std::uint32_t j = 0; j < kPattern; ++j) z.add(w[j], gx[j], gy[j], refv[j] - host.b, r[j]);
+        const PatternSums z = pattern_sums(w, gx, gy, refv, hb, r);
         double m0[6], m1[6];  // Z's gradient block times Jt
         for (int q = 0; q < 6; ++q) {
           m0[q] = z.xx * Jt(0, q) + z.xy * Jt(1, q);
@@ -449,7 +468,6 @@ void window_bundle_adjustment(State& s) {
   const Window win = window_of(s);
   // Eigen::Index is int on 32-bit boards: signed loop indices throughout.
   const int n = static_cast<int>(8 * win.count);
-  const int total = static_cast<int>(kMaxBaParams);
   const bool affine = s.cfg.photometric == Photometric::affine;
   double lambda = 1e-3;
   bool outliers_marked = false;
@@ -460,38 +478,45 @@ void window_bundle_adjustment(State& s) {
   Totals cur = accumulate(s, win, true, false);
   double prior_energy = prior_gradient_in_window(s, win, prior_at_start, prior_b);
   cur.energy += prior_energy;
+  // The parameters the adjustment moves, in window order: every keyframe's pose but the oldest's
+  // (the gauge) and, in affine only, the brightness. Held parameters stay out of the reduced system
+  // (most of the adjustment's own time is the Schur complement, quadratic in its size).
+  int moved[kMaxBaParams];
+  int m = 0;
+  for (int k = 1; k < n / 8; ++k)
+    for (int q = 0; q < (affine ? 8 : 6); ++q) moved[m++] = 8 * k + q;
   for (int it = 0; it < kIterations && cur.inliers > 0; ++it) {
     BaMatrix& H = s.ba_H;
     if (s.prior.set) H += prior_H;
-    BaVector b = s.ba_b + prior_b;
+    const BaVector b_full = s.ba_b + prior_b;
     const std::uint32_t points = win.points;
-    // Schur complement onto the keyframe parameters.
-    BaMatrix Hs = H;
+    // Schur complement onto the moved keyframe parameters, in their compact order.
+    BaMatrix Hs = BaMatrix::Identity();  // the rows past m stay the identity, their steps 0
+    BaVector b = BaVector::Zero();
+    for (int i = 0; i < m; ++i) {
+      b[i] = b_full[moved[i]];
+      for (int j = i; j < m; ++j) Hs(j, i) = H(moved[j], moved[i]);
+    }
     for (std::uint32_t pi = 0; pi < points; ++pi) {
       const float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
       if (row[kRowHrr] <= 0) continue;
       const double hrr = row[kRowHrr] * (1 + lambda) + 1e-6;
-      Eigen::Matrix<double, kMaxBaParams, 1> c;
+      double c[kMaxBaParams];
       const float* coupling = row + kRowCoupling;
-      for (int q = 0; q < n; ++q) c[q] = coupling[q];
+      for (int i = 0; i < m; ++i) c[i] = coupling[moved[i]];
       // The lower triangle only (LDLT reads nothing else), a column at a time: contiguous.
-      for (int q = 0; q < n; ++q) {
-        const double cq = c[q] / hrr;
-        if (cq == 0) continue;
-        b[q] -= cq * row[kRowGr];
-        for (int r = q; r < n; ++r) Hs(r, q) -= cq * c[r];
+      for (int i = 0; i < m; ++i) {
+        const double ci = c[i] / hrr;
+        if (ci == 0) continue;
+        b[i] -= ci * row[kRowGr];
+        for (int j = i; j < m; ++j) Hs(j, i) -= ci * c[j];
       }
     }
-    for (int q = 0; q < n; ++q) Hs(q, q) += lambda * H(q, q) + 1e-6;
-    for (int q = 0; q < 8; ++q) Hs(q, q) += 1e12;  // gauge: the oldest keyframe
-    if (!affine)
-      for (int k = 0; k < n / 8; ++k) Hs(8 * k + 6, 8 * k + 6) += 1e12, Hs(8 * k + 7, 8 * k + 7) += 1e12;
-    for (int q = n; q < total; ++q) {
-      Hs.row(q).setZero(), Hs.col(q).setZero();
-      Hs(q, q) = 1, b[q] = 0;
-    }
-    const BaVector dx = -Hs.ldlt().solve(b);
-    if (!dx.allFinite()) break;
+    for (int i = 0; i < m; ++i) Hs(i, i) += lambda * H(moved[i], moved[i]) + 1e-6;
+    const BaVector reduced_dx = -Hs.ldlt().solve(b);
+    if (!reduced_dx.allFinite()) break;
+    BaVector dx = BaVector::Zero();
+    for (int i = 0; i < m; ++i) dx[moved[i]] = reduced_dx[i];
     // Apply, keeping what is needed to undo.
     Se3 saved_pose[kMaxKeyframes];
     double saved_a[kMaxKeyframes], saved_b[kMaxKeyframes];
@@ -510,7 +535,7 @@ void window_bundle_adjustment(State& s) {
       if (row[kRowHrr] <= 0) continue;
       double coupling = 0;
       const float* point_coupling = row + kRowCoupling;
-      for (int q = 0; q < n; ++q) coupling += point_coupling[q] * dx[q];
+      for (int i = 0; i < m; ++i) coupling += point_coupling[moved[i]] * dx[moved[i]];
       const double d = -(row[kRowGr] + coupling) / (row[kRowHrr] * (1 + lambda) + 1e-6);
       p.idepth = static_cast<float>(std::max(1e-3, std::min(100.0, p.idepth + d)));
     }
