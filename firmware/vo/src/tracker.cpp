@@ -112,28 +112,39 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
     }
     ++acc.inliers;
     acc.energy += energy;
-    for (std::uint32_t j = 0; j < kPattern; ++j) acc.squared += r[j] * r[j];
     acc.residuals += kPattern;
-    if (!with_jacobians) continue;
+    if (!with_jacobians) {
+      for (std::uint32_t j = 0; j < kPattern; ++j) acc.squared += r[j] * r[j];
+      continue;
+    }
     // Geometric Jacobian of the centre pixel, used for the whole pattern (as DSO does): each
     // residual's pose row is gx du + gy dv, so the point adds D S D^T to the pose block with
     // D = [du dv] and S the weighted 2x2 gradient structure of its pattern (one product a point
-    // instead of one 8x8 update a pixel). Columns 6, 7: gain and offset.
+    // instead of one 8x8 update a pixel). Columns 6, 7: gain and offset. The pattern's sums are
+    // taken four pixels at a time.
     const float du[6] = {k.fx * iz, 0, -k.fx * x * iz, -k.fx * x * y, k.fx * (1 + x * x), -k.fx * y};
     const float dv[6] = {0, k.fy * iz, -k.fy * y * iz, -k.fy * (1 + y * y), k.fy * x * y, k.fy * x};
-    float sxx = 0, sxy = 0, syy = 0, sxa = 0, sya = 0, sxb = 0, syb = 0, saa = 0, sab = 0, sbb = 0;
-    float rx = 0, ry = 0, ra = 0, rb = 0;
-    for (std::uint32_t j = 0; j < kPattern; ++j) {
-      const float ja = -gain * (p.refv[j] - hb);  // d r / d a; d r / d b = -1
-      const float wx = w[j] * gx[j], wy = w[j] * gy[j];
-      sxx += wx * gx[j], sxy += wx * gy[j], syy += wy * gy[j];
-      sxa += wx * ja, sya += wy * ja, sxb -= wx, syb -= wy;
-      saa += w[j] * ja * ja, sab -= w[j] * ja, sbb += w[j];
-      rx += wx * r[j], ry += wy * r[j], ra += w[j] * ja * r[j], rb -= w[j] * r[j];
+    using A4 = Eigen::Map<const Eigen::Array4f, Eigen::Aligned16>;
+    Eigen::Array4f xx = Eigen::Array4f::Zero(), xy = xx, yy = xx, xa = xx, ya = xx, x1 = xx, y1 = xx;
+    Eigen::Array4f aa = xx, a1 = xx, ones = xx, rx4 = xx, ry4 = xx, ra4 = xx, r14 = xx, rr4 = xx;
+    for (std::uint32_t h = 0; h < kPattern; h += 4) {
+      const Eigen::Array4f wh = A4(w + h), gxh = A4(gx + h), gyh = A4(gy + h), rh = A4(r + h);
+      const Eigen::Array4f ja = -gain * (Eigen::Map<const Eigen::Array4f>(p.refv + h) - hb);  // d r / d a; d r / d b = -1
+      const Eigen::Array4f wx = wh * gxh, wy = wh * gyh, wa = wh * ja;
+      xx += wx * gxh, xy += wx * gyh, yy += wy * gyh;
+      xa += wx * ja, ya += wy * ja, x1 += wx, y1 += wy;
+      aa += wa * ja, a1 += wa, ones += wh;
+      rx4 += wx * rh, ry4 += wy * rh, ra4 += wa * rh, r14 += wh * rh, rr4 += rh * rh;
     }
+    acc.squared += rr4.sum();
+    const float sxx = xx.sum(), sxy = xy.sum(), syy = yy.sum(), sxa = xa.sum(), sya = ya.sum();
+    const float sxb = -x1.sum(), syb = -y1.sum(), saa = aa.sum(), sab = -a1.sum(), sbb = ones.sum();
+    const float rx = rx4.sum(), ry = ry4.sum(), ra = ra4.sum(), rb = -r14.sum();
+    // D S D^T as two products: H(q, e) += du[q] m0[e] + dv[q] m1[e].
+    float m0[6], m1[6];
+    for (int q = 0; q < 6; ++q) m0[q] = sxx * du[q] + sxy * dv[q], m1[q] = sxy * du[q] + syy * dv[q];
     for (int q = 0; q < 6; ++q) {
-      for (int e = q; e < 6; ++e)
-        acc.H(q, e) += sxx * du[q] * du[e] + sxy * (du[q] * dv[e] + dv[q] * du[e]) + syy * dv[q] * dv[e];
+      for (int e = q; e < 6; ++e) acc.H(q, e) += du[q] * m0[e] + dv[q] * m1[e];
       acc.H(q, 6) += sxa * du[q] + sya * dv[q];
       acc.H(q, 7) += sxb * du[q] + syb * dv[q];
       acc.g[q] += rx * du[q] + ry * dv[q];
