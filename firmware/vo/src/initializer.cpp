@@ -149,16 +149,24 @@ InitSystem accumulate_with(State& s, std::uint32_t level, const Se3& M, const Br
     const float du[6] = {k.fx * iz, 0, -k.fx * x * iz, -k.fx * x * y, k.fx * (1 + x * x), -k.fx * y};
     const float dv[6] = {0, k.fy * iz, -k.fy * y * iz, -k.fy * (1 + y * y), k.fy * x * y, k.fy * x};
     const float dud = k.fx * (t.x() - x * t.z()) / X.z(), dvd = k.fy * (t.y() - y * t.z()) / X.z();
+    // Pixel j's pose row is J_j = gx_j du + gy_j dv and its inverse-depth derivative
+    // gx_j dud + gy_j dvd, so the pattern's sums over w (gx, gy)^T (gx, gy) and w r (gx, gy) give
+    // the point's pose block, gradient and coupling (the tracker's per-point 2x2 sums).
+    float sxx = 0, sxy = 0, syy = 0, rx = 0, ry = 0;
     for (std::uint32_t j = 0; j < kPattern; ++j) {
-      Vec6 J;
-      for (int q = 0; q < 6; ++q) J[q] = gx[j] * du[q] + gy[j] * dv[q];
-      const double Jd = gx[j] * dud + gy[j] * dvd;
-      add_weighted_outer_upper(sys.H, J, w[j]);
-      sys.g += J * (w[j] * r[j]);
-      for (int q = 0; q < 6; ++q) row[q] += static_cast<float>(J[q] * w[j] * Jd);
-      row[6] += static_cast<float>(w[j] * Jd * Jd);
-      row[7] += static_cast<float>(w[j] * Jd * r[j]);
+      const float wx = w[j] * gx[j], wy = w[j] * gy[j];
+      sxx += wx * gx[j], sxy += wx * gy[j], syy += wy * gy[j], rx += wx * r[j], ry += wy * r[j];
     }
+    float m0[6], m1[6];
+    for (int q = 0; q < 6; ++q) m0[q] = sxx * du[q] + sxy * dv[q], m1[q] = sxy * du[q] + syy * dv[q];
+    for (int q = 0; q < 6; ++q) {
+      for (int e = q; e < 6; ++e) sys.H(q, e) += du[q] * m0[e] + dv[q] * m1[e];
+      sys.g[q] += rx * du[q] + ry * dv[q];
+    }
+    const float depth0 = sxx * dud + sxy * dvd, depth1 = sxy * dud + syy * dvd;
+    for (int q = 0; q < 6; ++q) row[q] = du[q] * depth0 + dv[q] * depth1;
+    row[6] += dud * depth0 + dvd * depth1;
+    row[7] += dud * rx + dvd * ry;
     if constexpr (kFree)
       for (std::uint32_t j = 0; j < kPattern; ++j) {
         // d r / d a = -gain z, d r / d b = -1.
