@@ -110,6 +110,30 @@ inline float huber_weight(float r, float k) {
   return a <= k ? 1.0f : k / a;
 }
 
+// A pattern's residuals against a reference pattern seen with a gain and offset,
+// r = value - (gain (reference - reference_offset) + offset), their Huber-and-gradient weights
+// and robust energy (summed in pattern order), four pattern pixels at a time (lane by lane the
+// arithmetic of huber_weight()). value, gx, gy, r, w: 16-byte aligned, kPattern long.
+inline float pattern_residuals(const float* value, const float* gx, const float* gy, const float* reference,
+                               float gain, float reference_offset, float offset, float hub, float c2, float* r,
+                               float* w) {
+  alignas(16) float terms[kPattern];
+  for (std::uint32_t h = 0; h < kPattern; h += 4) {
+    using A = Eigen::Map<Eigen::Array4f, Eigen::Aligned16>;
+    using C = Eigen::Map<const Eigen::Array4f, Eigen::Aligned16>;
+    const Eigen::Array4f rr = C(value + h) - (gain * (Eigen::Map<const Eigen::Array4f>(reference + h) - reference_offset) + offset);
+    const Eigen::Array4f ra = rr.abs();
+    const Eigen::Array4f hw = (ra <= hub).select(Eigen::Array4f::Ones(), hub / ra);
+    const Eigen::Array4f gxh = C(gx + h), gyh = C(gy + h);
+    A(r + h) = rr;
+    A(w + h) = hw * c2 / (c2 + gxh * gxh + gyh * gyh);
+    A(terms + h) = hw * rr * rr * (2.0f - hw);
+  }
+  float energy = 0;
+  for (std::uint32_t j = 0; j < kPattern; ++j) energy += terms[j];
+  return energy;
+}
+
 inline constexpr std::uint32_t kMaxBaParams = 8 * kMaxKeyframes;
 // Per window point in the BA scratch: H_rr, g_r, backup inverse depth, coupling to kf params,
 // the host pattern and two counts (window_ba.cpp lays the row out).

@@ -81,26 +81,12 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
     ++acc.visible;
     if (select_view)
       for (std::uint32_t j = 0; j < kPattern; ++j) p.refv[j] = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
-    alignas(16) float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], value[kPattern], terms[kPattern];
+    alignas(16) float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], value[kPattern];
     for (std::uint32_t j = 0; j < kPattern; ++j) {
       const Sample c = bilinear_with_gradient(texels, u + kPatternX[j], v + kPatternY[j]);
       value[j] = c.value, gx[j] = c.gx, gy[j] = c.gy;
     }
-    // Residuals, Huber and gradient weights four pattern pixels at a time (the arithmetic of
-    // huber_weight() and of the scalar expressions, lane by lane).
-    for (std::uint32_t h = 0; h < kPattern; h += 4) {
-      using A = Eigen::Map<Eigen::Array4f, Eigen::Aligned16>;
-      const Eigen::Array4f refv = Eigen::Map<const Eigen::Array4f>(p.refv + h);
-      const Eigen::Array4f rr = A(value + h) - (gain * (refv - hb) + fb);
-      const Eigen::Array4f ra = rr.abs();
-      const Eigen::Array4f hw = (ra <= hub).select(Eigen::Array4f::Ones(), hub / ra);
-      const Eigen::Array4f gxh = A(gx + h), gyh = A(gy + h);
-      A(r + h) = rr;
-      A(w + h) = hw * c2 / (c2 + gxh * gxh + gyh * gyh);
-      A(terms + h) = hw * rr * rr * (2.0f - hw);
-    }
-    float energy = 0;
-    for (std::uint32_t j = 0; j < kPattern; ++j) energy += terms[j];
+    const float energy = pattern_residuals(value, gx, gy, p.refv, gain, hb, fb, hub, c2, r, w);
     if (mark_inliers) {
       Point& source = s.kf[p.source >> 16].points[p.source & 0xffffu];
       source.energy = energy;

@@ -165,25 +165,13 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
         if (!inside(tl.value, u, v, 3.0f)) continue;
         row[kRowObserved] += 1;
         const float* refv = row + kRowRef;
-        alignas(16) float value[kPattern], gx[kPattern], gy[kPattern], r[kPattern], w[kPattern], terms[kPattern];
+        alignas(16) float value[kPattern], gx[kPattern], gy[kPattern], r[kPattern], w[kPattern];
         for (std::uint32_t j = 0; j < kPattern; ++j) {
           const Sample c = bilinear_with_gradient(tl.value, tl.gx, tl.gy, u + kPatternX[j], v + kPatternY[j]);
           value[j] = c.value, gx[j] = c.gx, gy[j] = c.gy;
         }
-        // Residuals, Huber and gradient weights four pattern pixels at a time (the tracker's way).
-        using V = Eigen::Map<Eigen::Array4f, Eigen::Aligned16>;
-        const auto ef = static_cast<float>(e), hb = static_cast<float>(host.b), tb = static_cast<float>(target.b);
-        for (std::uint32_t h = 0; h < kPattern; h += 4) {
-          const Eigen::Array4f rr = V(value + h) - (ef * (Eigen::Map<const Eigen::Array4f>(refv + h) - hb) + tb);
-          const Eigen::Array4f ra = rr.abs();
-          const Eigen::Array4f hw = (ra <= hub).select(Eigen::Array4f::Ones(), hub / ra);
-          const Eigen::Array4f gxh = V(gx + h), gyh = V(gy + h);
-          V(r + h) = rr;
-          V(w + h) = hw * c2 / (c2 + gxh * gxh + gyh * gyh);
-          V(terms + h) = hw * rr * rr * (2.0f - hw);
-        }
-        float energy = 0;
-        for (std::uint32_t j = 0; j < kPattern; ++j) energy += terms[j];
+        const auto hb = static_cast<float>(host.b);
+        const float energy = pattern_residuals(value, gx, gy, refv, static_cast<float>(e), hb, static_cast<float>(target.b), hub, c2, r, w);
         ++tot.blocks;
         if (energy > cutoff) {
           tot.energy += cutoff;
