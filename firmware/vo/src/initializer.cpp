@@ -157,12 +157,8 @@ InitSystem accumulate_with(State& s, std::uint32_t level, const Se3& M, const Br
       const float wx = w[j] * gx[j], wy = w[j] * gy[j];
       sxx += wx * gx[j], sxy += wx * gy[j], syy += wy * gy[j], rx += wx * r[j], ry += wy * r[j];
     }
-    float m0[6], m1[6];
-    for (int q = 0; q < 6; ++q) m0[q] = sxx * du[q] + sxy * dv[q], m1[q] = sxy * du[q] + syy * dv[q];
-    for (int q = 0; q < 6; ++q) {
-      for (int e = q; e < 6; ++e) sys.H(q, e) += du[q] * m0[e] + dv[q] * m1[e];
-      sys.g[q] += rx * du[q] + ry * dv[q];
-    }
+    add_pose_block_upper(sys.H, du, dv, sxx, sxy, syy);
+    for (int q = 0; q < 6; ++q) sys.g[q] += rx * du[q] + ry * dv[q];
     const float depth0 = sxx * dud + sxy * dvd, depth1 = sxy * dud + syy * dvd;
     for (int q = 0; q < 6; ++q) row[q] = du[q] * depth0 + dv[q] * depth1;
     row[6] += dud * depth0 + dvd * depth1;

@@ -134,6 +134,17 @@ inline float pattern_residuals(const float* value, const float* gx, const float*
   return energy;
 }
 
+// A point's pose block D S D^T, D = [du dv] (the centre pixel's projection Jacobian, 6 x 2) and
+// S = [sxx sxy; sxy syy] (its pattern's weighted gradient structure), added to the upper triangle
+// of H's leading 6 x 6 as two products: H(q, e) += du[q] m0[e] + dv[q] m1[e].
+template <typename Matrix>
+inline void add_pose_block_upper(Matrix& H, const float* du, const float* dv, float sxx, float sxy, float syy) {
+  float m0[6], m1[6];
+  for (int q = 0; q < 6; ++q) m0[q] = sxx * du[q] + sxy * dv[q], m1[q] = sxy * du[q] + syy * dv[q];
+  for (int q = 0; q < 6; ++q)
+    for (int e = q; e < 6; ++e) H(q, e) += du[q] * m0[e] + dv[q] * m1[e];
+}
+
 inline constexpr std::uint32_t kMaxBaParams = 8 * kMaxKeyframes;
 // Per window point in the BA scratch: H_rr, g_r, backup inverse depth, coupling to kf params,
 // the host pattern and two counts (window_ba.cpp lays the row out).

@@ -28,7 +28,7 @@ struct Accumulated {
   Mat8 H = Mat8::Zero();
   Vec8 g = Vec8::Zero();
   double energy = 0;       // robust, over inlier points
-  double squared = 0;      // plain squared residuals of inliers
+  double squared = 0;      // plain squared residuals of inliers (passes without Jacobians: the rms)
   std::uint32_t residuals = 0, visible = 0, inliers = 0;
 };
 
@@ -112,7 +112,7 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
     const float dv[6] = {0, k.fy * iz, -k.fy * y * iz, -k.fy * (1 + y * y), k.fy * x * y, k.fy * x};
     using A4 = Eigen::Map<const Eigen::Array4f, Eigen::Aligned16>;
     Eigen::Array4f xx = Eigen::Array4f::Zero(), xy = xx, yy = xx, xa = xx, ya = xx, x1 = xx, y1 = xx;
-    Eigen::Array4f aa = xx, a1 = xx, ones = xx, rx4 = xx, ry4 = xx, ra4 = xx, r14 = xx, rr4 = xx;
+    Eigen::Array4f aa = xx, a1 = xx, ones = xx, rx4 = xx, ry4 = xx, ra4 = xx, r14 = xx;
     for (std::uint32_t h = 0; h < kPattern; h += 4) {
       const Eigen::Array4f wh = A4(w + h), gxh = A4(gx + h), gyh = A4(gy + h), rh = A4(r + h);
       const Eigen::Array4f ja = -gain * (Eigen::Map<const Eigen::Array4f>(p.refv + h) - hb);  // d r / d a; d r / d b = -1
@@ -120,17 +120,13 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
       xx += wx * gxh, xy += wx * gyh, yy += wy * gyh;
       xa += wx * ja, ya += wy * ja, x1 += wx, y1 += wy;
       aa += wa * ja, a1 += wa, ones += wh;
-      rx4 += wx * rh, ry4 += wy * rh, ra4 += wa * rh, r14 += wh * rh, rr4 += rh * rh;
+      rx4 += wx * rh, ry4 += wy * rh, ra4 += wa * rh, r14 += wh * rh;
     }
-    acc.squared += rr4.sum();
     const float sxx = xx.sum(), sxy = xy.sum(), syy = yy.sum(), sxa = xa.sum(), sya = ya.sum();
     const float sxb = -x1.sum(), syb = -y1.sum(), saa = aa.sum(), sab = -a1.sum(), sbb = ones.sum();
     const float rx = rx4.sum(), ry = ry4.sum(), ra = ra4.sum(), rb = -r14.sum();
-    // D S D^T as two products: H(q, e) += du[q] m0[e] + dv[q] m1[e].
-    float m0[6], m1[6];
-    for (int q = 0; q < 6; ++q) m0[q] = sxx * du[q] + sxy * dv[q], m1[q] = sxy * du[q] + syy * dv[q];
+    add_pose_block_upper(acc.H, du, dv, sxx, sxy, syy);
     for (int q = 0; q < 6; ++q) {
-      for (int e = q; e < 6; ++e) acc.H(q, e) += du[q] * m0[e] + dv[q] * m1[e];
       acc.H(q, 6) += sxa * du[q] + sya * dv[q];
       acc.H(q, 7) += sxb * du[q] + syb * dv[q];
       acc.g[q] += rx * du[q] + ry * dv[q];

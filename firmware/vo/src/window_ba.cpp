@@ -523,7 +523,7 @@ void window_bundle_adjustment(State& s) {
       if (row[kRowHrr] <= 0) continue;
       double coupling = 0;
       const float* point_coupling = row + kRowCoupling;
-      for (int i = 0; i < m; ++i) coupling += point_coupling[moved[i]] * dx[moved[i]];
+      for (int i = 0; i < m; ++i) coupling += point_coupling[moved[i]] * reduced_dx[i];
       const double d = -(row[kRowGr] + coupling) / (row[kRowHrr] * (1 + lambda) + 1e-6);
       p.idepth = static_cast<float>(std::max(1e-3, std::min(100.0, p.idepth + d)));
     }
