@@ -10,7 +10,7 @@
 // were posed moves the average: the CPU time of the posed frames alone is printed too (ms/posed),
 // with the number of keyframes (each runs the window bundle adjustment).
 //
-//   bolo-vo-bench [--frames N] [--mode none|affine|ir] [--sizes WxH,...] [--max-keyframes N] [--carry-coring K]
+//   bolo-vo-bench [--frames N] [--mode none|affine|ir] [--sizes WxH,...] [--max-keyframes N] [--carry-coring K] [--smoothing N]
 
 #include <algorithm>
 #include <chrono>
@@ -109,7 +109,7 @@ Frames render(std::uint32_t w, std::uint32_t h, int count, double fps) {
 
 constexpr const char* kUsage =
     "usage: bolo-vo-bench [--frames N] [--mode none|affine|ir] [--sizes WxH[,WxH...]] [--max-keyframes N]\n"
-    "                     [--carry-coring K]\n"
+    "                     [--carry-coring K] [--smoothing N]\n"
     "\n"
     "Times the VO core (firmware/vo) on one core over street/drive frames rendered through the\n"
     "two-frame bolometer model (60 Hz, tau 12 ms): CPU ms per frame and per posed frame, the\n"
@@ -121,6 +121,7 @@ constexpr const char* kUsage =
     "  --sizes LIST       frame sizes (default 160x120,320x256,640x512)\n"
     "  --max-keyframes N  sliding-window size, 2..8 (default 8, the VO's default)\n"
     "  --carry-coring K   ir: the carry-over correction's coring, 0..100 (default 1, the VO's default)\n"
+    "  --smoothing N      binomial low-pass passes on each tracking image, 0..3 (default 0, the VO's default)\n"
     "  --help             this text\n";
 
 int main(int argc, char** argv) {
@@ -128,6 +129,7 @@ int main(int argc, char** argv) {
   std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;
   std::string mode_name = "ir";
   float carry_coring = vo::VoConfig{}.carry_coring;
+  std::uint32_t smoothing = vo::VoConfig{}.smoothing;
   std::vector<bench::Size> sizes = {{160, 120}, {320, 256}, {640, 512}};
   for (int i = 1; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
@@ -145,6 +147,9 @@ int main(int argc, char** argv) {
         return 2;
     } else if (!std::strcmp(argv[i], "--carry-coring") && has_value) {
       if (!bench::parse_number_arg(argv[++i], carry_coring, 0.0f, 100.0f, "bolo-vo-bench", "--carry-coring", "0..100")) return 2;
+    } else if (!std::strcmp(argv[i], "--smoothing") && has_value) {
+      if (!bench::parse_number_arg(argv[++i], smoothing, std::uint32_t{0}, vo::kMaxSmoothingPasses, "bolo-vo-bench", "--smoothing", "0..3"))
+        return 2;
     } else {
       std::fprintf(stderr, "bolo-vo-bench: unknown option or missing value: %s\n%s", argv[i], kUsage);
       return 2;
@@ -165,15 +170,15 @@ int main(int argc, char** argv) {
     }
   }
   const double fps = 60;
-  std::printf("bolo-vo-bench: VO (%s, %u keyframes, carry coring %g) on street/drive, %d frames at 60 Hz, tau 12 ms, one core (thread CPU time)\n",
-              mode_name.c_str(), max_keyframes, static_cast<double>(carry_coring), frames);
+  std::printf("bolo-vo-bench: VO (%s, %u keyframes, carry coring %g, smoothing %u) on street/drive, %d frames at 60 Hz, tau 12 ms, one core (thread CPU time)\n",
+              mode_name.c_str(), max_keyframes, static_cast<double>(carry_coring), smoothing, frames);
   std::printf("%-9s %9s %9s %10s %9s %12s %12s %12s\n", "size", "ms/frame", "fps", "x realtime", "ms/posed", "arena KiB", "peak RSS KiB", "heap allocs");
   for (const bench::Size& size : sizes) {
     const std::uint32_t w = size.width, h = size.height;
     const Frames f = render(w, h, frames, fps);
     vo::VoConfig cfg;
     cfg.width = w, cfg.height = h, cfg.camera = f.camera, cfg.photometric = mode, cfg.tau_init_s = 0.012f;
-    cfg.max_keyframes = max_keyframes, cfg.carry_coring = carry_coring;
+    cfg.max_keyframes = max_keyframes, cfg.carry_coring = carry_coring, cfg.smoothing = smoothing;
     std::vector<std::byte> arena(vo::Odometry::arena_bytes(cfg));
     std::memset(arena.data(), 0, arena.size());  // touch it: the peak below includes the arena
     vo::Odometry odometry(cfg, arena);

@@ -672,6 +672,8 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
             .find("--max-keyframes: must be within 2..8, got 9") != std::string::npos);
   CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--carry-coring", "-0.5"})
             .find("--carry-coring: must be within 0..100 (0: the full correction), got -0.5") != std::string::npos);
+  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--smoothing", "4"})
+            .find("--smoothing: must be within 0..3 passes, got 4") != std::string::npos);
   CHECK_FALSE(fs::exists(tmp / "e"));
   // 10.7 evaluate: not an odometry output
   CHECK(refusal({"evaluate", seq.string()}).find("summary.json: cannot open") != std::string::npos);

@@ -9,6 +9,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "bolo/vo/image.hpp"
 #include "bolo/vo/odometry.hpp"
 
 using namespace bolo;
@@ -173,15 +174,64 @@ TEST_CASE("configurations the VO cannot run with are refused", "[vo][board]") {
   CHECK(vo::invalid_reason(nocam) != nullptr);
   std::vector<std::byte> tiny(64);
   CHECK_FALSE(vo::Odometry(c, tiny).ok());
+  vo::VoConfig rough = c;
+  rough.smoothing = vo::kMaxSmoothingPasses + 1;
+  CHECK(vo::invalid_reason(rough) != nullptr);
   vo::Photometric m;
   CHECK(vo::parse_photometric("ir-loop", m));
   CHECK(m == vo::Photometric::ir_loop);
   CHECK_FALSE(vo::parse_photometric("dso", m));
 }
 
+TEST_CASE("the tracking image's binomial low-pass", "[vo][board]") {
+  constexpr std::uint32_t w = 9, h = 7;
+  std::vector<float> pixels(w * h), scratch(w * h);
+  vo::Image image{pixels.data(), w, h}, tmp{scratch.data(), w, h};
+  const auto fill = [&](auto f) {
+    for (std::uint32_t y = 0; y < h; ++y)
+      for (std::uint32_t x = 0; x < w; ++x) pixels[y * w + x] = static_cast<float>(f(x, y));
+  };
+  SECTION("a plane is kept inside the border, a constant everywhere") {
+    fill([](std::uint32_t x, std::uint32_t y) { return 1000.0 + 4.0 * x - 2.0 * y; });
+    const std::vector<float> before = pixels;
+    vo::smooth_binomial(image, tmp);
+    for (std::uint32_t y = 1; y + 1 < h; ++y)
+      for (std::uint32_t x = 1; x + 1 < w; ++x) CHECK(pixels[y * w + x] == before[y * w + x]);
+    fill([](std::uint32_t, std::uint32_t) { return 777.0; });
+    vo::smooth_binomial(image, tmp);
+    for (const float v : pixels) CHECK(v == 777.0f);
+  }
+  SECTION("the checkerboard at the sampling limit is removed") {
+    fill([](std::uint32_t x, std::uint32_t y) { return 500.0 + ((x + y) % 2 ? 50.0 : -50.0); });
+    vo::smooth_binomial(image, tmp);
+    for (std::uint32_t y = 1; y + 1 < h; ++y)
+      for (std::uint32_t x = 1; x + 1 < w; ++x) CHECK(pixels[y * w + x] == 500.0f);
+  }
+  SECTION("an impulse spreads as [1 2 1] x [1 2 1] / 16, its sum kept; at a corner the border is replicated") {
+    fill([](std::uint32_t x, std::uint32_t y) { return x == 4 && y == 3 ? 16.0 : 0.0; });
+    vo::smooth_binomial(image, tmp);
+    const float kernel[3] = {1, 2, 1};
+    float sum = 0;
+    for (std::uint32_t y = 0; y < h; ++y)
+      for (std::uint32_t x = 0; x < w; ++x) {
+        const bool near = x >= 3 && x <= 5 && y >= 2 && y <= 4;
+        CHECK(pixels[y * w + x] == (near ? kernel[x - 3] * kernel[y - 2] : 0.0f));
+        sum += pixels[y * w + x];
+      }
+    CHECK(sum == 16.0f);
+    fill([](std::uint32_t x, std::uint32_t y) { return x == 0 && y == 0 ? 16.0 : 0.0; });
+    vo::smooth_binomial(image, tmp);
+    CHECK(pixels[0] == 9.0f);      // 16 * 0.75 * 0.75
+    CHECK(pixels[1] == 3.0f);      // 16 * 0.25 * 0.75
+    CHECK(pixels[w + 1] == 1.0f);  // 16 * 0.25 * 0.25
+  }
+}
+
 TEST_CASE("the VO tracks an analytic wall and the result is deterministic", "[vo][board]") {
   vo::VoConfig c;
   c.width = kW, c.height = kH, c.camera = camera();
+  c.smoothing = GENERATE(0u, 1u);  // the tracking images as they are, and low-passed once
+  INFO("smoothing " << c.smoothing);
   std::vector<std::vector<std::uint16_t>> frames;
   const int n = 40;
   for (int i = 0; i < n; ++i) frames.push_back(render(i / 30.0));
@@ -403,6 +453,8 @@ TEST_CASE("a change of exposure at a wrong tau does not lose the track", "[vo][b
   // change (and in the initialisation) the ir modes estimate the gain and offset. Before they did,
   // tau started at 20 ms for 10 posed 0 of 90 frames with a switch every 8 or 10 frames (the
   // initialisation never got through one) and 1 with one every 12; every run here posed 73-77.
+  // (With VoConfig::smoothing 1 the initialisation with a switch every 12 frames waits out the
+  // basin comparison past the first switch, loses the frame after it and starts again: 61 posed.)
   for (const int period_frames : {8, 12}) {
     const SwitchingWall run = run_switching_wall(period_frames, 0.020f);
     INFO("a switch every " << period_frames << " frames: " << run.posed << " of " << run.frames

@@ -54,6 +54,7 @@ const char* invalid_reason(const VoConfig& config) {
   if (!(c.huber_counts > 0) || !(c.gradient_c > 0)) return "huber_counts and gradient_c must be positive";
   if (!(c.intensity_scale >= 0) || !(c.intensity_scale <= 1e4f)) return "intensity_scale must be within 0..10000";
   if (!(c.carry_coring >= 0) || !(c.carry_coring <= 100)) return "carry_coring must be within 0..100";
+  if (c.smoothing > kMaxSmoothingPasses) return "smoothing must be within 0..3 passes";
   return nullptr;
 }
 

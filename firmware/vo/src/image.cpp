@@ -59,6 +59,29 @@ void build_pyramid(Pyramid& p) {
   for (std::uint32_t l = 0; l < p.levels; ++l) gradients(p.level[l]);
 }
 
+void smooth_binomial(Image& image, Image& scratch) {
+  const std::uint32_t w = image.width, h = image.height;
+  if (w == 0 || h == 0) return;
+  for (std::uint32_t y = 0; y < h; ++y) {
+    const float* in = image.data + std::size_t{y} * w;
+    float* out = scratch.data + std::size_t{y} * w;
+    if (w == 1) {
+      out[0] = in[0];
+      continue;
+    }
+    out[0] = 0.75f * in[0] + 0.25f * in[1];
+    for (std::uint32_t x = 1; x + 1 < w; ++x) out[x] = 0.25f * (in[x - 1] + in[x + 1]) + 0.5f * in[x];
+    out[w - 1] = 0.25f * in[w - 2] + 0.75f * in[w - 1];
+  }
+  for (std::uint32_t y = 0; y < h; ++y) {
+    const float* up = scratch.data + std::size_t{y ? y - 1 : 0} * w;
+    const float* row = scratch.data + std::size_t{y} * w;
+    const float* down = scratch.data + std::size_t{y + 1 < h ? y + 1 : y} * w;
+    float* out = image.data + std::size_t{y} * w;
+    for (std::uint32_t x = 0; x < w; ++x) out[x] = 0.25f * (up[x] + down[x]) + 0.5f * row[x];
+  }
+}
+
 std::size_t texel_count(std::uint32_t width, std::uint32_t height, std::uint32_t levels) {
   std::size_t total = 0;
   for (std::uint32_t l = 0; l < levels; ++l) total += std::size_t{width >> l} * (height >> l);

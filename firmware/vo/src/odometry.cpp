@@ -284,6 +284,8 @@ void write_scene_estimate(State& s) {
 
 void build_frame_images(State& s) {
   std::swap(s.frame_texels[0], s.previous_texels);
+  // Level 0's gradient plane is free until build_pyramid fills it.
+  for (std::uint32_t pass = 0; pass < s.cfg.smoothing; ++pass) smooth_binomial(s.frame.level[0].value, s.frame.level[0].gx);
   build_pyramid(s.frame);
   fill_texels(s.frame, s.frame_texels);
 }

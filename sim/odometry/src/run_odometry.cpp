@@ -112,6 +112,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   config.max_keyframes = options.max_keyframes;
   config.intensity_scale = static_cast<float>(options.intensity_scale);
   config.carry_coring = static_cast<float>(options.carry_coring);
+  config.smoothing = options.smoothing;
   config.estimate_tau = options.estimate_tau;
   if (const char* why = vo::invalid_reason(config)) throw Error(options.recording.string() + ": " + why);
 
@@ -305,6 +306,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"tau_init_s", options.tau_init_s},
                       {"tau_estimated", options.estimate_tau},
                       {"carry_coring", options.carry_coring},
+                      {"smoothing", options.smoothing},
                       {"max_keyframes", options.max_keyframes},
                       {"window_ba", options.window_ba},
                       {"marginalisation_prior", options.window_ba && options.marginalisation_prior},

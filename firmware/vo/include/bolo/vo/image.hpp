@@ -120,6 +120,12 @@ Pyramid make_pyramid(std::span<float> storage, std::uint32_t width, std::uint32_
 // Fill level 0's value plane first, then call this: downsamples and computes all gradients.
 void build_pyramid(Pyramid& pyramid);
 
+// One pass of the 3x3 binomial low-pass ([1 2 1] / 4 along each axis, borders replicated) over
+// `image` in place; `scratch` is an image of the same size whose contents it overwrites (before
+// build_pyramid, level 0's gradient plane). The VO runs it on each tracking image (why: config.hpp,
+// VoConfig::smoothing).
+void smooth_binomial(Image& image, Image& scratch);
+
 // Texels of every level of a pyramid (`levels` images over `storage`, texel_count long).
 std::size_t texel_count(std::uint32_t width, std::uint32_t height, std::uint32_t levels);
 void make_texels(std::span<Texel> storage, std::uint32_t width, std::uint32_t height, std::uint32_t levels,

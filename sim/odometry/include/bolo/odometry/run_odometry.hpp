@@ -33,6 +33,7 @@ struct OdometryOptions {
   // VoConfig::intensity_scale: 0 = measured from the pixel noise.
   double intensity_scale = 0.0;
   double carry_coring = 1.0;  // vo::VoConfig::carry_coring
+  std::uint32_t smoothing = vo::VoConfig{}.smoothing;  // vo::VoConfig::smoothing
   bool window_ba = true;
   bool marginalisation_prior = false;  // retired keyframes leave a prior on the window
   std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;  // sliding window, 2..8
