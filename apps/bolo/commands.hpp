@@ -113,7 +113,7 @@ struct OdometryOptions {
   std::optional<double> exposure_s, readout_s;
   double intensity_scale = 0.0;
   double carry_coring = 1.0;
-  std::uint32_t smoothing = 0;
+  std::uint32_t smoothing = 1;
   std::optional<std::uint64_t> frames;
   bool no_ba = false;
   bool marginalisation_prior = false;

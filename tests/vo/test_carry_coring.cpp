@@ -37,6 +37,7 @@ TrackingImageError tracking_image_error(float coring) {
   cfg.photometric = vo::Photometric::ir;
   cfg.tau_init_s = 0.012f;
   cfg.carry_coring = coring;
+  cfg.smoothing = 0;  // the scene estimate itself, against the true scene: no low-pass after it
   std::vector<std::byte> memory(vo::Odometry::arena_bytes(cfg));
   vo::Arena arena(memory);
   vo::State* s = vo::lay_out(cfg, arena);

@@ -60,7 +60,7 @@ struct VoConfig {
   // what it was (geometric means), none and affine to 0.80-0.93; two passes were worse than one
   // on the 3x3 renders (docs/odometry-study.md, "Smoothing the tracking image"). Opt-in until
   // the tests written against unsmoothed images are revisited and the study regenerated with it.
-  std::uint32_t smoothing = 0;
+  std::uint32_t smoothing = 1;
 };
 
 // The configuration with its 0 defaults resolved.
