@@ -121,7 +121,7 @@ constexpr const char* kUsage =
     "  --sizes LIST       frame sizes (default 160x120,320x256,640x512)\n"
     "  --max-keyframes N  sliding-window size, 2..8 (default 8, the VO's default)\n"
     "  --carry-coring K   ir: the carry-over correction's coring, 0..100 (default 1, the VO's default)\n"
-    "  --smoothing N      binomial low-pass passes on each tracking image, 0..3 (default 0, the VO's default)\n"
+    "  --smoothing N      binomial low-pass passes on each tracking image, 0..3 (default 1, the VO's default)\n"
     "  --help             this text\n";
 
 int main(int argc, char** argv) {
