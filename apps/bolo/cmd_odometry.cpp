@@ -141,8 +141,8 @@ Command add_odometry_command(CLI::App& parent) {
       ->capture_default_str();
   app->add_option("--smoothing", o->smoothing,
                   "Passes of a 3x3 binomial low-pass over each tracking image, 0..3 (0: none; 1, the default, "
-                  "damps the detail near the sampling limit that bilinear sampling misreads and halved "
-                  "the ir modes' ATE on the study's sequences: docs/odometry-study.md)")
+                  "damps the detail near the sampling limit that bilinear sampling misreads and cut "
+                  "the ir modes' ATE by 40-50 % on the study's sequences: docs/odometry-study.md)")
       ->capture_default_str();
   app->add_option("--frames", o->frames, "Use only the first N frames")->check(not_negative());
   app->add_option("--max-keyframes", o->max_keyframes,
