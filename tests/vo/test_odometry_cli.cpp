@@ -12,6 +12,7 @@
 #include "../cli/cli_test_support.hpp"
 #include "bolo/odometry/tum.hpp"
 #include "bolo/recording/recording.hpp"
+#include "bolo/vo/config.hpp"
 
 using namespace bolo;
 using namespace bolo::test;
@@ -685,6 +686,11 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
   {
     const fs::path run = tmp / "run";
     REQUIRE(run_bolo({"odometry", seq.string(), "--out", run.string()}).code == 0);
+    // The command line's defaults are written out in apps/bolo/commands.hpp: they must stay the VO's.
+    const nlohmann::json summary = summary_of(run);
+    CHECK(summary["smoothing"] == vo::VoConfig{}.smoothing);
+    CHECK(summary["carry_coring"] == static_cast<double>(vo::VoConfig{}.carry_coring));
+    CHECK(summary["max_keyframes"] == vo::VoConfig{}.max_keyframes);
     std::ofstream(tmp / "bad.tum") << "0.0 1 2 3\n";
     CHECK(refusal({"evaluate", run.string(), "--truth", (tmp / "bad.tum").string()})
               .find("bad.tum: line 1: expected 8 numbers") != std::string::npos);
