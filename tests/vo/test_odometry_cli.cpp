@@ -192,9 +192,11 @@ TEST_CASE("the tau estimate does not depend on its start (handheld, tau 8 ms)", 
   // on the image made with the current tau and the carry-over pairs were sampled at that pose:
   // 9.9 / 12.8 ms after 2 s (24 / 60 % off). With the poses and depths marginalised out of the
   // fit (tau_estimator.cpp): 8.67 / 8.68 ms. Since the noise-bias correction, the cubic sampling
-  // and the looser point cut: 9.13 / 9.56 ms. At 8 ms the estimate runs high on some sequences
-  // (this one +14 / +19.5 %; the drive +9-15 %, docs/odometry-study.md), so the bound on the error
-  // here is 20 %.
+  // and the looser point cut: 9.13 / 9.56 ms. With the tracking images low-passed
+  // (VoConfig::smoothing) and their gradients still the fit's Jacobians: 8.94 / 9.55 ms, the start
+  // pulling again. With the Jacobians from the raw frames (tau_estimator.cpp): 8.58 / 8.80 ms.
+  // At 8 ms the estimate runs high on some sequences (this one +7 / +10 %), so the bound on the
+  // error here is 15 %, and on the two starts' difference 0.5 ms.
   TempDir tmp;
   const fs::path seq = street_ss3(tmp / "handheld-ss3", "handheld", "150", "0.008", "5");
   double tau_2s[2] = {0, 0};
@@ -206,9 +208,9 @@ TEST_CASE("the tau estimate does not depend on its start (handheld, tau 8 ms)", 
     INFO(start << "\n" << e.dump(2));
     REQUIRE(e["tau_c_at_2s_s"].is_number());
     tau_2s[i++] = e["tau_c_at_2s_s"].get<double>();
-    CHECK(e["tau_c_error_2s"].get<double>() < 0.2);
+    CHECK(e["tau_c_error_2s"].get<double>() < 0.15);
   }
-  CHECK(std::abs(tau_2s[0] - tau_2s[1]) < 0.001);
+  CHECK(std::abs(tau_2s[0] - tau_2s[1]) < 0.0005);
 }
 
 TEST_CASE("repeated frames are skipped and break the carry-over chain", "[vo][cli][tau][long]") {

@@ -54,8 +54,6 @@ State* lay_out(const VoConfig& config, Arena& arena) {
   s.raw_prev2 = arena.take<float>(plane(c));
   s.noise_scratch = arena.take<float>(noise_block_count(c.width, c.height));
   s.unchanged_frames = arena.take<std::uint8_t>(plane(c));
-  auto previous_texels = arena.take<Texel>(texel_count(c.width, c.height, 1));
-  if (!previous_texels.empty()) make_texels(previous_texels, c.width, c.height, 1, &s.previous_texels);
   s.occupied = arena.take<std::uint8_t>(plane(c));
   s.candidates = arena.take<PixelPoint>(ppk);
   s.selector.block_threshold = arena.take<float>(selector_block_count(c.width, c.height));
@@ -283,7 +281,6 @@ void write_scene_estimate(State& s) {
 }
 
 void build_frame_images(State& s) {
-  std::swap(s.frame_texels[0], s.previous_texels);
   // Level 0's gradient plane is free until build_pyramid fills it.
   for (std::uint32_t pass = 0; pass < s.cfg.smoothing; ++pass) smooth_binomial(s.frame.level[0].value, s.frame.level[0].gx);
   build_pyramid(s.frame);
@@ -415,7 +412,6 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.readout_prev2_s = s.readout_prev_s;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
   follow_timing(s);
-  s.scene_scale_prev = s.scene_scale;
   s.scene_scale = 1.0;
   const bool ir = uses_carry_model(c);
   if (ir && had_prev) count_unchanged_frames(s);

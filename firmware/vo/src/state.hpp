@@ -163,7 +163,6 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
 
   Pyramid frame;                    // tracking image of the current frame
   TexelImage frame_texels[8];       // the same, value and gradients interleaved (tracker, depth search)
-  TexelImage previous_texels;       // level 0 of the previous build_frame_images() (tau estimator)
   std::span<float> raw, raw_prev, raw_prev2;  // raw counts of this and the two previous frames
   bool have_prev = false;
   // The last frame repeated its predecessor bit for bit: the sensor frame that followed that
@@ -235,7 +234,7 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   float intensity = 1;              // the intensity scale in use (VoConfig::intensity_scale)
   bool intensity_pending = false;   // to be measured from the pixel noise
   std::uint32_t raw_frames = 0;     // frames loaded while it is pending
-  double scene_scale = 1, scene_scale_prev = 1;  // the factor the current / previous image used
+  double scene_scale = 1;  // the factor the current image used
 };
 
 // The factor that takes the scene estimate u = (raw - alpha raw_prev) / beta to the raw level a

@@ -44,9 +44,13 @@
 //   inliers, 13.9 / 14.8 with every active point). Without any cut, the garbage of the first
 //   frames after initialisation once threw an aliased drive's estimate to 24 ms for 10 ms (4x
 //   the cut: 13 ms, then back to 9-10).
-// The d r / d p Jacobians are the tracking images' gradients (beta grad u of this frame and of the
-// previous one), which the pyramid already holds, rather than central differences of the raw
-// frames (16 samples a pattern pixel).
+// The d r / d p Jacobians are central differences of the raw frames' combinations (y_i - alpha
+// y_{i-1} and its previous-frame counterpart), sampled bilinearly from the 4 x 4 block the cubic
+// taps read. They were the tracking images' gradients until those were low-passed
+// (VoConfig::smoothing): gradients of smoothed images no longer match pairs sampled from the raw
+// frames, the poses' elimination then leaves some of the tracked pose's lean on the current tau
+// in alpha, and the estimate followed its start (handheld, 3 x 3 rays, tau 15 ms, at 2 s: 12.1-12.6
+// ms from 6 ms, 14.9-15.9 from 20; with these, 13.1-13.8 and 14.7-15.3).
 //
 // Shutter events give a better measurement where the camera reports them (FrameInput::
 // shutter_event): the pixels settle on the uniform shutter, and the next frame's contrast against
@@ -114,6 +118,26 @@ double overlap(const CubicTaps& a, const CubicTaps& b) {
     if (k >= 0 && k < 4) sum += double{a.w[i]} * b.w[k];
   }
   return sum;
+}
+
+// The central-difference gradient of ca img_a + cb img_b, bilinear at (x, y): the 4 x 4 block
+// starting at the cubic taps' first pixels holds the four neighbours of (x, y) and their
+// neighbours.
+Eigen::Vector2d combined_gradient(const Image& img_a, double ca, const Image& img_b, double cb, const CubicTaps& tx,
+                                  const CubicTaps& ty, float x, float y) {
+  double d[4][4];
+  for (std::size_t j = 0; j < 4; ++j) {
+    const std::size_t row = (static_cast<std::size_t>(ty.first) + j) * img_a.width + static_cast<std::size_t>(tx.first);
+    for (std::size_t k = 0; k < 4; ++k) d[j][k] = ca * img_a.data[row + k] + cb * img_b.data[row + k];
+  }
+  const double fx = x - static_cast<float>(tx.first + 1), fy = y - static_cast<float>(ty.first + 1);
+  Eigen::Vector2d corner[2][2];
+  for (std::size_t b = 0; b < 2; ++b)
+    for (std::size_t a = 0; a < 2; ++a)
+      corner[b][a] = {0.5 * (d[b + 1][a + 2] - d[b + 1][a]), 0.5 * (d[b + 2][a + 1] - d[b][a + 1])};
+  const Eigen::Vector2d top = corner[0][0] + fx * (corner[0][1] - corner[0][0]);
+  const Eigen::Vector2d bottom = corner[1][0] + fx * (corner[1][1] - corner[1][0]);
+  return top + fy * (bottom - top);
 }
 
 // d pixel / d (translation, rotation) of a left perturbation of the camera pose (the tracker's
@@ -217,14 +241,11 @@ void refine_tau(State& s) {
   const double c_prev = rho * prev_k.dalpha_dtau_c / now_k.dalpha_dtau_c;
   const double drho_dtau = (now_k.dbeta_dtau_h * prev_k.beta - now_k.beta * prev_k.dbeta_dtau_h) / (prev_k.beta * prev_k.beta);
   const double c_rho = drho_dtau / now_k.dalpha_dtau_c;
-  // The tracking images are u times the static-level scale (scene_level_scale).
-  const double beta_now = now_k.beta / s.scene_scale;
-  const double beta_prev = rho * prev_k.beta / s.scene_scale_prev;
   // Normal equations of r = A - alpha B in x = (pose of frame i, pose of frame i-1, alpha), the
   // points' inverse depths already eliminated; linearised at the tracked poses and alpha_now.
   // A pattern pixel's Jacobian is T v with v = (d r / d p_i, d r / d p_{i-1}, d r / d alpha), where
-  // d r / d p_i = grad(y_i - alpha y_{i-1}) at p_i, d r / d p_{i-1} = -grad(y_{i-1} - alpha y_{i-2})
-  // at p_{i-1} (beta times the tracking images' gradients), and T holds the centre pixel's
+  // d r / d p_i = grad(y_i - alpha y_{i-1}) at p_i, d r / d p_{i-1} = -grad(rho y_{i-1} - alpha rho
+  // kappa y_{i-2}) at p_{i-1} (combined_gradient), and T holds the centre pixel's
   // projection Jacobians (as in the tracker): each point sums the 5x5 S = sum w v v^T and maps it
   // once.
   const double noise_var = s.noise_var;
@@ -272,12 +293,10 @@ void refine_tau(State& s) {
             noise_var * (sum_of_squares(ix) * sum_of_squares(iy) + rho_kappa * rho_kappa * sum_of_squares(px) * sum_of_squares(py));
         const double cov_ab = -rho * noise_var * overlap(ix, px) * overlap(iy, py);
         noise[j] = {wt, var_b, cov_ab - alpha_now * var_b, 0.0};
-        // d r / d p_i = grad(y_i - alpha y_{i-1}) = beta grad u_i, the tracking image's gradient
-        // over its scale, and d r / d p_{i-1} = -beta grad u_{i-1}, the previous frame's.
-        const Sample now = bilinear_with_gradient(s.frame_texels[0], oi_x, oi_y);
-        const Sample before = bilinear_with_gradient(s.previous_texels, op_x, op_y);
+        const Eigen::Vector2d now = combined_gradient(y0, 1.0, y1, -alpha_now, ix, iy, oi_x, oi_y);
+        const Eigen::Vector2d before = combined_gradient(y1, -rho, y2, alpha_now * rho_kappa, px, py, op_x, op_y);
         Vec5 v;
-        v << beta_now * now.gx, beta_now * now.gy, -beta_prev * before.gx, -beta_prev * before.gy, jac_alpha;
+        v << now.x(), now.y(), before.x(), before.y(), jac_alpha;
         add_weighted_outer_upper(S, v, wt);
         sr += (wt * r0) * v;
         noise[j].slope = v.head<4>().dot(Eigen::Vector4d(c_px.x(), c_px.y(), c_pp.x(), c_pp.y()));
