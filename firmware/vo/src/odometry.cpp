@@ -298,7 +298,6 @@ std::size_t Odometry::arena_bytes(const VoConfig& config) {
   bytes += 4 * (plane(c) * sizeof(float) + 16) + plane(c) + 16;
   bytes += noise_block_count(c.width, c.height) * sizeof(float) + 16;
   bytes += plane(c) + 16;
-  bytes += texel_count(c.width, c.height, 1) * sizeof(Texel) + 16;
   bytes += ppk * sizeof(PixelPoint) + 16 + selector_block_count(c.width, c.height) * sizeof(float) + 16 + std::size_t{64} * 2 + 16;
   bytes += c.max_keyframes * (ppk * sizeof(Point) + 16);
   bytes += std::size_t{c.max_keyframes} * ppk * sizeof(WorldPoint) + 16;
