@@ -117,7 +117,7 @@ TEST_CASE("epipolar search recovers true inverse depths from the true pose", "[v
     f.s->T_cw = f.seq.T_cw(t);
     vo::search_immature_points(*f.s);
   }
-  vo::activate_mature_points(*f.s);
+  vo::activate_mature_points(*f.s, /*tracked_points=*/1000);  // a well-tracked frame
   std::vector<double> rel;
   std::uint32_t active = 0;
   for (std::uint32_t i = 0; i < kf.count; ++i) {

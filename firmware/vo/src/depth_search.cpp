@@ -12,6 +12,9 @@ namespace bolo::vo {
 namespace {
 
 constexpr float kMaxSearchPixels = 40.0f;
+// Tracked points below which a new keyframe also activates the points no baseline could place
+// (activate_mature_points). Tracking starves below 40 (odometry.cpp).
+constexpr std::uint32_t kRotationActivationInliers = 50;
 
 struct Projection {
   Eigen::Vector3f A, t;  // X(idepth) = A + t * idepth (homogeneous)
@@ -116,7 +119,16 @@ void search_immature_points(State& s) {
       }
       float du = u1 - u0, dv = v1 - v0;
       float length = std::hypot(du, dv);
-      if (length < 1.5f) continue;  // no baseline yet: nothing to learn
+      if (length < 1.5f) {
+        // No baseline: the depth is not observable here, but whether the point is still seen
+        // where a rotation puts it is (activate_mature_points).
+        if (length < 0.5f && inside(cur.value, u0, v0, 3.0f) && p.still_matches < 255) {
+          float refv[kPattern];
+          for (std::uint32_t j = 0; j < kPattern; ++j) refv[j] = bilinear(ref.value, p.u + kPatternX[j], p.v + kPatternY[j]);
+          if (pattern_energy(cur, refv, gain, offset, u0, v0, hub, good_energy) < good_energy) ++p.still_matches;
+        }
+        continue;
+      }
       if (length > kMaxSearchPixels) {
         du *= kMaxSearchPixels / length, dv *= kMaxSearchPixels / length;
         length = kMaxSearchPixels;
@@ -200,7 +212,7 @@ void search_immature_points(State& s) {
   }
 }
 
-void activate_mature_points(State& s) {
+void activate_mature_points(State& s, std::uint32_t tracked_points) {
   s.ref_dirty = true;
   // A point is ready when its interval is narrow against the scene's typical inverse depth, not
   // against its own estimate: relative to its own, the points whose inverse depth came out too
@@ -208,12 +220,28 @@ void activate_mature_points(State& s) {
   // whose matches then come out nearer still (handheld street: the median inverse depth went
   // from 1 to 70 in a second).
   const float typical = typical_idepth(s);
+  // A map about to run out while no new point can be placed: the camera turns about its
+  // centre (a pan, a turn on the spot), so every new point's epipolar segment is a fraction of a
+  // pixel or as long as the translation's noise makes it, and nothing matures. Under a rotation
+  // the residuals do not depend on depth, so such points are activated at the typical inverse
+  // depth (or the nearest to it their interval allows) and track the rotation; the window BA
+  // refines the depths once the camera translates. Without this a 30 deg/s pan lost the track
+  // every ~1.5 s, when the view had turned away from the initial map.
+  const bool rotation_only = tracked_points < kRotationActivationInliers;
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
     Keyframe& host = s.kf[slot];
     if (!host.used) continue;
     for (std::uint32_t i = 0; i < host.count; ++i) {
       Point& p = host.points[i];
-      if (p.status != PointStatus::immature || p.good < 2 || p.idepth_max < 0) continue;
+      if (p.status != PointStatus::immature) continue;
+      if (rotation_only && ((p.good >= 2 && p.quality >= 2.0f) || (p.good == 0 && p.still_matches >= 2))) {
+        p.status = PointStatus::active;
+        p.energy = 0;
+        if (p.good == 0) p.idepth = typical > 0 ? typical : 1.0f;
+        else if (typical > 0 && p.idepth_max >= 0) p.idepth = std::max(p.idepth_min, std::min(p.idepth_max, typical));
+        continue;
+      }
+      if (p.good < 2 || p.idepth_max < 0) continue;
       const float width = p.idepth_max - p.idepth_min;
       if (p.idepth > 1e-3f && width < 0.2f * (typical > 0 ? typical : p.idepth) && p.quality >= 2.5f) {
         p.status = PointStatus::active;

@@ -605,7 +605,7 @@ FrameResult Odometry::process(const FrameInput& in) {
     if (!ir || s.chain_ok) {
       // As in DSO, immature points join the map only with a new keyframe, right before the
       // bundle adjustment refines them with everything else.
-      activate_mature_points(s);
+      activate_mature_points(s, best.inliers);
       const std::uint32_t slot = new_keyframe_slot(s);
       make_keyframe(s, slot, true);
       if (c.window_ba && s.kf_count >= 2) window_bundle_adjustment(s);

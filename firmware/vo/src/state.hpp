@@ -29,6 +29,7 @@ struct Point {
   float quality = 0;     // immature: second-best / best energy of the last search
   PointStatus status = PointStatus::empty;
   std::uint8_t good = 0, bad = 0;
+  std::uint8_t still_matches = 0;  // immature: frames it matched where no baseline could place it
   bool inlier = false;   // in the last tracking
 };
 
@@ -303,7 +304,7 @@ void build_tracking_reference(State& s);
 bool initialise_step(State& s);
 void start_initialisation(State& s);
 void search_immature_points(State& s);
-void activate_mature_points(State& s);
+void activate_mature_points(State& s, std::uint32_t tracked_points);
 void window_bundle_adjustment(State& s);
 // Before the oldest keyframe leaves the window: its points' observations, the points and then
 // its own parameters eliminated, join the marginalisation prior on the remaining keyframes.
