@@ -17,7 +17,7 @@
 set -euo pipefail
 [ $# -ge 2 ] || { echo "usage: coring-strength.sh BOLO WORK [OUT_MD]" >&2; exit 2; }
 here="$(cd "$(dirname "$0")/../.." && pwd)"
-bolo=$(realpath "$1"); work=$2
+bolo=$(realpath "$1"); work=$(realpath -m "$2")
 out_md=${3:-$here/docs/odometry-study/coring-strength.md}
 SETS="${SETS:-60:1 60:6 30:3}"
 TRAJECTORIES="${TRAJECTORIES:-drive handheld}"
