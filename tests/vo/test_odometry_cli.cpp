@@ -86,6 +86,16 @@ nlohmann::json odometry_evaluated(const fs::path& seq, const fs::path& run, cons
   return evaluate(run);
 }
 
+// Every photometric mode over `seq` into `out`/MODE, each evaluation handed to `check`.
+template <typename Check>
+void each_mode_evaluated(const fs::path& seq, const fs::path& out, Check check) {
+  for (const char* mode : {"none", "affine", "ir", "ir-loop"}) {
+    const nlohmann::json e = odometry_evaluated(seq, out / mode, mode);
+    INFO(mode << ": " << e.dump(2));
+    check(std::string(mode), e);
+  }
+}
+
 std::string refusal(const std::vector<std::string>& args) {
   const CliResult r = run_bolo(args);
   INFO(r.out << r.err);
@@ -154,16 +164,14 @@ TEST_CASE("odometry: --marginalisation-prior keeps what retired keyframes knew",
 TEST_CASE("every photometric mode runs on a ghosting sequence", "[vo][cli]") {
   const fs::path& seq = sequence("drive", "0.012");
   TempDir out;
-  for (const char* mode : {"none", "affine", "ir", "ir-loop"}) {
-    const nlohmann::json e = odometry_evaluated(seq, out / mode, mode);
-    INFO(e.dump(2));
+  each_mode_evaluated(seq, out.path(), [](const std::string& mode, const nlohmann::json& e) {
     CHECK(e["posed"].get<int>() >= 10);
-    if (std::string(mode).rfind("ir", 0) == 0) {
+    if (mode.rfind("ir", 0) == 0) {
       CHECK(e["tau_true_c_s"].get<double>() == Approx(0.012));
       CHECK(e["tau_c_s"].get<double>() > 0.001);  // estimated, within the physical bounds
       CHECK(e["tau_c_s"].get<double>() < 0.1);
     }
-  }
+  });
 }
 
 TEST_CASE("the ir modes track a ghosting drive and estimate tau", "[vo][cli][tau][long]") {
@@ -394,13 +402,11 @@ TEST_CASE("every photometric mode holds on a drone's view of the road", "[vo][cl
   // 0.90 %, 109 posed.
   TempDir tmp;
   const fs::path seq = street_ss3(tmp / "fly", "flyover", "120", "0.010", "1");
-  for (const char* mode : {"none", "affine", "ir", "ir-loop"}) {
-    const nlohmann::json e = odometry_evaluated(seq, tmp / mode, mode);
-    INFO(mode << ": " << e.dump(2));
+  each_mode_evaluated(seq, tmp.path(), [](const std::string&, const nlohmann::json& e) {
     CHECK(e["ate_relative"].get<double>() < 0.03);
     CHECK(e["posed"].get<int>() >= 100);
     CHECK(e["lost"].get<int>() == 0);
-  }
+  });
 }
 
 TEST_CASE("every photometric mode tracks a pan about the camera's centre", "[vo][cli][long]") {
@@ -411,14 +417,12 @@ TEST_CASE("every photometric mode tracks a pan about the camera's centre", "[vo]
   // 30 deg; before, every mode lost 8 frames, restarted once and posed 83-89.
   TempDir tmp;
   const fs::path seq = street_ss3(tmp / "pan", "pan", "150", "0.010", "1");
-  for (const char* mode : {"none", "affine", "ir", "ir-loop"}) {
-    const nlohmann::json e = odometry_evaluated(seq, tmp / mode, mode);
-    INFO(mode << ": " << e.dump(2));
+  each_mode_evaluated(seq, tmp.path(), [](const std::string&, const nlohmann::json& e) {
     CHECK(e["lost"].get<int>() == 0);
     CHECK(e["reinitialisations"].get<int>() == 0);
     CHECK(e["posed"].get<int>() >= 95);
     CHECK(e["rpe_rot_rmse_deg"].get<double>() < 2.0);
-  }
+  });
 }
 
 TEST_CASE("the ir modes hold the scale on a handheld sequence once the carry-over correction is cored", "[vo][cli][long]") {
