@@ -20,6 +20,7 @@ using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 constexpr double kDepthPrior = 100;  // per point, pulls towards the mean inverse depth
 constexpr std::uint32_t kMinInitFrames = 10;
+constexpr double kMinInitSeconds = 10.0 / 30.0;  // or as long as kMinInitFrames take at 30 Hz
 constexpr std::uint32_t kGiveUp = 1000;  // >= the frame loop's restart limit
 // Baseline needed, as the flow it would cause at the mean depth across the view (f |t| with the
 // mean inverse depth at 1), share of width + height. It was the points' median translation
@@ -395,7 +396,11 @@ bool initialise_step(State& s) {
   ++s.init_frames;
   const double baseline_flow = s.cfg.camera.fx * M.t.norm();
   const double needed = kInitFlow * (s.cfg.width + s.cfg.height);
-  if (s.init_frames < kMinInitFrames || baseline_flow < needed) return false;
+  // The first keyframe's patterns must still match at the end: a slow camera (9 Hz) moves as far
+  // in 10 frames as a 60 Hz one in 67, so it may stop at the time 10 frames take at 30 Hz.
+  const bool long_enough = s.init_frames >= kMinInitFrames ||
+                           (s.init_frames >= 2 && s.t_s - host.t_s >= kMinInitSeconds - 1e-6);
+  if (!long_enough || baseline_flow < needed) return false;
   if (keep_waiting_for_the_basin(s, basins_differ)) return false;
   // Done: the points that fit become the map.
   const float hub = huber_threshold(s);

@@ -26,6 +26,7 @@ const char* to_string(TrackingState state) {
 namespace {
 
 constexpr std::uint32_t kLostFramesBeforeRestart = 8;
+constexpr double kMinKeyframeSpacingS = 3.0 / 30.0;
 constexpr std::uint32_t kMaxInitFrames = 90;
 constexpr double kMaxStepFlow = 0.06;  // median translation flow per frame, share of width + height
 constexpr float kRetrackRatio = 1.5f;  // the constant-velocity guess stands if its rms is within this of the last frame's
@@ -409,6 +410,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.posed = false;
   s.exposure_prev_s = s.exposure_s;
   s.readout_prev2_s = s.readout_prev_s;
+  s.frame_dt_s = had_prev ? in.t_s - s.t_s : 0.0;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
   follow_timing(s);
   s.scene_scale = 1.0;
@@ -462,6 +464,7 @@ FrameResult Odometry::process(const FrameInput& in) {
     out.T_wc = s.T_cw.inverse();
     out.tracked_points = active_in_window(s);
     s.frames_since_kf = 1;
+    s.since_kf_s = s.frame_dt_s;
     s.inliers_after_kf = out.tracked_points;
     return out;
   }
@@ -597,11 +600,15 @@ FrameResult Odometry::process(const FrameInput& in) {
   const Keyframe& latest = s.kf[s.order[s.kf_count - 1]];
   if (s.frames_since_kf == 1) s.inliers_after_kf = best.inliers;
   ++s.frames_since_kf;
+  s.since_kf_s += s.frame_dt_s;
   const bool brightness = std::fabs(s.a - latest.a) > 0.5;
   const bool thinning = best.inliers * 4 < s.inliers_after_kf;
   const bool want = flow_t > 0.03 * size || flow_rt > 0.08 * size || thinning || brightness;
   const bool starving = best.inliers < 40;
-  if ((want && s.frames_since_kf >= 3) || (starving && s.frames_since_kf >= 2)) {
+  // Spaced by 3 frames, or by the time 3 frames take at 30 Hz: at 9 Hz 3 frames are a third of a
+  // second, over which a car has driven 3 m and the tracked points have left the keyframe.
+  const bool spaced = s.frames_since_kf >= 3 || (s.frames_since_kf >= 1 && s.since_kf_s >= kMinKeyframeSpacingS - 1e-6);
+  if ((want && spaced) || (starving && s.frames_since_kf >= 2)) {
     if (!ir || s.chain_ok) {
       // As in DSO, immature points join the map only with a new keyframe, right before the
       // bundle adjustment refines them with everything else.
@@ -611,6 +618,7 @@ FrameResult Odometry::process(const FrameInput& in) {
       if (c.window_ba && s.kf_count >= 2) window_bundle_adjustment(s);
       out.keyframe = true;
       s.frames_since_kf = 0;
+      s.since_kf_s = 0;
     }
   }
   out.T_wc = s.T_cw.inverse();
