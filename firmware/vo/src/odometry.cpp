@@ -410,7 +410,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.posed = false;
   s.exposure_prev_s = s.exposure_s;
   s.readout_prev2_s = s.readout_prev_s;
-  s.frame_dt_s = had_prev ? in.t_s - s.t_s : 0.0;
+  const double frame_dt_s = had_prev ? in.t_s - s.t_s : 0.0;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
   follow_timing(s);
   s.scene_scale = 1.0;
@@ -464,7 +464,7 @@ FrameResult Odometry::process(const FrameInput& in) {
     out.T_wc = s.T_cw.inverse();
     out.tracked_points = active_in_window(s);
     s.frames_since_kf = 1;
-    s.since_kf_s = s.frame_dt_s;
+    s.since_kf_s = frame_dt_s;
     s.inliers_after_kf = out.tracked_points;
     return out;
   }
@@ -600,7 +600,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   const Keyframe& latest = s.kf[s.order[s.kf_count - 1]];
   if (s.frames_since_kf == 1) s.inliers_after_kf = best.inliers;
   ++s.frames_since_kf;
-  s.since_kf_s += s.frame_dt_s;
+  s.since_kf_s += frame_dt_s;
   const bool brightness = std::fabs(s.a - latest.a) > 0.5;
   const bool thinning = best.inliers * 4 < s.inliers_after_kf;
   const bool want = flow_t > 0.03 * size || flow_rt > 0.08 * size || thinning || brightness;

@@ -205,7 +205,6 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   std::uint32_t lost_frames = 0;
   std::uint32_t frames_since_kf = 0, inliers_after_kf = 0;
   double since_kf_s = 0;   // the time those frames span
-  double frame_dt_s = 0;   // since the previous frame (0 for the first)
   bool initialised = false;
   std::uint32_t init_frames = 0;
   std::uint32_t frames_since_timing_change = 0xffffffffu;  // 0: this frame's timing changed
