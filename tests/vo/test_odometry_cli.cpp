@@ -35,12 +35,12 @@ const fs::path& sequence(const char* name, const char* tau, const char* frames =
   return made[key];
 }
 
-// A street sequence at 60 Hz, 160x120, noise 3, rendered over each pixel's area (3 x 3 rays),
+// A street sequence at `fps` (default 60 Hz), 160x120, noise 3, rendered over each pixel's area (3 x 3 rays),
 // with one effect of the simulator's catalogue when `effect` is given.
 fs::path street_ss3(const fs::path& seq, const char* trajectory, const char* frames, const char* tau,
-                    const char* seed, const char* effect = nullptr) {
+                    const char* seed, const char* effect = nullptr, const char* fps = "60") {
   std::vector<std::string> args = {"simulate", seq.string(), "--scene", "street", "--trajectory", trajectory,
-                                   "--fps", "60", "--frames", frames, "--size", "160x120", "--tau", tau,
+                                   "--fps", fps, "--frames", frames, "--size", "160x120", "--tau", tau,
                                    "--noise", "3", "--seed", seed, "--supersample", "3"};
   if (effect) args.insert(args.end(), {"--effect", effect});
   const CliResult r = run_bolo(args);
@@ -432,12 +432,7 @@ TEST_CASE("every photometric mode tracks a drive filmed at 9 Hz", "[vo][cli][lon
   // 0.12-0.17 % of the path, 68-69 of 72 frames posed, no restart; with the spacing in frames
   // only: 0.20-28 %, 22-62 posed, `none` restarting.
   TempDir tmp;
-  const fs::path seq = tmp / "drive9";
-  const CliResult r = run_bolo({"simulate", seq.string(), "--scene", "street", "--trajectory", "drive", "--fps", "9",
-                                "--frames", "72", "--size", "160x120", "--tau", "0.012", "--noise", "3", "--seed", "2",
-                                "--supersample", "3"});
-  INFO(r.err);
-  REQUIRE(r.code == 0);
+  const fs::path seq = street_ss3(tmp / "drive9", "drive", "72", "0.012", "2", nullptr, "9");
   each_mode_evaluated(seq, tmp.path(), [](const std::string&, const nlohmann::json& e) {
     CHECK(e["ate_relative"].get<double>() < 0.01);
     CHECK(e["posed"].get<int>() >= 64);
