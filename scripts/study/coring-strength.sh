@@ -47,27 +47,18 @@ for set in $SETS; do
 done
 for seq in ${EXTRA_SEQUENCES:-}; do sequences+=("$(realpath "$seq")"); done
 echo "coring-strength: ${#sequences[@]} sequences" >&2
-# One job a line: SEQ MODE RUN [K]. Runs whose evaluation exists are kept.
+# One job a line: SEQ MODE RUN [options] (scripts/study/run-jobs.sh); runs whose evaluation exists are kept.
 jobs_file="$work/jobs-coring.txt"
 : > "$jobs_file"
 for seq in "${sequences[@]}"; do
   for mode in none affine ir ir-loop; do echo "$seq $mode $seq-vo-$mode" >> "$jobs_file"; done
   for k in $KS $CONTROL; do
-    for mode in ir ir-loop; do echo "$seq $mode $seq-vo-$mode-core$k $k" >> "$jobs_file"; done
+    for mode in ir ir-loop; do echo "$seq $mode $seq-vo-$mode-core$k --carry-coring $k" >> "$jobs_file"; done
   done
 done
 total=$(wc -l < "$jobs_file")
 echo "coring-strength: $total runs (two at a time; existing ones kept)" >&2
-export BOLO_BIN="$bolo" RUN_VO="$here/scripts/study/run-vo.sh"
-# shellcheck disable=SC2016
-xargs -P 2 -L 1 sh -c '
-  seq=$0 mode=$1 run=$2 k=${3:-}
-  if [ ! -f "$run/evaluation.json" ]; then
-    if [ -n "$k" ]; then "$RUN_VO" "$BOLO_BIN" "$seq" "$mode" "$run" --carry-coring "$k"
-    else "$RUN_VO" "$BOLO_BIN" "$seq" "$mode" "$run"; fi
-  fi
-  printf . >&2' < "$jobs_file"
-echo >&2
+KEEP_DONE=1 JOBS=2 "$here/scripts/study/run-jobs.sh" "$bolo" "$jobs_file"
 printf '%s\n' "${sequences[@]}" > "$work/index-coring.txt"
 python3 "$here/scripts/study/coring_table.py" "$work/index-coring.txt" "$out_md" --ks "$KS" --control "$CONTROL"
 echo "coring-strength: wrote $out_md" >&2

@@ -7,7 +7,6 @@ the default, paired on the same sequences, and the medians of every mode.
 INDEX lists one sequence folder a line; its runs are SEQ-vo-MODE (the defaults) and
 SEQ-vo-MODE-coreK. A run that could not be evaluated counts as 100 % of the path."""
 import argparse
-import json
 import math
 import re
 import statistics
@@ -15,14 +14,9 @@ import sys
 from collections import OrderedDict
 from pathlib import Path
 
+from study_runs import evaluation
+
 FAILED = 100.0  # % of the path a failed run counts as
-
-
-def evaluation(run):
-    try:
-        return json.loads(Path(run, "evaluation.json").read_text())
-    except (OSError, ValueError):
-        return None
 
 
 def ate_percent(run):

@@ -7,10 +7,10 @@ the IR modes' tau at 2 s.
 
 INDEX lines: FPS SIZE RAYS SEED MODE RUN. A run that could not be evaluated counts as a failure."""
 import argparse
-import json
 import statistics
-from collections import OrderedDict
 from pathlib import Path
+
+from study_runs import grouped_evaluations
 
 
 def main():
@@ -18,21 +18,11 @@ def main():
     ap.add_argument("index")
     ap.add_argument("out_md")
     a = ap.parse_args()
-    groups = OrderedDict()
-    for line in Path(a.index).read_text().splitlines():
-        if not line.strip():
-            continue
-        fps, size, rays, seed, mode, run = line.split()
-        groups.setdefault((fps, size, rays, mode), []).append(run)
+    # FPS SIZE RAYS SEED MODE RUN: over the seeds.
+    groups = grouped_evaluations(a.index, lambda f: (f[0], f[1], f[2], f[4]))
     out = ["| rate | size | rays | mode | runs | RPE rotation, deg / s (median / worst) | frames lost | restarts | "
            "posed | failed | τ at 2 s, \\|error\\| (median) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for (fps, size, rays, mode), runs in groups.items():
-        evals = []
-        for run in runs:
-            try:
-                evals.append(json.loads(Path(run, "evaluation.json").read_text()))
-            except (OSError, ValueError):
-                evals.append(None)
+    for (fps, size, rays, mode), evals in groups.items():
         ok = [e for e in evals if e]
         failed = len(evals) - len(ok)
         rot = [e["rpe_rot_rmse_deg"] for e in ok]

@@ -42,9 +42,6 @@ for config in $CONFIGS; do
   done
 done
 echo "pans: $(wc -l < "$jobs_file") runs, two at a time" >&2
-export BOLO_BIN="$bolo" RUN_VO="$here/scripts/study/run-vo.sh"
-# shellcheck disable=SC2016
-xargs -P 2 -L 1 sh -c '"$RUN_VO" "$BOLO_BIN" "$0" "$1" "$2" || true; printf . >&2' < "$jobs_file"
-echo >&2
+JOBS=2 "$here/scripts/study/run-jobs.sh" "$bolo" "$jobs_file"
 python3 "$here/scripts/study/pan_table.py" "$work/index-pans.txt" "$out_md"
 echo "pans: wrote $out_md" >&2

@@ -7,10 +7,10 @@ posed and the runs that could not be evaluated.
 
 INDEX lines: FPS TRAJECTORY SEED MODE RUN."""
 import argparse
-import json
 import statistics
-from collections import OrderedDict
 from pathlib import Path
+
+from study_runs import grouped_evaluations
 
 
 def main():
@@ -18,20 +18,11 @@ def main():
     ap.add_argument("index")
     ap.add_argument("out_md")
     a = ap.parse_args()
-    groups = OrderedDict()
-    for line in Path(a.index).read_text().splitlines():
-        if line.strip():
-            fps, traj, _seed, mode, run = line.split()
-            groups.setdefault((fps, traj, mode), []).append(run)
+    # FPS TRAJECTORY SEED MODE RUN: over the seeds.
+    groups = grouped_evaluations(a.index, lambda f: (f[0], f[1], f[3]))
     out = ["| rate | trajectory | mode | runs | median ATE, % of the path | per segment | restarts | posed | failed |",
            "|---|---|---|---|---|---|---|---|---|"]
-    for (fps, traj, mode), runs in groups.items():
-        evals = []
-        for run in runs:
-            try:
-                evals.append(json.loads(Path(run, "evaluation.json").read_text()))
-            except (OSError, ValueError):
-                evals.append(None)
+    for (fps, traj, mode), evals in groups.items():
         ok = [e for e in evals if e]
         frames = sum(e["frames"] for e in ok)
         posed = sum(e["posed"] for e in ok)
