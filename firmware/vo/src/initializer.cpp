@@ -199,54 +199,30 @@ Brightness brightness_step(const InitSystem& sys, const Brightness& br, double l
   return {br.a + d[0], br.b + d[1], true};
 }
 
-// Joint pose + inverse-depth refinement, coarse to fine, from M and the host's current depths
-// (and the brightness, when it is free).
-Solved refine(State& s, Se3& M, Brightness& br) {
-  Keyframe& host = init_host(s);
+// Levenberg-Marquardt, coarse to fine, from M (and the brightness, when it is free). At each
+// iteration `propose(sys, lambda, M, M_new)` writes the trial pose, and may move the host's
+// inverse depths with it; it returns the step's norm, or a negative number for a step that is not
+// finite. A rejected step calls `undo()`, which puts the depths back and returns whether it did
+// (the system is then accumulated again: its per-point rows hold the trial's).
+template <class Propose, class Undo>
+Solved coarse_to_fine(State& s, Se3& M, Brightness& br, Propose propose, Undo undo) {
   Solved out;
   for (int level = static_cast<int>(s.frame.levels) - 1; level >= 0; --level) {
     const auto l = static_cast<std::uint32_t>(level);
     double lambda = 0.1;
     InitSystem sys = accumulate(s, l, M, br, true);
     for (int it = 0; it < 6; ++it) {
-      // Schur complement: eliminate every inverse depth (diagonal block) onto the pose.
-      Mat6 Hs = sys.H;
-      Vec6 gs = sys.g;
-      for (std::uint32_t i = 0; i < host.count; ++i) {
-        const float* row = s.ba_hxr.data() + std::size_t{i} * 8;
-        if (host.points[i].status != PointStatus::immature || row[6] <= 0) continue;
-        const double hrr = row[6] * (1 + lambda);
-        Vec6 hpr;
-        for (int q = 0; q < 6; ++q) hpr[q] = row[q];
-        Hs -= hpr * hpr.transpose() / hrr;
-        gs -= hpr * (row[7] / hrr);
-      }
-      for (int q = 0; q < 6; ++q) Hs(q, q) += lambda * sys.H(q, q) + 1e-6;
-      const Vec6 dx = -Hs.ldlt().solve(gs);
-      if (!dx.allFinite()) break;
-      // Back-substitute the inverse depths into a trial copy held in `energy`-free scratch:
-      // the point array itself, restored when the step is rejected.
-      Se3 M_new = Se3::exp(dx) * M;
-      for (std::uint32_t i = 0; i < host.count; ++i) {
-        Point& p = host.points[i];
-        const float* row = s.ba_hxr.data() + std::size_t{i} * 8;
-        if (p.status != PointStatus::immature || row[6] <= 0) continue;
-        double hpr_dx = 0;
-        for (int q = 0; q < 6; ++q) hpr_dx += row[q] * dx[q];
-        const double dr = -(row[7] + hpr_dx) / (row[6] * (1 + lambda));
-        p.idepth_min = p.idepth;  // backup
-        p.idepth = static_cast<float>(std::min(std::max(p.idepth + dr, 1e-3), 20.0));
-      }
+      Se3 M_new;
+      const double step = propose(sys, lambda, M, M_new);
+      if (!(step >= 0)) break;
       const Brightness br_new = brightness_step(sys, br, lambda);
       InitSystem next = accumulate(s, l, M_new, br_new, true);
       if (next.energy < sys.energy) {
         M = M_new, br = br_new, sys = next;
         lambda = std::max(lambda * 0.5, 1e-4);
-        if (dx.norm() < 1e-6) break;
+        if (step < 1e-6) break;
       } else {
-        for (std::uint32_t i = 0; i < host.count; ++i)
-          if (host.points[i].status == PointStatus::immature) host.points[i].idepth = host.points[i].idepth_min;
-        sys = accumulate(s, l, M, br, true);
+        if (undo()) sys = accumulate(s, l, M, br, true);
         lambda *= 4;
         if (lambda > 1e3) break;
       }
@@ -256,38 +232,65 @@ Solved refine(State& s, Se3& M, Brightness& br) {
   return out;
 }
 
+// Joint pose + inverse-depth refinement, coarse to fine, from M and the host's current depths
+// (and the brightness, when it is free).
+Solved refine(State& s, Se3& M, Brightness& br) {
+  Keyframe& host = init_host(s);
+  const auto propose = [&](const InitSystem& sys, double lambda, const Se3& from, Se3& to) {
+    // Schur complement: eliminate every inverse depth (diagonal block) onto the pose.
+    Mat6 Hs = sys.H;
+    Vec6 gs = sys.g;
+    for (std::uint32_t i = 0; i < host.count; ++i) {
+      const float* row = s.ba_hxr.data() + std::size_t{i} * 8;
+      if (host.points[i].status != PointStatus::immature || row[6] <= 0) continue;
+      const double hrr = row[6] * (1 + lambda);
+      Vec6 hpr;
+      for (int q = 0; q < 6; ++q) hpr[q] = row[q];
+      Hs -= hpr * hpr.transpose() / hrr;
+      gs -= hpr * (row[7] / hrr);
+    }
+    for (int q = 0; q < 6; ++q) Hs(q, q) += lambda * sys.H(q, q) + 1e-6;
+    const Vec6 dx = -Hs.ldlt().solve(gs);
+    if (!dx.allFinite()) return -1.0;
+    // Back-substitute the inverse depths into the point array itself, the previous ones kept in
+    // idepth_min (free while the points are immature) for undo.
+    to = Se3::exp(dx) * from;
+    for (std::uint32_t i = 0; i < host.count; ++i) {
+      Point& p = host.points[i];
+      const float* row = s.ba_hxr.data() + std::size_t{i} * 8;
+      if (p.status != PointStatus::immature || row[6] <= 0) continue;
+      double hpr_dx = 0;
+      for (int q = 0; q < 6; ++q) hpr_dx += row[q] * dx[q];
+      const double dr = -(row[7] + hpr_dx) / (row[6] * (1 + lambda));
+      p.idepth_min = p.idepth;  // backup
+      p.idepth = static_cast<float>(std::min(std::max(p.idepth + dr, 1e-3), 20.0));
+    }
+    return dx.norm();
+  };
+  const auto undo = [&] {
+    for (std::uint32_t i = 0; i < host.count; ++i)
+      if (host.points[i].status == PointStatus::immature) host.points[i].idepth = host.points[i].idepth_min;
+    return true;
+  };
+  return coarse_to_fine(s, M, br, propose, undo);
+}
+
 // The rotation that explains the frame best with no translation (the depths then do not
 // matter), coarse to fine from M's rotation and the current depths (whose prior terms it leaves
 // as they are, so its energy compares with refine()'s).
 Solved refine_rotation(State& s, Se3& M, Brightness& br) {
   M.t.setZero();
-  Solved out;
-  for (int level = static_cast<int>(s.frame.levels) - 1; level >= 0; --level) {
-    const auto l = static_cast<std::uint32_t>(level);
-    double lambda = 0.1;
-    InitSystem sys = accumulate(s, l, M, br, true);
-    for (int it = 0; it < 6; ++it) {
-      Eigen::Matrix3d H = sys.H.bottomRightCorner<3, 3>();
-      for (int q = 0; q < 3; ++q) H(q, q) += lambda * H(q, q) + 1e-6;
-      const Vec3 dw = -H.ldlt().solve(sys.g.tail<3>());
-      if (!dw.allFinite()) break;
-      Vec6 xi;
-      xi << 0, 0, 0, dw;
-      const Se3 M_new = Se3::exp(xi) * M;
-      const Brightness br_new = brightness_step(sys, br, lambda);
-      InitSystem next = accumulate(s, l, M_new, br_new, true);
-      if (next.energy < sys.energy) {
-        M = M_new, br = br_new, sys = next;
-        lambda = std::max(lambda * 0.5, 1e-4);
-        if (dw.norm() < 1e-6) break;
-      } else {
-        lambda *= 4;
-        if (lambda > 1e3) break;
-      }
-    }
-    if (level == 0) out.energy = sys.energy, out.inliers = sys.inliers;
-  }
-  return out;
+  const auto propose = [](const InitSystem& sys, double lambda, const Se3& from, Se3& to) {
+    Eigen::Matrix3d H = sys.H.bottomRightCorner<3, 3>();
+    for (int q = 0; q < 3; ++q) H(q, q) += lambda * H(q, q) + 1e-6;
+    const Vec3 dw = -H.ldlt().solve(sys.g.tail<3>());
+    if (!dw.allFinite()) return -1.0;
+    Vec6 xi;
+    xi << 0, 0, 0, dw;
+    to = Se3::exp(xi) * from;
+    return dw.norm();
+  };
+  return coarse_to_fine(s, M, br, propose, [] { return false; });
 }
 
 // Two sets of inverse depths (the warm solve's, then the fresh solve's) while another solve runs:
