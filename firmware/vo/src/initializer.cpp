@@ -433,9 +433,16 @@ void start_initialisation(State& s) {
   for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = 1.0f;
   s.initialised = false;
   s.init_frames = 0;
+  s.map_without_baseline = false;
   s.motion = Se3();
   s.motion_dt_s = 0;
   s.pose_t_s = s.t_s;
+}
+
+void follow_map_baseline(State& s) {
+  if (!s.map_without_baseline) return;
+  const Se3 M = s.T_cw * s.map_origin.inverse();
+  if (s.cfg.camera.fx * M.t.norm() >= kInitFlow * (s.cfg.width + s.cfg.height)) s.map_without_baseline = false;
 }
 
 bool initialise_step(State& s) {
@@ -482,6 +489,8 @@ bool initialise_step(State& s) {
     const double frames = static_cast<double>(s.init_frames);
     s.motion = Se3::exp(M.log() / frames).orthonormalised();
     s.motion_dt_s = (s.t_s - host.t_s) / frames;
+    s.map_without_baseline = true;
+    s.map_origin = host.T_cw;
   } else if (keep_waiting_for_the_basin(s, basins_differ)) {
     return false;
   }

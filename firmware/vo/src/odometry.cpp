@@ -589,6 +589,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (ir && c.estimate_tau) {
     refine_tau(s);
   }
+  follow_map_baseline(s);
   search_immature_points(s);
 
   // Keyframe: enough parallax, a large rotation, or the tracked points thinning out; never two
@@ -612,7 +613,14 @@ FrameResult Odometry::process(const FrameInput& in) {
     if (!ir || s.chain_ok) {
       // As in DSO, immature points join the map only with a new keyframe, right before the
       // bundle adjustment refines them with everything else.
-      activate_mature_points(s, best.inliers);
+      // On a map that began as a rotation, while the camera still only turns, the tracked points
+      // leave the view at the turn's rate (a 9 Hz pan at 30 deg/s takes 30-40 of them a frame),
+      // and the rotation's points are all the map can get: the count the next keyframe would
+      // track, if they keep leaving as fast as since the last one, decides. (On a map with depths
+      // the same rule cost scale in the look-arounds of walks: docs/odometry-study.md.)
+      const std::uint32_t lost_since_kf = s.inliers_after_kf > best.inliers ? s.inliers_after_kf - best.inliers : 0;
+      const std::uint32_t tracked_next = best.inliers > lost_since_kf ? best.inliers - lost_since_kf : 0;
+      activate_mature_points(s, s.map_without_baseline ? tracked_next : best.inliers);
       const std::uint32_t slot = new_keyframe_slot(s);
       make_keyframe(s, slot, true);
       if (c.window_ba && s.kf_count >= 2) window_bundle_adjustment(s);

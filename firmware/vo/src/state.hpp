@@ -207,6 +207,10 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   double since_kf_s = 0;   // the time those frames span
   bool initialised = false;
   std::uint32_t init_frames = 0;
+  // The map began as a rotation about the camera's centre and the camera has not translated since
+  // (initializer.cpp): none of its points has a depth of its own.
+  bool map_without_baseline = false;
+  Se3 map_origin;  // world to camera at the map's first keyframe
   std::uint32_t frames_since_timing_change = 0xffffffffu;  // 0: this frame's timing changed
   bool brightness_level_unknown = false;  // a, b are of a frame without its reference's level (same_level)
   double offset_step = 0;  // ir modes: the camera offset's change since the newest keyframe (shutter)
@@ -304,6 +308,9 @@ void build_tracking_reference(State& s);
 // Returns true once the map is initialised from the first keyframe and the current frame.
 bool initialise_step(State& s);
 void start_initialisation(State& s);
+// Clears map_without_baseline once the tracked camera has moved as far from the map's first
+// keyframe as the initialisation's baseline.
+void follow_map_baseline(State& s);
 void search_immature_points(State& s);
 void activate_mature_points(State& s, std::uint32_t tracked_points);
 void window_bundle_adjustment(State& s);
