@@ -31,6 +31,7 @@ constexpr std::uint32_t kMinInitPoints = 20;  // the tracker's least inliers
 // 2 % only after ~1.3 m on the handheld sequences (0.1 baseline/depth instead of 0.03), by when
 // the first keyframe's patterns had changed so much that the solve jumped between basins.
 constexpr double kInitFlow = 0.02;
+double baseline_flow_needed(const State& s) { return kInitFlow * (s.cfg.width + s.cfg.height); }
 
 struct InitSystem {
   Mat6 H = Mat6::Zero();
@@ -442,7 +443,7 @@ void start_initialisation(State& s) {
 void follow_map_baseline(State& s) {
   if (!s.map_without_baseline) return;
   const Se3 M = s.T_cw * s.map_origin.inverse();
-  if (s.cfg.camera.fx * M.t.norm() >= kInitFlow * (s.cfg.width + s.cfg.height)) s.map_without_baseline = false;
+  if (s.cfg.camera.fx * M.t.norm() >= baseline_flow_needed(s)) s.map_without_baseline = false;
 }
 
 bool initialise_step(State& s) {
@@ -469,12 +470,11 @@ bool initialise_step(State& s) {
   }
   ++s.init_frames;
   const double baseline_flow = s.cfg.camera.fx * M.t.norm();
-  const double needed = kInitFlow * (s.cfg.width + s.cfg.height);
   // The first keyframe's patterns must still match at the end: a slow camera (9 Hz) moves as far
   // in 10 frames as a 60 Hz one in 67, so it may stop at the time 10 frames take at 30 Hz.
   const bool long_enough = s.init_frames >= kMinInitFrames ||
                            (s.init_frames >= 2 && s.t_s - host.t_s >= kMinInitSeconds - 1e-6);
-  const bool ready = long_enough && baseline_flow >= needed;
+  const bool ready = long_enough && baseline_flow >= baseline_flow_needed(s);
   const bool rotation = ready && explained_by_rotation(s, M, br);
   const Se3 previous = s.T_cw;
   s.T_cw = (M * host.T_cw).orthonormalised();

@@ -32,6 +32,12 @@ constexpr double kMaxStepFlow = 0.06;  // median translation flow per frame, sha
 constexpr float kRetrackRatio = 1.5f;  // the constant-velocity guess stands if its rms is within this of the last frame's
 constexpr std::uint32_t kIntensityMeasureFrames = 30;  // the intensity scale stays 1 if unmeasured by then
 
+// The points tracked at the next keyframe if they keep leaving the view as fast as since the last.
+std::uint32_t tracked_at_next_keyframe(const State& s, std::uint32_t tracked) {
+  const std::uint32_t lost = s.inliers_after_kf > tracked ? s.inliers_after_kf - tracked : 0;
+  return tracked > lost ? tracked - lost : 0;
+}
+
 std::size_t plane(const VoConfig& c) { return std::size_t{c.width} * c.height; }
 
 }  // namespace
@@ -616,11 +622,9 @@ FrameResult Odometry::process(const FrameInput& in) {
       // On a map that began as a rotation, while the camera still only turns, the tracked points
       // leave the view at the turn's rate (a 9 Hz pan at 30 deg/s takes 30-40 of them a frame),
       // and the rotation's points are all the map can get: the count the next keyframe would
-      // track, if they keep leaving as fast as since the last one, decides. (On a map with depths
-      // the same rule cost scale in the look-arounds of walks: docs/odometry-study.md.)
-      const std::uint32_t lost_since_kf = s.inliers_after_kf > best.inliers ? s.inliers_after_kf - best.inliers : 0;
-      const std::uint32_t tracked_next = best.inliers > lost_since_kf ? best.inliers - lost_since_kf : 0;
-      activate_mature_points(s, s.map_without_baseline ? tracked_next : best.inliers);
+      // track decides. (On a map with depths the same rule cost scale in the look-arounds of
+      // walks: docs/odometry-study.md.)
+      activate_mature_points(s, s.map_without_baseline ? tracked_at_next_keyframe(s, best.inliers) : best.inliers);
       const std::uint32_t slot = new_keyframe_slot(s);
       make_keyframe(s, slot, true);
       if (c.window_ba && s.kf_count >= 2) window_bundle_adjustment(s);
