@@ -43,6 +43,9 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   options.estimate_tau = !o.fixed_tau;
   options.window_ba = !o.no_ba;
   options.marginalisation_prior = o.marginalisation_prior;
+  if (o.retirement == "oldest") options.retirement = vo::Retirement::oldest;
+  else if (o.retirement == "spread") options.retirement = vo::Retirement::spread;
+  else fail("--retirement: must be oldest or spread, got ", o.retirement);
   if (o.max_keyframes < 2 || o.max_keyframes > vo::kMaxKeyframes)
     fail("--max-keyframes: must be within 2..", vo::kMaxKeyframes, ", got ", o.max_keyframes);
   options.max_keyframes = o.max_keyframes;
@@ -151,6 +154,10 @@ Command add_odometry_command(CLI::App& parent) {
   app->add_flag("--marginalisation-prior", o->marginalisation_prior,
                 "Keep a retired keyframe's information as a prior on the window (DSO's marginalisation) "
                 "instead of dropping it");
+  app->add_option("--retirement", o->retirement,
+                  "Which keyframe leaves a full window: spread (one much nearer its neighbours along the path than "
+                  "the window's mean spacing, made for a turn; else the oldest) or oldest")
+      ->capture_default_str();
   app->add_flag("--overwrite", o->overwrite, "Replace DIR if it exists");
   app->add_flag("--no-progress", [o](std::int64_t) { o->progress = false; }, "Never draw the progress bar");
   return {app, [o](std::ostream& out) { return run_odometry(*o, out); }};

@@ -102,7 +102,7 @@ struct DiagnoseOptions {
 int run_diagnose(const DiagnoseOptions& options, std::ostream& out);
 
 // bolo odometry REC --out DIR [--photometric none|affine|ir|ir-loop] [--tau-init S] [--fixed-tau] [--frames N]
-//               [--no-ba] [--marginalisation-prior] [--overwrite]
+//               [--no-ba] [--marginalisation-prior] [--retirement spread|oldest] [--overwrite]
 struct OdometryOptions {
   std::filesystem::path input;
   std::filesystem::path output;
@@ -117,6 +117,7 @@ struct OdometryOptions {
   std::optional<std::uint64_t> frames;
   bool no_ba = false;
   bool marginalisation_prior = false;
+  std::string retirement = "spread";
   std::uint32_t max_keyframes = 8;
   bool overwrite = false;
   bool progress = true;

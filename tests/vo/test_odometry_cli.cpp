@@ -133,6 +133,7 @@ TEST_CASE("odometry: --max-keyframes sets the sliding window", "[vo][cli]") {
   const nlohmann::json four = summary_of(run), eight = summary_of(full);
   CHECK(four["max_keyframes"].get<int>() == 4);
   CHECK(eight["max_keyframes"].get<int>() == 8);
+  CHECK(eight["retirement"].get<std::string>() == "spread");  // the default (keyframe_retirement.cpp)
   // The VO is configured with it: half the keyframes' pyramids and points, a smaller arena.
   CHECK(four["arena_bytes"].get<double>() < 0.75 * eight["arena_bytes"].get<double>());
   const nlohmann::json e = evaluate(run);
@@ -730,6 +731,8 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
             .find("--intensity-scale: must be within 0..10000 (0: measured), got -1") != std::string::npos);
   CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--max-keyframes", "9"})
             .find("--max-keyframes: must be within 2..8, got 9") != std::string::npos);
+  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--retirement", "newest"})
+            .find("--retirement: must be oldest or spread, got newest") != std::string::npos);
   CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--carry-coring", "-0.5"})
             .find("--carry-coring: must be within 0..100 (0: the full correction), got -0.5") != std::string::npos);
   CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--smoothing", "4"})

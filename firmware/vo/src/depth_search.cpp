@@ -71,7 +71,8 @@ float pattern_energy(const Level& cur, const float* ref, float gain, float offse
   return e;
 }
 
-// Median inverse depth of the window's active points (0 when there are none).
+}  // namespace
+
 float typical_idepth(State& s) {
   float* v = s.ba_hxr.data();
   std::size_t n = 0;
@@ -81,8 +82,6 @@ float typical_idepth(State& s) {
         if (kf.points[i].status == PointStatus::active) v[n++] = kf.points[i].idepth;
   return upper_median(v, n);
 }
-
-}  // namespace
 
 void search_immature_points(State& s) {
   const Level& cur = s.frame.level[0];

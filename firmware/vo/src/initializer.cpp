@@ -31,7 +31,6 @@ constexpr std::uint32_t kMinInitPoints = 20;  // the tracker's least inliers
 // 2 % only after ~1.3 m on the handheld sequences (0.1 baseline/depth instead of 0.03), by when
 // the first keyframe's patterns had changed so much that the solve jumped between basins.
 constexpr double kInitFlow = 0.02;
-double baseline_flow_needed(const State& s) { return kInitFlow * (s.cfg.width + s.cfg.height); }
 
 struct InitSystem {
   Mat6 H = Mat6::Zero();
@@ -419,6 +418,8 @@ bool keep_waiting_for_the_basin(const State& s, bool basins_differ) {
 }
 
 }  // namespace
+
+double baseline_flow_needed(const State& s) { return kInitFlow * (s.cfg.width + s.cfg.height); }
 
 void start_initialisation(State& s) {
   // A restart retires the whole map: its points are still output.

@@ -161,12 +161,13 @@ void retire_points(State& s, const Keyframe& old) {
 
 std::uint32_t new_keyframe_slot(State& s) {
   if (s.kf_count == s.cfg.max_keyframes) {
-    // Retire the oldest keyframe; its active points leave the window as map output.
+    // Retire a keyframe; its active points leave the window as map output.
     if (s.cfg.window_ba && s.cfg.marginalisation_prior) marginalise_oldest_keyframe(s);
-    Keyframe& old = s.kf[s.order[0]];
+    const std::uint32_t leaving = keyframe_to_retire(s);
+    Keyframe& old = s.kf[s.order[leaving]];
     retire_points(s, old);
     old.used = false;
-    for (std::uint32_t k = 1; k < s.kf_count; ++k) s.order[k - 1] = s.order[k];
+    for (std::uint32_t k = leaving + 1; k < s.kf_count; ++k) s.order[k - 1] = s.order[k];
     --s.kf_count;
   }
   for (std::uint32_t k = 0; k < s.cfg.max_keyframes; ++k)

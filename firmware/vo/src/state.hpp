@@ -303,6 +303,16 @@ struct FreeBrightness {
 };
 TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness free,
                         std::uint32_t last_level = 0, const TrackResult* resume = nullptr);
+// Median inverse depth of the window's active points (0 when there are none; ba_hxr is its scratch).
+float typical_idepth(State& s);
+// The baseline a map needs, as the flow it causes at the typical depth (pixels, level 0).
+double baseline_flow_needed(const State& s);
+// Which keyframe leaves a full window (its position in s.order, oldest first): the oldest, unless
+// a keyframe between it and the two newest lies much nearer a neighbour along the path than the
+// window's mean spacing (Retirement::spread). Such a keyframe was made for a turn, not for the
+// distance travelled, and adds no baseline, while the oldest holds the window's longest one and,
+// after a look-around, the view the camera comes back to. The most crowded such keyframe leaves.
+std::uint32_t keyframe_to_retire(State& s);
 // Rebuilds the tracking reference (s.ref) from the window's active points.
 void build_tracking_reference(State& s);
 // Returns true once the map is initialised from the first keyframe and the current frame.

@@ -109,6 +109,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   config.tau_init_s = static_cast<float>(options.tau_init_s);
   config.window_ba = options.window_ba;
   config.marginalisation_prior = options.marginalisation_prior;
+  config.retirement = options.retirement;
   config.max_keyframes = options.max_keyframes;
   config.intensity_scale = static_cast<float>(options.intensity_scale);
   config.carry_coring = static_cast<float>(options.carry_coring);
@@ -310,6 +311,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"max_keyframes", options.max_keyframes},
                       {"window_ba", options.window_ba},
                       {"marginalisation_prior", options.window_ba && options.marginalisation_prior},
+                      {"retirement", options.retirement == vo::Retirement::oldest ? "oldest" : "spread"},
                       {"timing_from_options", summary.timing_from_options},
                       {"timing_assumed", summary.timing_assumed},
                       {"timing_assumed_s", summary.timing_assumed ? nlohmann::json(summary.assumed_half_period_s)

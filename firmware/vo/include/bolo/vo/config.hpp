@@ -25,6 +25,8 @@ struct Camera {
 // Temporal pixel noise (counts) up to which the thresholds in counts are used as configured.
 inline constexpr float kNominalNoiseCounts = 4.0f;
 
+enum class Retirement : std::uint8_t { oldest, spread };
+
 struct VoConfig {
   std::uint32_t width = 0, height = 0;
   Camera camera;
@@ -47,6 +49,10 @@ struct VoConfig {
   // instead of being dropped. Off by default: on the study's sequences it was no better overall
   // (docs/odometry-study.md, "A marginalisation prior").
   bool marginalisation_prior = false;
+  // Which keyframe leaves a full window: the oldest, or (spread) a keyframe much nearer its
+  // neighbours along the path than the window's mean spacing if there is one, so that the window
+  // keeps its baseline through turns and look-arounds (docs/odometry-study.md, "Keyframe retirement").
+  Retirement retirement = Retirement::spread;
   // ir modes: the carry-over correction (deghosted minus raw) is kept only where it stands out
   // of its own noise: its part within carry_coring times that noise's sigma is left out of the
   // tracking image (a soft threshold). Deghosting is an inverse filter: at tau 12 ms and 60 Hz it

@@ -36,6 +36,7 @@ struct OdometryOptions {
   std::uint32_t smoothing = vo::VoConfig{}.smoothing;  // vo::VoConfig::smoothing
   bool window_ba = true;
   bool marginalisation_prior = false;  // retired keyframes leave a prior on the window
+  vo::Retirement retirement = vo::VoConfig{}.retirement;
   std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;  // sliding window, 2..8
   bool overwrite = false;
   std::optional<std::uint64_t> max_frames;
