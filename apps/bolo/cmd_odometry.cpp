@@ -153,7 +153,7 @@ Command add_odometry_command(CLI::App& parent) {
   app->add_flag("--no-ba", o->no_ba, "Skip the sliding-window bundle adjustment (tracking and depth search only)");
   app->add_flag("--marginalisation-prior", o->marginalisation_prior,
                 "Keep a retired keyframe's information as a prior on the window (DSO's marginalisation) "
-                "instead of dropping it");
+                "instead of dropping it; it needs the bundle adjustment (ignored with --no-ba)");
   app->add_option("--retirement", o->retirement,
                   "Which keyframe leaves a full window: spread (one much nearer its neighbours along the path than "
                   "the window's mean spacing, made for a turn; else the oldest) or oldest")

@@ -89,6 +89,11 @@ TEST_CASE("a keyframe made for a turn leaves before the oldest, which holds the 
     s.cfg.marginalisation_prior = true;
     CHECK(keyframe_to_retire(s) == 0);
   }
+  SECTION("without the window BA no prior is built, so the prior's flag alone does not hold the oldest") {
+    s.cfg.marginalisation_prior = true;
+    s.cfg.window_ba = false;
+    CHECK(keyframe_to_retire(s) == leaving);
+  }
 }
 
 TEST_CASE("the two newest keyframes never leave, however near each other", "[vo][retirement]") {

@@ -18,8 +18,7 @@ double centre_distance(const Keyframe& a, const Keyframe& b) { return (a.T_cw * 
 }  // namespace
 
 std::uint32_t keyframe_to_retire(State& s) {
-  // With the marginalisation prior the oldest leaves: the prior is built from it.
-  if (s.cfg.retirement == Retirement::oldest || s.cfg.marginalisation_prior || s.kf_count < 4) return 0;
+  if (s.cfg.retirement == Retirement::oldest || builds_marginalisation_prior(s.cfg) || s.kf_count < 4) return 0;
   const Keyframe& oldest = s.kf[s.order[0]];
   const Keyframe& newest = s.kf[s.order[s.kf_count - 1]];
   const double span = centre_distance(oldest, newest);

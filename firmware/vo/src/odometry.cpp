@@ -162,7 +162,7 @@ void retire_points(State& s, const Keyframe& old) {
 std::uint32_t new_keyframe_slot(State& s) {
   if (s.kf_count == s.cfg.max_keyframes) {
     // Retire a keyframe; its active points leave the window as map output.
-    if (s.cfg.window_ba && s.cfg.marginalisation_prior) marginalise_oldest_keyframe(s);
+    if (builds_marginalisation_prior(s.cfg)) marginalise_oldest_keyframe(s);
     const std::uint32_t leaving = keyframe_to_retire(s);
     Keyframe& old = s.kf[s.order[leaving]];
     retire_points(s, old);
