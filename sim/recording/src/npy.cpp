@@ -207,12 +207,11 @@ std::string header_dict(DType dtype, std::uint64_t n, std::uint64_t height, std:
          std::to_string(n) + ", " + std::to_string(height) + ", " + std::to_string(width) + "), }";
 }
 
-// Version 1.0 header, padded with spaces to a multiple of 64 bytes, with room for any N.
-std::string header_bytes(DType dtype, std::uint64_t n, std::uint64_t height, std::uint64_t width) {
-  const std::size_t widest =
-      header_dict(dtype, std::numeric_limits<std::uint64_t>::max(), height, width).size();
-  const std::size_t total = (10 + widest + 1 + 63) / 64 * 64;
-  std::string dict = header_dict(dtype, n, height, width);
+// A version 1.0 header: magic, version, length, then the dict padded with spaces and ended by a
+// newline so that the data starts at a multiple of 64 bytes, with room for a dict of
+// `room_for` characters.
+std::string version1_header(std::string dict, std::size_t room_for) {
+  const std::size_t total = (10 + room_for + 1 + 63) / 64 * 64;
   const std::size_t header_len = total - 10;
   dict.resize(header_len - 1, ' ');
   dict += '\n';
@@ -222,6 +221,13 @@ std::string header_bytes(DType dtype, std::uint64_t n, std::uint64_t height, std
   bytes += static_cast<char>(header_len & 0xff);
   bytes += static_cast<char>((header_len >> 8) & 0xff);
   return bytes + dict;
+}
+
+// The header of a frame stack, with room for any N (the frame count is rewritten as frames
+// are appended).
+std::string header_bytes(DType dtype, std::uint64_t n, std::uint64_t height, std::uint64_t width) {
+  const std::size_t widest = header_dict(dtype, std::numeric_limits<std::uint64_t>::max(), height, width).size();
+  return version1_header(header_dict(dtype, n, height, width), widest);
 }
 
 }  // namespace
@@ -238,17 +244,8 @@ std::string encode_npy_f4(const std::vector<std::uint64_t>& shape, std::span<con
   if (count != values.size())
     throw Error("encode_npy_f4: shape holds " + std::to_string(count) + " values, got " +
                 std::to_string(values.size()));
-  std::string dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (" + dims + "), }";
-  const std::size_t total = (10 + dict.size() + 1 + 63) / 64 * 64;
-  const std::size_t header_len = total - 10;
-  dict.resize(header_len - 1, ' ');
-  dict += '\n';
-  std::string bytes(kMagic);
-  bytes += '\x01';
-  bytes += '\x00';
-  bytes += static_cast<char>(header_len & 0xff);
-  bytes += static_cast<char>((header_len >> 8) & 0xff);
-  bytes += dict;
+  const std::string dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (" + dims + "), }";
+  std::string bytes = version1_header(dict, dict.size());
   for (float v : values) {
     std::uint32_t u;
     std::memcpy(&u, &v, 4);
