@@ -22,6 +22,12 @@ inline std::filesystem::path shared_recording(const std::string& name) {
   return dir;
 }
 
+// Whether `text` holds `part`; a failed check shows both.
+inline bool contains(const std::string& text, const std::string& part) {
+  INFO("looking for '" << part << "' in: " << text);
+  return text.find(part) != std::string::npos;
+}
+
 // A fresh, empty temporary folder removed at scope exit.
 class TempDir {
  public:

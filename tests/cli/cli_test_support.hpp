@@ -119,6 +119,31 @@ inline CliResult run_bolo(std::vector<std::string> args) {
 }
 
 // Every entry of a folder (hidden ones included), by name.
+// Runs the command line and checks the shape of a refusal (exit 2, one `bolo: error:` line on
+// stderr, nothing on stdout); returns stderr.
+inline std::string refused(const std::vector<std::string>& args) {
+  const CliResult r = run_bolo(args);
+  INFO("args:" << [&] {
+    std::string s;
+    for (const auto& a : args) s += " '" + a + "'";
+    return s;
+  }() << "\nstdout: " << r.out << "\nstderr: " << r.err);
+  CHECK(r.code == 2);
+  CHECK(r.err.rfind("bolo: error: ", 0) == 0);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);  // one line
+  CHECK(r.out.empty());
+  return r.err;
+}
+
+inline std::vector<std::string> correct_args(const TempDir& tmp, const std::string& in = "rec", const std::string& out = "out") {
+  return {"correct", (tmp / in).string(), (tmp / out).string(), "--tau-h", "0.012", "--tau-c", "0.012"};
+}
+
+inline std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
 inline std::set<std::string> entries(const fs::path& dir) {
   std::set<std::string> names;
   for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());

@@ -13,21 +13,6 @@ using namespace bolo::test;
 
 namespace {
 
-std::string refused(const std::vector<std::string>& args) {
-  const CliResult r = run_bolo(args);
-  INFO("stdout: " << r.out << "\nstderr: " << r.err);
-  CHECK(r.code == 2);
-  CHECK(r.err.rfind("bolo: error: ", 0) == 0);
-  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-  CHECK(r.out.empty());
-  return r.err;
-}
-
-bool has(const std::string& text, const std::string& part) {
-  INFO("looking for '" << part << "' in: " << text);
-  return text.find(part) != std::string::npos;
-}
-
 std::string hex(const std::vector<std::uint8_t>& bytes) {
   static const char* digits = "0123456789abcdef";
   std::string s;
@@ -57,7 +42,7 @@ TEST_CASE("capture: file: re-records a recording frame for frame", "[cli][captur
                                 (tmp / "out").string(), "--no-progress"});
   INFO(r.err);
   REQUIRE(r.code == 0);
-  CHECK(has(r.out, "captured 12 frames (24x16)"));
+  CHECK(contains(r.out, "captured 12 frames (24x16)"));
   rec::Recording in(tmp / "rec"), out(tmp / "out");
   REQUIRE(out.frame_count() == 12);
   for (std::uint64_t i = 0; i < 12; ++i) {
@@ -71,7 +56,7 @@ TEST_CASE("capture: file: re-records a recording frame for frame", "[cli][captur
   }
   CHECK(out.info().width == 24);
   // A recording counts nothing beyond SourceStats: no line for it, an empty object.
-  CHECK_FALSE(has(r.out, "device counters"));
+  CHECK_FALSE(contains(r.out, "device counters"));
   const auto summary = nlohmann::json::parse(read_text(tmp / "out" / "capture.json"));
   CHECK(summary.at("extra_counters") == nlohmann::json::object());
 }
@@ -86,7 +71,7 @@ TEST_CASE("capture: --frames stops early, the source ending first is reported", 
   r = run_bolo({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", (tmp / "all").string(),
                 "--frames", "50"});
   REQUIRE(r.code == 0);
-  CHECK(has(r.out, "the source ended after 12 of 50 frames"));
+  CHECK(contains(r.out, "the source ended after 12 of 50 frames"));
 }
 
 TEST_CASE("capture: the real FLIR ONE transfer log gives the shared recording", "[cli][capture][real]") {
@@ -97,9 +82,9 @@ TEST_CASE("capture: the real FLIR ONE transfer log gives the shared recording", 
   const CliResult r = run_bolo({"capture", "--device", "flirone-log:" + log.string(), "--out", (tmp / "out").string()});
   INFO(r.err);
   REQUIRE(r.code == 0);
-  CHECK(has(r.out, "captured 20 frames (80x60)"));
-  CHECK(has(r.out, "duplicates 2"));
-  CHECK(has(r.out, "device counters: skipped in camera 0, counter jumps 0,"));
+  CHECK(contains(r.out, "captured 20 frames (80x60)"));
+  CHECK(contains(r.out, "duplicates 2"));
+  CHECK(contains(r.out, "device counters: skipped in camera 0, counter jumps 0,"));
   CHECK(read_text(tmp / "out" / "frames.npy") == read_text(ref / "frames.npy"));  // byte for byte
   rec::Recording out(tmp / "out"), expected(ref);
   for (std::uint64_t i = 0; i < 20; ++i) {
@@ -123,8 +108,8 @@ TEST_CASE("capture: a source's extra counters are in the summary and in capture.
   const CliResult r = run_bolo({"capture", "--device", "flirone-log:" + log.string(), "--out", (tmp / "out").string()});
   INFO(r.err);
   REQUIRE(r.code == 0);
-  CHECK(has(r.out, "captured 3 frames (80x60)"));
-  CHECK(has(r.out,
+  CHECK(contains(r.out, "captured 3 frames (80x60)"));
+  CHECK(contains(r.out,
             "\ndevice counters: skipped in camera 1, counter jumps 0, stray transfers 1, trailing bytes 0, bad status 0\n"));
   const auto summary = nlohmann::json::parse(read_text(tmp / "out" / "capture.json"));
   CHECK(summary.at("extra_counters") == nlohmann::json({{"skipped_in_camera", 1},
@@ -139,50 +124,50 @@ TEST_CASE("capture: refusals name the device, flag or file and leave nothing beh
   SmallRecording::write(tmp / "rec");
   const auto before = entries(tmp.path());
   const std::string out = (tmp / "out").string();
-  CHECK(has(refused({"capture", "--device", "webcam", "--out", out, "--frames", "1"}),
+  CHECK(contains(refused({"capture", "--device", "webcam", "--out", out, "--frames", "1"}),
             "--device webcam: unknown device (expected v4l2:/dev/videoN, usb:flirone, usb:seek, file:REC or flirone-log:DIR)"));
-  CHECK(has(refused({"capture", "--device", "usb:boson", "--out", out, "--frames", "1"}),
+  CHECK(contains(refused({"capture", "--device", "usb:boson", "--out", out, "--frames", "1"}),
             "--device usb:boson: unknown USB camera 'boson'"));
-  CHECK(has(refused({"capture", "--device", "v4l2:", "--out", out, "--frames", "1"}),
+  CHECK(contains(refused({"capture", "--device", "v4l2:", "--out", out, "--frames", "1"}),
             "--device v4l2:: v4l2: needs a device node"));
-  CHECK(has(refused({"capture", "--device", "file:", "--out", out}), "--device file:: file: needs a recording folder"));
-  CHECK(has(refused({"capture", "--device", "flirone-log:", "--out", out}),
+  CHECK(contains(refused({"capture", "--device", "file:", "--out", out}), "--device file:: file: needs a recording folder"));
+  CHECK(contains(refused({"capture", "--device", "flirone-log:", "--out", out}),
             "--device flirone-log:: flirone-log: needs a transfer-log folder"));
-  CHECK(has(refused({"capture", "--device", "v4l2:/dev/null", "--out", out}),
+  CHECK(contains(refused({"capture", "--device", "v4l2:/dev/null", "--out", out}),
             "--frames: required for a live camera (v4l2:/dev/null)"));
-  CHECK(has(refused({"capture", "--device", "v4l2:/dev/null", "--out", out, "--frames", "3"}),
+  CHECK(contains(refused({"capture", "--device", "v4l2:/dev/null", "--out", out, "--frames", "3"}),
             "--device v4l2:/dev/null: /dev/null: not a V4L2 device"));
-  CHECK(has(refused({"capture", "--device", "v4l2:/nonexistent/video3", "--out", out, "--frames", "3"}),
+  CHECK(contains(refused({"capture", "--device", "v4l2:/nonexistent/video3", "--out", out, "--frames", "3"}),
             "/nonexistent/video3: cannot open: No such file or directory"));
   const std::string usb = refused({"capture", "--device", "usb:flirone", "--out", out, "--frames", "3"});
 #if defined(BOLO_HAVE_LIBUSB)
-  CHECK(has(usb, "--device usb:flirone: usb 09cb:1996: no device"));
-  CHECK(has(refused({"capture", "--device", "usb:seek", "--out", out, "--frames", "3"}),
+  CHECK(contains(usb, "--device usb:flirone: usb 09cb:1996: no device"));
+  CHECK(contains(refused({"capture", "--device", "usb:seek", "--out", out, "--frames", "3"}),
             "--device usb:seek: usb 289d:0010/0011: no device"));
 #else
-  CHECK(has(usb, "this build has no USB backend"));
+  CHECK(contains(usb, "this build has no USB backend"));
 #endif
-  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "none").string(), "--out", out}), "none"));
-  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", (tmp / "rec").string()}),
+  CHECK(contains(refused({"capture", "--device", "file:" + (tmp / "none").string(), "--out", out}), "none"));
+  CHECK(contains(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", (tmp / "rec").string()}),
             "exists (use --overwrite to replace it)"));
-  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio", "gpiochip0"}),
+  CHECK(contains(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio", "gpiochip0"}),
             "--gpio gpiochip0: no lines given"));
-  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
+  CHECK(contains(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
                      "gpiochip0:sync=x"}),
             "--gpio gpiochip0:sync=x: sync=x: expected a line number 0..4095"));
-  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
+  CHECK(contains(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
                      "gpiochip0:led=3"}),
             "'led=3': expected sync=N, shutter=N or imminent=N"));
-  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--shutter-at", "3"}),
+  CHECK(contains(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--shutter-at", "3"}),
             "--shutter-at: file:" + (tmp / "rec").string() + " has no shutter control here (use --gpio CHIP:shutter=N, or usb:seek)"));
-  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--shutter-at", "-2"}),
+  CHECK(contains(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--shutter-at", "-2"}),
             "--shutter-at: must not be negative, got -2"));
 #if defined(BOLO_HAVE_LIBGPIOD)
-  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
+  CHECK(contains(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
                      "bolo-no-such-chip:sync=3"}),
             "--gpio bolo-no-such-chip:sync=3: gpio bolo-no-such-chip: cannot open the chip"));
 #else
-  CHECK(has(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
+  CHECK(contains(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--gpio",
                      "gpiochip0:sync=3"}),
             "this build has no GPIO backend"));
 #endif
@@ -193,26 +178,26 @@ TEST_CASE("capture: transfer logs that are not logs, and a device that only faul
   TempDir tmp;
   const std::string out = (tmp / "out").string();
   fs::create_directories(tmp / "empty");
-  CHECK(has(refused({"capture", "--device", "flirone-log:" + (tmp / "empty").string(), "--out", out}),
+  CHECK(contains(refused({"capture", "--device", "flirone-log:" + (tmp / "empty").string(), "--out", out}),
             "no transfer files (1.txt, 2.txt, ...)"));
   fs::create_directories(tmp / "gap");
   std::ofstream(tmp / "gap" / "1.txt") << "efbe";
   std::ofstream(tmp / "gap" / "3.txt") << "efbe";
-  CHECK(has(refused({"capture", "--device", "flirone-log:" + (tmp / "gap").string(), "--out", out}),
+  CHECK(contains(refused({"capture", "--device", "flirone-log:" + (tmp / "gap").string(), "--out", out}),
             "transfer 2.txt missing"));
   fs::create_directories(tmp / "nothex");
   std::ofstream(tmp / "nothex" / "1.txt") << "efbe00zz";
-  CHECK(has(refused({"capture", "--device", "flirone-log:" + (tmp / "nothex").string(), "--out", out}),
+  CHECK(contains(refused({"capture", "--device", "flirone-log:" + (tmp / "nothex").string(), "--out", out}),
             "1.txt: offset 6: not a hex digit"));
   write_log(tmp / "bad", 6, true);
   const std::string gave_up = refused({"capture", "--device", "flirone-log:" + (tmp / "bad").string(), "--out", out,
                                        "--max-faults", "3"});
-  CHECK(has(gave_up, "gave up after 3 faults in a row, 0 frames captured, nothing written (timeouts 0, short 0, corrupt 4"));
+  CHECK(contains(gave_up, "gave up after 3 faults in a row, 0 frames captured, nothing written (timeouts 0, short 0, corrupt 4"));
   // The FLIR ONE source's own counters follow the common ones.
-  CHECK(has(gave_up, "; device counters: "));
-  CHECK(has(gave_up, "skipped in camera 0"));
+  CHECK(contains(gave_up, "; device counters: "));
+  CHECK(contains(gave_up, "skipped in camera 0"));
   write_log(tmp / "worse", 2, true);
-  CHECK(has(refused({"capture", "--device", "flirone-log:" + (tmp / "worse").string(), "--out", out}),
+  CHECK(contains(refused({"capture", "--device", "flirone-log:" + (tmp / "worse").string(), "--out", out}),
             "delivered no frames, nothing written"));
   CHECK_FALSE(fs::exists(out));
   // Good frames around faults: captured, faults counted.
@@ -220,9 +205,9 @@ TEST_CASE("capture: transfer logs that are not logs, and a device that only faul
   const CliResult r = run_bolo({"capture", "--device", "flirone-log:" + (tmp / "good").string(), "--out", out});
   INFO(r.err);
   REQUIRE(r.code == 0);
-  CHECK(has(r.out, "captured 3 frames (80x60)"));
+  CHECK(contains(r.out, "captured 3 frames (80x60)"));
   // The synthetic frames all carry the same camera time: kept, their t_s left empty.
-  CHECK(has(r.out, "2 frames with a time stamp not after the previous one: t_s left empty"));
+  CHECK(contains(r.out, "2 frames with a time stamp not after the previous one: t_s left empty"));
   rec::Recording rec(out);
   CHECK(rec.rows()[0].t_s == 0.0);
   CHECK_FALSE(rec.rows()[1].t_s.has_value());
@@ -231,9 +216,9 @@ TEST_CASE("capture: transfer logs that are not logs, and a device that only faul
 TEST_CASE("devices: lists the three kinds and says which backends this build has", "[cli][devices]") {
   CliResult r = run_bolo({"devices"});
   REQUIRE(r.code == 0);
-  CHECK(has(r.out, "V4L2 (Y16):"));
-  CHECK(has(r.out, "USB:"));
-  CHECK(has(r.out, "GPIO:"));
+  CHECK(contains(r.out, "V4L2 (Y16):"));
+  CHECK(contains(r.out, "USB:"));
+  CHECK(contains(r.out, "GPIO:"));
   r = run_bolo({"devices", "--json"});
   REQUIRE(r.code == 0);
   const auto j = nlohmann::json::parse(r.out);
@@ -246,8 +231,8 @@ TEST_CASE("devices: lists the three kinds and says which backends this build has
   CHECK(j["v4l2"].is_array());
   r = run_bolo({"devices", "--help"});
   CHECK(r.code == 0);
-  CHECK(has(r.out, "compiled out"));
+  CHECK(contains(r.out, "compiled out"));
   r = run_bolo({"capture", "--help"});
   CHECK(r.code == 0);
-  CHECK(has(r.out, "flirone-log:DIR"));
+  CHECK(contains(r.out, "flirone-log:DIR"));
 }

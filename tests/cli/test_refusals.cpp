@@ -10,32 +10,6 @@ using namespace bolo::test;
 
 namespace {
 
-// Runs the command line and checks the shape of a refusal; returns the message.
-std::string refused(const std::vector<std::string>& args) {
-  const CliResult r = run_bolo(args);
-  INFO("stdout: " << r.out << "\nstderr: " << r.err);
-  CHECK(r.code == 2);
-  CHECK(r.err.rfind("bolo: error: ", 0) == 0);
-  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);  // one line
-  CHECK(r.out.empty());
-  return r.err;
-}
-
-bool contains(const std::string& text, const std::string& part) {
-  INFO("looking for '" << part << "' in: " << text);
-  return text.find(part) != std::string::npos;
-}
-
-std::vector<std::string> correct_args(const TempDir& tmp, const std::string& in = "rec",
-                                      const std::string& out = "out") {
-  return {"correct", (tmp / in).string(), (tmp / out).string(), "--tau-h", "0.012", "--tau-c", "0.012"};
-}
-
-std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
-  args.insert(args.end(), more.begin(), more.end());
-  return args;
-}
-
 const std::set<std::string> kOnlyRec = {"rec"};
 
 }  // namespace

@@ -96,15 +96,6 @@ void each_mode_evaluated(const fs::path& seq, const fs::path& out, Check check) 
   }
 }
 
-std::string refusal(const std::vector<std::string>& args) {
-  const CliResult r = run_bolo(args);
-  INFO(r.out << r.err);
-  CHECK(r.code == 2);
-  CHECK(r.err.rfind("bolo: error: ", 0) == 0);
-  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-  return r.err;
-}
-
 }  // namespace
 
 TEST_CASE("odometry tracks a short drive and writes every output", "[vo][cli]") {
@@ -490,9 +481,9 @@ TEST_CASE("odometry: --hfov stands in for a missing camera.json", "[vo][cli]") {
   for (std::size_t i = 0; i < std::min(a.size(), c.size()); ++i)
     differs = std::max(differs, (a[i].T_wc.t - c[i].T_wc.t).norm());
   CHECK(differs > 1e-3);
-  CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "x").string(), "--hfov", "180"})
+  CHECK(refused({"odometry", nocam.string(), "--out", (tmp / "x").string(), "--hfov", "180"})
             .find("--hfov: must be within 1..179 degrees") != std::string::npos);
-  CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "y").string()}).find("or give --hfov DEG") !=
+  CHECK(refused({"odometry", nocam.string(), "--out", (tmp / "y").string()}).find("or give --hfov DEG") !=
         std::string::npos);
 }
 
@@ -676,12 +667,12 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
   const fs::path& seq = sequence("drive", "0.0002");
   TempDir tmp;
   // 10.1 unknown model
-  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "a").string(), "--photometric", "dso"})
+  CHECK(refused({"odometry", seq.string(), "--out", (tmp / "a").string(), "--photometric", "dso"})
             .find("--photometric: unknown model 'dso'") != std::string::npos);
   // 10.2 no camera.json
   const fs::path nocam = tmp / "nocam";
   copy_files(seq, nocam, {"recording.json", "frames.npy", "frames.csv"});
-  CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "b").string()}).find("camera.json: missing") !=
+  CHECK(refused({"odometry", nocam.string(), "--out", (tmp / "b").string()}).find("camera.json: missing") !=
         std::string::npos);
   // 10.3 a camera model other than the format's pinhole, a distortion that folds
   fs::copy_file(seq / "camera.json", nocam / "camera.json");
@@ -692,10 +683,10 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
     std::ofstream(nocam / "camera.json") << cam.dump();
   };
   edit_camera("model", "fisheye");
-  CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "c").string()}).find("field model is not \"pinhole\"") !=
+  CHECK(refused({"odometry", nocam.string(), "--out", (tmp / "c").string()}).find("field model is not \"pinhole\"") !=
         std::string::npos);
   edit_camera("k1", -1.5);
-  CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "c").string()})
+  CHECK(refused({"odometry", nocam.string(), "--out", (tmp / "c").string()})
             .find("camera.json: fields k1, k2, p1, p2: the radial distortion (k1, k2) folds back inside the image") !=
         std::string::npos);
   // 10.4 ir without timing
@@ -714,32 +705,32 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
     std::ifstream cin(tmp / "cam.json");
     std::ofstream(nocam / "camera.json") << cin.rdbuf();
   }
-  CHECK(refusal({"odometry", nocam.string(), "--out", (tmp / "d").string(), "--photometric", "ir"})
+  CHECK(refused({"odometry", nocam.string(), "--out", (tmp / "d").string(), "--photometric", "ir"})
             .find("frames.csv: frame 0: exposure_s must be positive") != std::string::npos);
-  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "d").string(), "--photometric", "ir", "--exposure", "0"})
+  CHECK(refused({"odometry", seq.string(), "--out", (tmp / "d").string(), "--photometric", "ir", "--exposure", "0"})
             .find("--exposure: must be within 0..1 s (exclusive), got 0") != std::string::npos);
-  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "d").string(), "--photometric", "ir", "--readout", "-1"})
+  CHECK(refused({"odometry", seq.string(), "--out", (tmp / "d").string(), "--photometric", "ir", "--readout", "-1"})
             .find("--readout: must be within 0..1 s, got -1") != std::string::npos);
   // 10.5 existing output
   fs::create_directories(tmp / "exists");
-  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "exists").string()}).find("already exists") !=
+  CHECK(refused({"odometry", seq.string(), "--out", (tmp / "exists").string()}).find("already exists") !=
         std::string::npos);
   // 10.6 --tau-init out of range
-  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--tau-init", "0.5"})
+  CHECK(refused({"odometry", seq.string(), "--out", (tmp / "e").string(), "--tau-init", "0.5"})
             .find("--tau-init: must be within") != std::string::npos);
-  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--intensity-scale", "-1"})
+  CHECK(refused({"odometry", seq.string(), "--out", (tmp / "e").string(), "--intensity-scale", "-1"})
             .find("--intensity-scale: must be within 0..10000 (0: measured), got -1") != std::string::npos);
-  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--max-keyframes", "9"})
+  CHECK(refused({"odometry", seq.string(), "--out", (tmp / "e").string(), "--max-keyframes", "9"})
             .find("--max-keyframes: must be within 2..8, got 9") != std::string::npos);
-  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--retirement", "newest"})
+  CHECK(refused({"odometry", seq.string(), "--out", (tmp / "e").string(), "--retirement", "newest"})
             .find("--retirement: must be oldest or spread, got newest") != std::string::npos);
-  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--carry-coring", "-0.5"})
+  CHECK(refused({"odometry", seq.string(), "--out", (tmp / "e").string(), "--carry-coring", "-0.5"})
             .find("--carry-coring: must be within 0..100 (0: the full correction), got -0.5") != std::string::npos);
-  CHECK(refusal({"odometry", seq.string(), "--out", (tmp / "e").string(), "--smoothing", "4"})
+  CHECK(refused({"odometry", seq.string(), "--out", (tmp / "e").string(), "--smoothing", "4"})
             .find("--smoothing: must be within 0..3 passes, got 4") != std::string::npos);
   CHECK_FALSE(fs::exists(tmp / "e"));
   // 10.7 evaluate: not an odometry output
-  CHECK(refusal({"evaluate", seq.string()}).find("summary.json: cannot open") != std::string::npos);
+  CHECK(refused({"evaluate", seq.string()}).find("summary.json: cannot open") != std::string::npos);
   // 10.8 evaluate: a bad ground-truth file
   {
     const fs::path run = tmp / "run";
@@ -750,7 +741,7 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
     CHECK(summary["carry_coring"] == static_cast<double>(vo::VoConfig{}.carry_coring));
     CHECK(summary["max_keyframes"] == vo::VoConfig{}.max_keyframes);
     std::ofstream(tmp / "bad.tum") << "0.0 1 2 3\n";
-    CHECK(refusal({"evaluate", run.string(), "--truth", (tmp / "bad.tum").string()})
+    CHECK(refused({"evaluate", run.string(), "--truth", (tmp / "bad.tum").string()})
               .find("bad.tum: line 1: expected 8 numbers") != std::string::npos);
   }
   // Nothing half-written: no output folders and no temporary leftovers besides what we made.
