@@ -373,8 +373,20 @@ void follow_timing(State& s) {
   }
   s.frames_since_timing_change = 0;
   if (uses_carry_model(s.cfg) && s.chain_ok) {
-    s.a += std::log(static_level_factor(s.tau, s.readout_prev_s, s.exposure_s) /
-                    static_level_factor(s.tau, s.readout_prev2_s, s.exposure_prev_s));
+    const double ratio = static_level_factor(s.tau, s.readout_prev_s, s.exposure_s) /
+                         static_level_factor(s.tau, s.readout_prev2_s, s.exposure_prev_s);
+    s.a += std::log(ratio);
+    // A camera's raw counts start from an offset, which stays where it is while the scene's share
+    // scales by the ratio: the frame's offset starts where the mean scene levels of this frame
+    // and the one before put it (3000 counts of offset lost the track at a switch otherwise).
+    if (s.chain_ok_prev && s.readout_prev2_s > 0 && s.exposure_prev_s > 0 && s.readout_prev_s > 0 && s.exposure_s > 0) {
+      const std::size_t n = plane(s.cfg);
+      const double m0 = mean_level(s.raw.data(), n), m1 = mean_level(s.raw_prev.data(), n), m2 = mean_level(s.raw_prev2.data(), n);
+      const double alpha_now = carry_coefficients(s.tau, s.readout_prev_s, s.exposure_s).alpha;
+      const double alpha_before = carry_coefficients(s.tau, s.readout_prev2_s, s.exposure_prev_s).alpha;
+      const double scene_now = (m0 - alpha_now * m1) / (1 - alpha_now), scene_before = (m1 - alpha_before * m2) / (1 - alpha_before);
+      s.b = ratio * s.b + (scene_now - ratio * scene_before);
+    }
     s.brightness_level_unknown = true;
   } else if (s.cfg.photometric == Photometric::affine && timing_differs(s.exposure_prev_s, s.exposure_s)) {
     s.a += std::log(s.exposure_s / s.exposure_prev_s);

@@ -52,6 +52,9 @@
 // in alpha, and the estimate followed its start (handheld, 3 x 3 rays, tau 15 ms, at 2 s: 12.1-12.6
 // ms from 6 ms, 14.9-15.9 from 20; with these, 13.1-13.8 and 14.7-15.3).
 //
+// Across a change of exposure or readout each pair also has a constant of its own frame, which
+// takes up a camera's offset (raw counts that do not start from 0); see refine_tau.
+//
 // Shutter events give a better measurement where the camera reports them (FrameInput::
 // shutter_event): the pixels settle on the uniform shutter, and the next frame's contrast against
 // the static level is a known function of tau (shutter_step_gain, carry_model.hpp), measured by
@@ -97,6 +100,8 @@ using Vec12 = Eigen::Matrix<double, 12, 1>;
 using Mat12 = Eigen::Matrix<double, 12, 12>;
 using Vec13 = Eigen::Matrix<double, 13, 1>;
 using Mat13 = Eigen::Matrix<double, 13, 13>;
+using Vec14 = Eigen::Matrix<double, 14, 1>;
+using Mat14 = Eigen::Matrix<double, 14, 14>;
 using Mat26 = Eigen::Matrix<double, 2, 6>;
 
 // Per pattern sample: its weight, B's noise variance, the covariance of r's and B's noise, and
@@ -238,19 +243,26 @@ void refine_tau(State& s) {
   // (the fit is then Gauss-Newton, one step a frame; the noise correction below stays B's).
   // Measured on the board test's wall with the exposure switching every 12 frames: 10.05 ms after
   // 1.5 s for 10 (without rho: 11.25; with rho and the Jacobian -B: 11.11).
+  // A camera's raw counts start from an offset o, not from 0: y_i - o = beta_i u + alpha_i (y_{i-1}
+  // - o). For a constant timing o cancels in A and B; across a change A - alpha_i B = o ((1 -
+  // alpha_i) - rho (1 - alpha_{i-1})), the same at every pixel, which the step response read as
+  // alpha (3000 counts on the board tests' wall: 19.8 / 15.7 ms from 15 / 20 for 10). Such a frame's fit has a
+  // constant of its own, eliminated with the poses: the step's contrast across the scene still
+  // measures alpha, its mean level no longer does.
   const double c_prev = rho * prev_k.dalpha_dtau_c / now_k.dalpha_dtau_c;
   const double drho_dtau = (now_k.dbeta_dtau_h * prev_k.beta - now_k.beta * prev_k.dbeta_dtau_h) / (prev_k.beta * prev_k.beta);
   const double c_rho = drho_dtau / now_k.dalpha_dtau_c;
-  // Normal equations of r = A - alpha B in x = (pose of frame i, pose of frame i-1, alpha), the
-  // points' inverse depths already eliminated; linearised at the tracked poses and alpha_now.
+  // Normal equations of r = A - alpha B (- c across a change of timing) in x = (pose of frame i,
+  // pose of frame i-1, alpha, c), the points' inverse depths already eliminated; linearised at the
+  // tracked poses, alpha_now and c = 0. c's row and column stay empty for a constant timing.
   // A pattern pixel's Jacobian is T v with v = (d r / d p_i, d r / d p_{i-1}, d r / d alpha), where
   // d r / d p_i = grad(y_i - alpha y_{i-1}) at p_i, d r / d p_{i-1} = -grad(rho y_{i-1} - alpha rho
   // kappa y_{i-2}) at p_{i-1} (combined_gradient), and T holds the centre pixel's
   // projection Jacobians (as in the tracker): each point sums the 5x5 S = sum w v v^T and maps it
   // once.
   const double noise_var = s.noise_var;
-  Mat13 H = Mat13::Zero();
-  Vec13 g = Vec13::Zero();
+  Mat14 H = Mat14::Zero();
+  Vec14 g = Vec14::Zero();
   double noise_bb = 0;  // the noise's share of alpha's information, as eliminated below
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
     const Keyframe& host = s.kf[slot];
@@ -276,6 +288,9 @@ void refine_tau(State& s) {
                                  k.fy * (tp.y() * Xp.z() - Xp.y() * tp.z()) / (Xp.z() * Xp.z()));
       Vec5 sr = Vec5::Zero();
       Mat5 S = Mat5::Zero();
+      // c's entries (d r / d c = -1): its column of S, its diagonal, and its part of sr.
+      Vec5 s_c = Vec5::Zero();
+      double s_cc = 0, sr_c = 0;
       PatternNoise noise[kPattern];
       for (std::uint32_t j = 0; j < kPattern; ++j) {
         const float oi_x = ui + kPatternX[j], oi_y = vi + kPatternY[j];
@@ -299,6 +314,7 @@ void refine_tau(State& s) {
         v << now.x(), now.y(), before.x(), before.y(), jac_alpha;
         add_weighted_outer_upper(S, v, wt);
         sr += (wt * r0) * v;
+        if (timing_changed) s_c -= wt * v, s_cc += wt, sr_c -= wt * r0;
         noise[j].slope = v.head<4>().dot(Eigen::Vector4d(c_px.x(), c_px.y(), c_pp.x(), c_pp.y()));
       }
       S.triangularView<Eigen::StrictlyLower>() = S.triangularView<Eigen::StrictlyUpper>().transpose();
@@ -322,6 +338,10 @@ void refine_tau(State& s) {
       const double hdd = c.dot(Sc);
       if (hdd > 0) {
         const double inv = 1.0 / (hdd * (1 + 1e-6));
+        if (timing_changed) {
+          const double cs = s_c.dot(c);
+          s_c -= (inv * cs) * Sc, s_cc -= inv * cs * cs, sr_c -= inv * c.dot(sr) * cs;
+        }
         S.noalias() -= (inv * Sc) * Sc.transpose();
         sr -= (inv * c.dot(sr)) * Sc;
       }
@@ -342,16 +362,40 @@ void refine_tau(State& s) {
       g.head<6>().noalias() += Di.transpose() * sr.head<2>();
       g.segment<6>(6).noalias() += Dp.transpose() * sr.segment<2>(2);
       g(12) += sr(4);
+      if (timing_changed) {
+        H.block<1, 6>(13, 0).noalias() += s_c.head<2>().transpose() * Di;
+        H.block<1, 6>(13, 6).noalias() += s_c.segment<2>(2).transpose() * Dp;
+        H(13, 12) += s_c(4);
+        H(13, 13) += s_cc;
+        g(13) += sr_c;
+      }
     }
   }
-  // The poses eliminated (a tiny damping keeps a pose no point constrains solvable).
+  // The poses (and c) eliminated (a tiny damping keeps a pose no point constrains solvable).
   double haa = H(12, 12), ga = g(12);
-  Mat12 Hpp = H.topLeftCorner<12, 12>();
-  for (int q = 0; q < 12; ++q) Hpp(q, q) = Hpp(q, q) * (1 + 1e-6) + 1e-9;
-  const Eigen::LDLT<Mat12> ldlt(Hpp);
-  const Vec12 x = ldlt.solve(H.block<12, 1>(0, 12));
-  haa -= H.block<12, 1>(0, 12).dot(x);
-  ga -= x.dot(g.head<12>());
+  if (!timing_changed) {
+    Mat12 Hpp = H.topLeftCorner<12, 12>();
+    for (int q = 0; q < 12; ++q) Hpp(q, q) = Hpp(q, q) * (1 + 1e-6) + 1e-9;
+    const Eigen::LDLT<Mat12> ldlt(Hpp);
+    const Vec12 x = ldlt.solve(H.block<12, 1>(0, 12));
+    haa -= H.block<12, 1>(0, 12).dot(x);
+    ga -= x.dot(g.head<12>());
+  } else {
+    // c's row was filled below the diagonal only (its column mirrors it).
+    Mat13 Hpp;
+    Vec13 h_pa, g_p;
+    Hpp.topLeftCorner<12, 12>() = H.topLeftCorner<12, 12>();
+    Hpp.block<1, 12>(12, 0) = H.block<1, 12>(13, 0);
+    Hpp.block<12, 1>(0, 12) = H.block<1, 12>(13, 0).transpose();
+    Hpp(12, 12) = H(13, 13);
+    h_pa.head<12>() = H.block<12, 1>(0, 12), h_pa(12) = H(13, 12);
+    g_p.head<12>() = g.head<12>(), g_p(12) = g(13);
+    for (int q = 0; q < 13; ++q) Hpp(q, q) = Hpp(q, q) * (1 + 1e-6) + 1e-9;
+    const Eigen::LDLT<Mat13> ldlt(Hpp);
+    const Vec13 x = ldlt.solve(h_pa);
+    haa -= h_pa.dot(x);
+    ga -= x.dot(g_p);
+  }
   // A frame whose pairs carry less than noise may leave haa negative: its sums still count,
   // or dropping such frames would bias the sum of the others.
   if (!std::isfinite(haa) || !std::isfinite(ga) || !(haa + noise_bb > 0)) return;
