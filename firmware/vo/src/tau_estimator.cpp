@@ -96,13 +96,26 @@ constexpr double kShutterTauRange = 2.0;
 
 using Vec5 = Eigen::Matrix<double, 5, 1>;
 using Mat5 = Eigen::Matrix<double, 5, 5>;
-using Vec12 = Eigen::Matrix<double, 12, 1>;
-using Mat12 = Eigen::Matrix<double, 12, 12>;
-using Vec13 = Eigen::Matrix<double, 13, 1>;
-using Mat13 = Eigen::Matrix<double, 13, 13>;
 using Vec14 = Eigen::Matrix<double, 14, 1>;
 using Mat14 = Eigen::Matrix<double, 14, 14>;
 using Mat26 = Eigen::Matrix<double, 2, 6>;
+
+// The fit's parameters: the poses of frames i and i-1 (6 each), across a change of timing a
+// constant of the frame (kConstant), and alpha (kAlpha).
+constexpr int kConstant = 12, kAlpha = 13;
+
+// Alpha's information haa and gradient ga, less what the first N parameters (the nuisance: the
+// poses, and the constant where it is fitted) take with them when they are eliminated. A tiny
+// damping keeps a pose no point constrains solvable.
+template <int N>
+void eliminate_nuisance(const Mat14& H, const Vec14& g, double& haa, double& ga) {
+  Eigen::Matrix<double, N, N> Hpp = H.topLeftCorner<N, N>();
+  for (int q = 0; q < N; ++q) Hpp(q, q) = Hpp(q, q) * (1 + 1e-6) + 1e-9;
+  const Eigen::LDLT<Eigen::Matrix<double, N, N>> ldlt(Hpp);
+  const Eigen::Matrix<double, N, 1> x = ldlt.solve(H.block<N, 1>(0, kAlpha));
+  haa -= H.block<N, 1>(0, kAlpha).dot(x);
+  ga -= x.dot(g.head<N>());
+}
 
 // Per pattern sample: its weight, B's noise variance, the covariance of r's and B's noise, and
 // d r / d inverse depth (the slope the depth's elimination follows).
@@ -253,8 +266,8 @@ void refine_tau(State& s) {
   const double drho_dtau = (now_k.dbeta_dtau_h * prev_k.beta - now_k.beta * prev_k.dbeta_dtau_h) / (prev_k.beta * prev_k.beta);
   const double c_rho = drho_dtau / now_k.dalpha_dtau_c;
   // Normal equations of r = A - alpha B (- c across a change of timing) in x = (pose of frame i,
-  // pose of frame i-1, alpha, c), the points' inverse depths already eliminated; linearised at the
-  // tracked poses, alpha_now and c = 0. c's row and column stay empty for a constant timing.
+  // pose of frame i-1, c, alpha), the points' inverse depths already eliminated; linearised at the
+  // tracked poses, c = 0 and alpha_now. c's row and column stay empty for a constant timing.
   // A pattern pixel's Jacobian is T v with v = (d r / d p_i, d r / d p_{i-1}, d r / d alpha), where
   // d r / d p_i = grad(y_i - alpha y_{i-1}) at p_i, d r / d p_{i-1} = -grad(rho y_{i-1} - alpha rho
   // kappa y_{i-2}) at p_{i-1} (combined_gradient), and T holds the centre pixel's
@@ -354,47 +367,31 @@ void refine_tau(State& s) {
       H.block<6, 6>(0, 6).noalias() += DiS.middleCols<2>(2) * Dp;
       H.block<6, 6>(6, 0).noalias() += DpS.leftCols<2>() * Di;
       H.block<6, 6>(6, 6).noalias() += DpS.middleCols<2>(2) * Dp;
-      H.block<6, 1>(0, 12) += DiS.col(4);
-      H.block<6, 1>(6, 12) += DpS.col(4);
-      H.block<1, 6>(12, 0).noalias() += S.block<1, 2>(4, 0) * Di;
-      H.block<1, 6>(12, 6).noalias() += S.block<1, 2>(4, 2) * Dp;
-      H(12, 12) += S(4, 4);
+      H.block<6, 1>(0, kAlpha) += DiS.col(4);
+      H.block<6, 1>(6, kAlpha) += DpS.col(4);
+      H.block<1, 6>(kAlpha, 0).noalias() += S.block<1, 2>(4, 0) * Di;
+      H.block<1, 6>(kAlpha, 6).noalias() += S.block<1, 2>(4, 2) * Dp;
+      H(kAlpha, kAlpha) += S(4, 4);
       g.head<6>().noalias() += Di.transpose() * sr.head<2>();
       g.segment<6>(6).noalias() += Dp.transpose() * sr.segment<2>(2);
-      g(12) += sr(4);
+      g(kAlpha) += sr(4);
       if (timing_changed) {
-        H.block<1, 6>(13, 0).noalias() += s_c.head<2>().transpose() * Di;
-        H.block<1, 6>(13, 6).noalias() += s_c.segment<2>(2).transpose() * Dp;
-        H(13, 12) += s_c(4);
-        H(13, 13) += s_cc;
-        g(13) += sr_c;
+        H.block<1, 6>(kConstant, 0).noalias() += s_c.head<2>().transpose() * Di;
+        H.block<1, 6>(kConstant, 6).noalias() += s_c.segment<2>(2).transpose() * Dp;
+        H(kConstant, kAlpha) += s_c(4);
+        H(kConstant, kConstant) += s_cc;
+        g(kConstant) += sr_c;
       }
     }
   }
-  // The poses (and c) eliminated (a tiny damping keeps a pose no point constrains solvable).
-  double haa = H(12, 12), ga = g(12);
-  if (!timing_changed) {
-    Mat12 Hpp = H.topLeftCorner<12, 12>();
-    for (int q = 0; q < 12; ++q) Hpp(q, q) = Hpp(q, q) * (1 + 1e-6) + 1e-9;
-    const Eigen::LDLT<Mat12> ldlt(Hpp);
-    const Vec12 x = ldlt.solve(H.block<12, 1>(0, 12));
-    haa -= H.block<12, 1>(0, 12).dot(x);
-    ga -= x.dot(g.head<12>());
+  double haa = H(kAlpha, kAlpha), ga = g(kAlpha);
+  if (timing_changed) {
+    // c's row was summed alone; its column mirrors it.
+    H.block<12, 1>(0, kConstant) = H.block<1, 12>(kConstant, 0).transpose();
+    H(kAlpha, kConstant) = H(kConstant, kAlpha);
+    eliminate_nuisance<13>(H, g, haa, ga);
   } else {
-    // c's row was filled below the diagonal only (its column mirrors it).
-    Mat13 Hpp;
-    Vec13 h_pa, g_p;
-    Hpp.topLeftCorner<12, 12>() = H.topLeftCorner<12, 12>();
-    Hpp.block<1, 12>(12, 0) = H.block<1, 12>(13, 0);
-    Hpp.block<12, 1>(0, 12) = H.block<1, 12>(13, 0).transpose();
-    Hpp(12, 12) = H(13, 13);
-    h_pa.head<12>() = H.block<12, 1>(0, 12), h_pa(12) = H(13, 12);
-    g_p.head<12>() = g.head<12>(), g_p(12) = g(13);
-    for (int q = 0; q < 13; ++q) Hpp(q, q) = Hpp(q, q) * (1 + 1e-6) + 1e-9;
-    const Eigen::LDLT<Mat13> ldlt(Hpp);
-    const Vec13 x = ldlt.solve(h_pa);
-    haa -= h_pa.dot(x);
-    ga -= x.dot(g_p);
+    eliminate_nuisance<12>(H, g, haa, ga);
   }
   // A frame whose pairs carry less than noise may leave haa negative: its sums still count,
   // or dropping such frames would bias the sum of the others.
