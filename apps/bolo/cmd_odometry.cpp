@@ -43,9 +43,8 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   options.estimate_tau = !o.fixed_tau;
   options.window_ba = !o.no_ba;
   options.marginalisation_prior = o.marginalisation_prior;
-  if (o.retirement == "oldest") options.retirement = vo::Retirement::oldest;
-  else if (o.retirement == "spread") options.retirement = vo::Retirement::spread;
-  else fail("--retirement: must be oldest or spread, got ", o.retirement);
+  if (!vo::parse_retirement(o.retirement.c_str(), options.retirement))
+    fail("--retirement: must be oldest or spread, got ", o.retirement);
   if (o.max_keyframes < 2 || o.max_keyframes > vo::kMaxKeyframes)
     fail("--max-keyframes: must be within 2..", vo::kMaxKeyframes, ", got ", o.max_keyframes);
   options.max_keyframes = o.max_keyframes;

@@ -181,6 +181,11 @@ TEST_CASE("configurations the VO cannot run with are refused", "[vo][board]") {
   CHECK(vo::parse_photometric("ir-loop", m));
   CHECK(m == vo::Photometric::ir_loop);
   CHECK_FALSE(vo::parse_photometric("dso", m));
+  vo::Retirement r = vo::Retirement::spread;
+  CHECK(vo::parse_retirement("oldest", r));
+  CHECK(r == vo::Retirement::oldest);
+  CHECK(std::string(vo::to_string(vo::Retirement::spread)) == "spread");
+  CHECK_FALSE(vo::parse_retirement("newest", r));
 }
 
 TEST_CASE("the tracking image's binomial low-pass", "[vo][board]") {

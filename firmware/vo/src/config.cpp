@@ -1,5 +1,6 @@
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 
 #include "bolo/vo/config.hpp"
 
@@ -20,6 +21,17 @@ bool parse_photometric(const char* name, Photometric& mode) {
   for (Photometric m : all)
     if (std::strcmp(name, to_string(m)) == 0) {
       mode = m;
+      return true;
+    }
+  return false;
+}
+
+const char* to_string(Retirement rule) { return rule == Retirement::oldest ? "oldest" : "spread"; }
+
+bool parse_retirement(const char* name, Retirement& rule) {
+  for (Retirement r : {Retirement::oldest, Retirement::spread})
+    if (std::strcmp(name, to_string(r)) == 0) {
+      rule = r;
       return true;
     }
   return false;

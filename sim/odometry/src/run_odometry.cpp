@@ -311,7 +311,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"max_keyframes", options.max_keyframes},
                       {"window_ba", options.window_ba},
                       {"marginalisation_prior", options.window_ba && options.marginalisation_prior},
-                      {"retirement", options.retirement == vo::Retirement::oldest ? "oldest" : "spread"},
+                      {"retirement", vo::to_string(options.retirement)},
                       {"timing_from_options", summary.timing_from_options},
                       {"timing_assumed", summary.timing_assumed},
                       {"timing_assumed_s", summary.timing_assumed ? nlohmann::json(summary.assumed_half_period_s)

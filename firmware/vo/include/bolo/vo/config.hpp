@@ -25,7 +25,11 @@ struct Camera {
 // Temporal pixel noise (counts) up to which the thresholds in counts are used as configured.
 inline constexpr float kNominalNoiseCounts = 4.0f;
 
+// Which keyframe leaves a full window (VoConfig::retirement).
 enum class Retirement : std::uint8_t { oldest, spread };
+const char* to_string(Retirement rule);
+// Returns false for an unknown name.
+bool parse_retirement(const char* name, Retirement& rule);
 
 struct VoConfig {
   std::uint32_t width = 0, height = 0;
