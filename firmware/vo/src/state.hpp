@@ -324,10 +324,6 @@ void follow_map_baseline(State& s);
 void search_immature_points(State& s);
 void activate_mature_points(State& s, std::uint32_t tracked_points);
 void window_bundle_adjustment(State& s);
-// Whether a retiring keyframe's information stays as a prior on the window: only where the
-// window is bundle-adjusted, which is what reads the prior. The oldest then has to be the one to
-// leave (keyframe_to_retire), because the prior is built from it.
-inline bool builds_marginalisation_prior(const VoConfig& c) { return c.window_ba && c.marginalisation_prior; }
 // Before the oldest keyframe leaves the window: its points' observations, the points and then
 // its own parameters eliminated, join the marginalisation prior on the remaining keyframes.
 void marginalise_oldest_keyframe(State& s);

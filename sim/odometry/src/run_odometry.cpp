@@ -310,7 +310,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"smoothing", options.smoothing},
                       {"max_keyframes", options.max_keyframes},
                       {"window_ba", options.window_ba},
-                      {"marginalisation_prior", options.window_ba && options.marginalisation_prior},
+                      {"marginalisation_prior", vo::builds_marginalisation_prior(config)},
                       {"retirement", vo::to_string(options.retirement)},
                       {"timing_from_options", summary.timing_from_options},
                       {"timing_assumed", summary.timing_assumed},

@@ -75,6 +75,10 @@ struct VoConfig {
 
 // The configuration with its 0 defaults resolved.
 VoConfig resolved(const VoConfig& config);
+// Whether a retiring keyframe's information stays as a prior on the window: only where the
+// window is bundle-adjusted, which is what reads the prior. The oldest then has to be the one to
+// leave (keyframe_to_retire), because the prior is built from it.
+inline bool builds_marginalisation_prior(const VoConfig& c) { return c.window_ba && c.marginalisation_prior; }
 // A configuration the VO cannot run with (sizes, camera, capacities); nullptr when fine.
 const char* invalid_reason(const VoConfig& config);
 
