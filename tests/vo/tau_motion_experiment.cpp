@@ -305,6 +305,23 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
   const bool depth_check = env_num("DEPTHCHECK", 0) != 0;
   const double robust_k = env_num("ROBUST", 0);
   const bool pattern_warp = env_num("PWARP", 0) != 0;
+  // ANCHOR=1: every frame's samples moved by p_i's sub-pixel part, so that frame i (A's first
+  // sample, B's first) is read at whole pixels and only frame i - 1's and i - 2's are interpolated.
+  const bool anchor = env_num("ANCHOR", 0) != 0;
+  // LAG=L: also a plain fit over pairs between frames i and i - L (L = 1 is the estimator's):
+  // A = y_i(p_i) - y_{i-L}(p_{i-L}), B = y_{i-1}(p_i) - y_{i-L-1}(p_{i-L}); for L >= 2 no frame is
+  // in both A and B.
+  const int lag = static_cast<int>(env_num("LAG", 0));
+  // PHASE_TOL t (px): with LAG, pairs at every lag 1..LAG, only pattern samples whose displacement
+  // between the two frames is within t of whole pixels (their resampling errors alike).
+  const double phase_tol = env_num("PHASE_TOL", 0);
+  double lag_n = 0;
+  std::vector<std::vector<double>> history;  // raw frames, newest first (LAG)
+  std::vector<vo::Se3> pose_history;        // their poses
+  double lab = 0, lbb = 0, ldb = 0;
+  std::vector<std::vector<double>> scene_history;
+  std::map<std::uint32_t, double> host_times;  // keyframe id -> its (truth) time
+  const bool true_pattern_depth = env_num("TRUEPW", 0) != 0;  // LAG: each pattern pixel at its true depth
   const std::string grad_src = env_str("GRAD", "y1");
   std::vector<double> pairs_a, pairs_b;
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<double, double>> per_point;  // (AB, BB)
@@ -356,6 +373,12 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
         raw[i] = static_cast<float>(y[i] + noise_sigma * pixel_noise());
       }
     });
+    if (lag > 0) {
+      history.insert(history.begin(), y);
+      scene_history.insert(scene_history.begin(), u);
+      pose_history.insert(pose_history.begin(), s->T_cw);
+      if (history.size() > static_cast<std::size_t>(lag + 2)) history.pop_back(), pose_history.pop_back(), scene_history.pop_back();
+    }
     if (rot_noise > 0) {
       // Tracking-like pose errors: a small random rotation per frame (rad, per axis).
       const Eigen::Vector3d w(rot_noise * noise_unit(), rot_noise * noise_unit(), rot_noise * noise_unit());
@@ -370,6 +393,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
       for (const vo::Keyframe& kf : s->kf)
         if (kf.used) newest = std::max(newest, kf.id);
       host_images[newest] = {y, y1, u};
+      host_times[newest] = t + pose_dt;
     }
     if (!have_keyframe) continue;
     {
@@ -410,6 +434,40 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
         if (Xi.z() <= 1e-4 || Xp.z() <= 1e-4) continue;
         const double ui = kc.fx * Xi.x() / Xi.z() + kc.cx, vi = kc.fy * Xi.y() / Xi.z() + kc.cy;
         const double up = kc.fx * Xp.x() / Xp.z() + kc.cx, vp = kc.fy * Xp.y() / Xp.z() + kc.cy;
+        for (int L = phase_tol > 0 ? 1 : lag; lag > 0 && L <= lag; ++L) {
+          if (history.size() < static_cast<std::size_t>(L + 2)) break;
+          const vo::Se3 Ml = pose_history[static_cast<std::size_t>(L)] * host.T_cw.inverse();
+          const Eigen::Vector3d Xl = Ml.R * nrm + Ml.t * p.idepth;
+          const double ul = kc.fx * Xl.x() / Xl.z() + kc.cx, vl = kc.fy * Xl.y() / Xl.z() + kc.cy;
+          if (Xl.z() > 1e-4 && ul >= 4 && vl >= 4 && ul <= w - 5 && vl <= seq.height - 5 && ui >= 4 && vi >= 4 && ui <= w - 5 && vi <= seq.height - 5)
+            for (std::uint32_t j = 0; j < vo::kPattern; ++j) {
+              double xi = ui + vo::kPatternX[j], yi = vi + vo::kPatternY[j];
+              double xl = ul + vo::kPatternX[j], yl = vl + vo::kPatternY[j];
+              if (pattern_warp) {
+                const Eigen::Vector3d nj((p.u + vo::kPatternX[j] - kc.cx) / kc.fx, (p.v + vo::kPatternY[j] - kc.cy) / kc.fy, 1.0);
+                const auto proj = [&](const vo::Se3& M, double& px, double& py) {
+                  double id = p.idepth;
+                  if (true_pattern_depth) {
+                    const double z = seq.depth(host_times[host.id], p.u + vo::kPatternX[j], p.v + vo::kPatternY[j]);
+                    if (z > 0) id = 1 / z;
+                  }
+                  const Eigen::Vector3d X = M.R * nj + M.t * id;
+                  px = kc.fx * X.x() / X.z() + kc.cx, py = kc.fy * X.y() / X.z() + kc.cy;
+                };
+                proj(Mi, xi, yi), proj(Ml, xl, yl);
+              }
+              if (phase_tol > 0) {
+                const auto wrap = [](double a) { return a - std::round(a); };
+                if (std::fabs(wrap(xi - xl)) > phase_tol || std::fabs(wrap(yi - yl)) > phase_tol) continue;
+              }
+              const auto Ls = static_cast<std::size_t>(L);
+              const double A = sample(history[0], xi, yi) - sample(history[Ls], xl, yl);
+              const double B = sample(history[1], xi, yi) - sample(history[Ls + 1], xl, yl);
+              const double D = sample(scene_history[0], xi, yi) - sample(scene_history[Ls], xl, yl);
+              lag_n += 1;
+              lab += A * B, lbb += B * B, ldb += beta * D * B;
+            }
+        }
         const Eigen::Vector3d Xq = Mq.R * nrm + Mq.t * p.idepth;
         const double uq = kc.fx * Xq.x() / Xq.z() + kc.cx, vq = kc.fy * Xq.y() / Xq.z() + kc.cy;
         if (ui < 8 || vi < 8 || up < 8 || vp < 8 || ui > w - 9 || up > w - 9 || vi > seq.height - 9 || vp > seq.height - 9) continue;
@@ -417,6 +475,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
         // SYM: both frames' samples moved by the same sub-pixel shift so that their phases mirror
         // (phi_i + phi_{i-1} = 1): bilinear interpolation then smooths both alike.
         double sx = 0, sy = 0;
+        if (anchor) sx = std::round(ui) - ui, sy = std::round(vi) - vi;
         if (symmetric) {
           const auto mirror_shift = [](double a, double b) {
             double d = 0.5 * (1 - (a - std::floor(a)) - (b - std::floor(b)));
@@ -560,6 +619,7 @@ TEST_CASE("tau motion experiment", "[vo][tau-experiment][.]") {
   if (m > 0) std::printf("EXACT %d: plain fit on area means at the sub-pixel positions: %.2f ms\n", m, -tr / std::log(eab / ebb) * 1e3);
   for (int b = 0; b < 3; ++b)
     std::printf("phase-diff bin %d (%.0f pairs, B^2 share %.2f): plain %.2f ms\n", b, bin_n[b], bin_bb[b] / sbb, -tr / std::log(bin_ab[b] / bin_bb[b]) * 1e3);
+  if (lag > 0) std::printf("LAG %d (phase tol %.2f, %.0f samples): plain fit: %.2f ms (bias term dalpha %.4f)\n", lag, phase_tol, lag_n, -tr / std::log(lab / lbb) * 1e3, ldb / lbb);
   std::printf("instrument (gradient . velocity change): %.2f ms (dalpha %.4f)\n", -tr / std::log(zab / zbb) * 1e3, zdb / zbb);
   std::printf("cross-smeared plain %.2f ms (dalpha %.4f); ", -tr / std::log(xab / xbb) * 1e3, xdb / xbb);
   std::printf("tau %.1f K %d %s mode %s pose_dt %.2f ms traj %s noise %.1f ss %u: estimator %.2f ms, plain %.2f ms (bias term dalpha %.4f, alpha %.4f)\n",
