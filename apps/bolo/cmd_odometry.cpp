@@ -45,6 +45,7 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   options.marginalisation_prior = o.marginalisation_prior;
   if (!vo::parse_retirement(o.retirement.c_str(), options.retirement))
     fail("--retirement: must be oldest or spread, got ", o.retirement);
+  options.scale_bridge = !o.no_scale_bridge;
   if (o.max_keyframes < 2 || o.max_keyframes > vo::kMaxKeyframes)
     fail("--max-keyframes: must be within 2..", vo::kMaxKeyframes, ", got ", o.max_keyframes);
   options.max_keyframes = o.max_keyframes;
@@ -79,6 +80,12 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
         << " shutter events (frames.csv ffc = 1):";
     for (const auto& [t, tau] : s.shutter_taus) out << " " << std::setprecision(4) << tau * 1e3 << " ms at " << t << " s;";
     out << " the carry-over pairs no longer move it\n";
+  }
+  if (!s.scale_bridges.empty()) {
+    out << "odometry: the camera centre held on its velocity over " << s.scale_bridges.size() << " look-around"
+        << (s.scale_bridges.size() > 1 ? "s" : "") << " (the map's scale carried over them):";
+    for (const auto& [from, to] : s.scale_bridges) out << " " << std::setprecision(4) << from << "-" << to << " s;";
+    out << "\n";
   }
   if (s.timing_assumed > 0)
     out << "odometry: frames.csv has no exposure_s/readout_s for " << s.timing_assumed
@@ -157,6 +164,10 @@ Command add_odometry_command(CLI::App& parent) {
                   "Which keyframe leaves a full window: spread (one much nearer its neighbours along the path than "
                   "the window's mean spacing, made for a turn; else the oldest) or oldest")
       ->capture_default_str();
+  app->add_flag("--no-scale-bridge", o->no_scale_bridge,
+                "Keep the scale a look-around leaves the map with (by default, after a fast turn that takes the map "
+                "out of view, the new view's map is scaled so that the camera's speed after the turn is its speed "
+                "before: docs/odometry-study.md)");
   app->add_flag("--overwrite", o->overwrite, "Replace DIR if it exists");
   app->add_flag("--no-progress", [o](std::int64_t) { o->progress = false; }, "Never draw the progress bar");
   return {app, [o](std::ostream& out) { return run_odometry(*o, out); }};

@@ -118,6 +118,7 @@ struct OdometryOptions {
   bool no_ba = false;
   bool marginalisation_prior = false;
   std::string retirement = "spread";
+  bool no_scale_bridge = false;
   std::uint32_t max_keyframes = 8;
   bool overwrite = false;
   bool progress = true;

@@ -432,6 +432,53 @@ TEST_CASE("every photometric mode tracks a drive filmed at 9 Hz", "[vo][cli][lon
   });
 }
 
+// The distance the camera centre moved between the poses nearest t0 and t1 (s).
+double moved(const std::vector<odo::StampedPose>& poses, double t0, double t1) {
+  const auto near = [&](double t) {
+    const odo::StampedPose* best = &poses.front();
+    for (const odo::StampedPose& p : poses)
+      if (std::fabs(p.t - t) < std::fabs(best->t - t)) best = &p;
+    return best->T_wc.t;
+  };
+  return (near(t1) - near(t0)).norm();
+}
+
+TEST_CASE("the map's scale survives a walker's look-arounds", "[vo][cli][long]") {
+  // Handheld seed 5 turns the camera at 4.0-4.2 s and 5.75-5.9 s (180-200 deg/s) while walking
+  // on; the map's points leave the view and the new view's are placed at the typical depth. The
+  // scale bridge holds the camera centre on the velocity before each turn until the new view's
+  // points have depths (scale_bridge.cpp). Measured when written (7 s, one ray a pixel, none):
+  // the estimated distance per true metre over 6.2-7.0 s read 0.79 of that over 1-2 s with the
+  // bridge and 0.015 without it; ATE 0.99 % of the path against 2.94 %, no restart either way.
+  TempDir tmp;
+  const fs::path seq = tmp / "walk";
+  const CliResult r = run_bolo({"simulate", seq.string(), "--scene", "street", "--trajectory", "handheld", "--fps",
+                                "60", "--frames", "420", "--size", "160x120", "--tau", "0.010", "--noise", "3",
+                                "--seed", "5"});
+  REQUIRE(r.code == 0);
+  odometry(seq, tmp / "bridged", {"--photometric", "none"});
+  odometry(seq, tmp / "free", {"--photometric", "none", "--no-scale-bridge"});
+  const auto truth = odo::read_tum(seq / "poses.tum");
+  const auto scale_kept = [&](const fs::path& run) {
+    const auto est = odo::read_tum(run / "trajectory.tum");
+    const double before = moved(est, 1.0, 2.0) / moved(truth, 1.0, 2.0);
+    const double after = moved(est, 6.2, 7.0) / moved(truth, 6.2, 7.0);
+    return after / before;
+  };
+  const double bridged = scale_kept(tmp / "bridged"), free = scale_kept(tmp / "free");
+  const nlohmann::json with = evaluate(tmp / "bridged"), without = evaluate(tmp / "free");
+  INFO("bridged: scale kept " << bridged << ", " << with.dump(2) << "\nfree: scale kept " << free << ", " << without.dump(2));
+  CHECK(bridged > 0.6);
+  CHECK(bridged < 1.6);
+  CHECK(free < 0.3);
+  CHECK(with["reinitialisations"].get<int>() == 0);
+  CHECK(with["ate_relative"].get<double>() < 0.5 * without["ate_relative"].get<double>());
+  const nlohmann::json bridges = summary_of(tmp / "bridged")["scale_bridges"];
+  CHECK(bridges.size() == 2);
+  CHECK(summary_of(tmp / "free")["scale_bridges"].empty());
+  CHECK(summary_of(tmp / "free")["scale_bridge"] == false);
+}
+
 TEST_CASE("the ir modes hold the scale on a handheld sequence once the carry-over correction is cored", "[vo][cli][long]") {
   // The full correction (the paper's, --carry-coring 0) is an inverse filter: at tau 12 ms and
   // 60 Hz it leaves 2.2 times the pixel noise in still image regions, and on this handheld

@@ -83,7 +83,7 @@ float typical_idepth(State& s) {
   return upper_median(v, n);
 }
 
-void search_immature_points(State& s) {
+void search_immature_points(State& s, float extra_margin_px) {
   const Level& cur = s.frame.level[0];
   const Scaled k = camera_at(s.cfg.camera, 0);
   const float hub = huber_threshold(s);
@@ -187,7 +187,7 @@ void search_immature_points(State& s) {
       p.quality = second / std::max(e_final, 1e-3f);
       if (p.quality < 2.0f && length > 3.0f) continue;  // repetitive texture: ambiguous
       // Interval: the match +- (half a pixel + a share of the search length when ambiguous).
-      const float margin = std::max(0.5f, pixel_error) + (p.quality < 2.0f ? 1.0f : 0.0f);
+      const float margin = std::max(0.5f, pixel_error) + (p.quality < 2.0f ? 1.0f : 0.0f) + extra_margin_px;
       const bool use_x = std::fabs(ex) >= std::fabs(ey);
       float ia = idepth_at(pr, k, u0 + ex * (sb - margin), v0 + ey * (sb - margin), use_x);
       float ib = idepth_at(pr, k, u0 + ex * (sb + margin), v0 + ey * (sb + margin), use_x);
@@ -227,6 +227,7 @@ void activate_mature_points(State& s, std::uint32_t tracked_points) {
   // refines the depths once the camera translates. Without this a 30 deg/s pan lost the track
   // every ~1.5 s, when the view had turned away from the initial map.
   const bool rotation_only = tracked_points < kRotationActivationInliers;
+  bool placed_without_baseline = false;
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
     Keyframe& host = s.kf[slot];
     if (!host.used) continue;
@@ -236,8 +237,10 @@ void activate_mature_points(State& s, std::uint32_t tracked_points) {
       if (rotation_only && ((p.good >= 2 && p.quality >= 2.0f) || (p.good == 0 && p.still_matches >= 2))) {
         p.status = PointStatus::active;
         p.energy = 0;
-        if (p.good == 0) p.idepth = typical > 0 ? typical : 1.0f;
-        else if (typical > 0 && p.idepth_max >= 0) p.idepth = std::max(p.idepth_min, std::min(p.idepth_max, typical));
+        if (p.good == 0) {
+          p.idepth = typical > 0 ? typical : 1.0f;
+          placed_without_baseline = true;
+        } else if (typical > 0 && p.idepth_max >= 0) p.idepth = std::max(p.idepth_min, std::min(p.idepth_max, typical));
         continue;
       }
       if (p.good < 2 || p.idepth_max < 0) continue;
@@ -248,6 +251,8 @@ void activate_mature_points(State& s, std::uint32_t tracked_points) {
       }
     }
   }
+  // The new view's points have no depth of their own: the map's scale breaks here.
+  if (placed_without_baseline) note_map_break(s);
 }
 
 }  // namespace bolo::vo

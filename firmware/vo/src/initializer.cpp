@@ -439,6 +439,9 @@ void start_initialisation(State& s) {
   s.motion = Se3();
   s.motion_dt_s = 0;
   s.pose_t_s = s.t_s;
+  // A new map has a scale of its own: nothing of the old one's motion is carried over.
+  s.motion_count = 0;
+  s.bridge = ScaleBridge();
 }
 
 void follow_map_baseline(State& s) {

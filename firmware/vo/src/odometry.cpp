@@ -519,7 +519,8 @@ FrameResult Odometry::process(const FrameInput& in) {
   }
   const Se3 step = motion_step(s);
   const Se3 half = Se3::exp(0.5 * step.log());
-  const Se3 guesses[] = {step * s.T_cw, s.T_cw, half * s.T_cw, step * step * s.T_cw};
+  const Se3 guesses[] = {held_guess(s, step * s.T_cw), held_guess(s, s.T_cw), held_guess(s, half * s.T_cw),
+                         held_guess(s, step * step * s.T_cw)};
   // The constant-velocity guess is tracked first and stands when it fits about as well as the last
   // frame did (as in DSO). Otherwise every guess is ranked at the second-coarsest level (as DSO
   // ranks its motion hypotheses at the coarsest), the best is tracked to the finest, the others
@@ -559,6 +560,19 @@ FrameResult Odometry::process(const FrameInput& in) {
     if (!have || (r.ok && !best.ok) || (r.ok == best.ok && r.rms < best.rms)) best = r, have = true;
     if (best.ok && screen_level > 0) break;
   }
+  bool held = centre_carried(s);
+  if (!best.ok && held) {
+    // A held centre the frame cannot be tracked at (the velocity was not the camera's after all,
+    // or the turn's smear leaves too few points for the rotation alone): the frame is tracked
+    // free, as without the bridge, rather than lost; the hold goes on with the next frame.
+    s.bridge.suspended = true;
+    for (const Se3& g : {step * s.T_cw, s.T_cw}) {
+      const TrackResult r = track_frame(s, g, a_start, b_start, free, 0);
+      if (r.ok && !too_fast(r) && (!best.ok || r.rms < best.rms)) best = r;
+    }
+    s.bridge.suspended = false;
+    held = !best.ok;
+  }
   out.residual_rms = best.rms;
   out.tracked_points = best.inliers;
   if (!best.ok) {
@@ -584,6 +598,8 @@ FrameResult Odometry::process(const FrameInput& in) {
   const Se3 previous = s.T_cw;
   s.T_cw = pose;
   record_motion(s, previous);
+  out.centre_held = held;
+  record_motion_sample(s, previous, s.motion_dt_s);
   // A frame without its predecessor (tracked on its raw counts) has an unknown gain and offset:
   // keep the keyframes' brightness. A free offset after a shutter event is the camera's only on a
   // frame with the reference's level.
@@ -609,7 +625,7 @@ FrameResult Odometry::process(const FrameInput& in) {
     refine_tau(s);
   }
   follow_map_baseline(s);
-  search_immature_points(s);
+  search_immature_points(s, depth_search_margin(s));
 
   // Keyframe: enough parallax, a large rotation, or the tracked points thinning out; never two
   // in a row unless tracking is about to starve.
@@ -646,6 +662,7 @@ FrameResult Odometry::process(const FrameInput& in) {
       s.since_kf_s = 0;
     }
   }
+  update_bridge(s, out.keyframe);
   out.T_wc = s.T_cw.inverse();
   out.tau = s.tau;
   s.last_rms = best.rms;

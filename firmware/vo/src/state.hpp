@@ -153,6 +153,26 @@ inline constexpr std::size_t kBaStride = 3 + kMaxBaParams + kPattern + 2;
 using BaMatrix = Eigen::Matrix<double, kMaxBaParams, kMaxBaParams>;
 using BaVector = Eigen::Matrix<double, kMaxBaParams, 1>;
 
+// A posed frame as the scale bridge remembers it (scale_bridge.cpp).
+struct MotionSample {
+  double t_s = 0;
+  Vec3 centre = Vec3::Zero();  // camera centre, world
+  float rotation_rate = 0;     // rad/s since the frame before
+  float rotation = 0;          // rad since the frame before
+};
+inline constexpr std::uint32_t kMotionHistory = 96;  // 1.6 s at 60 Hz
+// The camera's velocity carried over a look-around (scale_bridge.cpp).
+struct ScaleBridge {
+  bool velocity_known = false;
+  Vec3 velocity = Vec3::Zero();     // world, map units a second, of the last steady stretch
+  Vec3 from_centre = Vec3::Zero();  // that stretch's last centre, at from_t_s
+  double from_t_s = 0;
+  bool after_break = false;          // the map broke in a turn: carried until the camera is steady
+  double turn_start_s = 0, break_s = 0;
+  bool keyframe_since_turn = false;  // a keyframe was made on a steady frame since the break
+  bool suspended = false;            // a frame tracked free while held (odometry.cpp)
+};
+
 // One per VO, in the arena: its fields stay grouped by what they are for rather than ordered for
 // the 32 bytes of padding that would save.
 struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
@@ -215,6 +235,11 @@ struct State {  // NOLINT(clang-analyzer-optin.performance.Padding)
   bool brightness_level_unknown = false;  // a, b are of a frame without its reference's level (same_level)
   double offset_step = 0;  // ir modes: the camera offset's change since the newest keyframe (shutter)
   float last_rms = 0;
+
+  // The scale bridge (scale_bridge.cpp): the last posed frames, newest at motion_head - 1.
+  MotionSample motion_history[kMotionHistory];
+  std::uint32_t motion_head = 0, motion_count = 0;
+  ScaleBridge bridge;
 
   Se3 T_prev;                  // the previous frame's pose, when prev_posed
   bool prev_posed = false, posed = false;
@@ -321,9 +346,25 @@ void start_initialisation(State& s);
 // Clears map_without_baseline once the tracked camera has moved as far from the map's first
 // keyframe as the initialisation's baseline.
 void follow_map_baseline(State& s);
-void search_immature_points(State& s);
+// extra_margin_px widens every match's interval (scale_bridge.cpp: a held turn's frames).
+void search_immature_points(State& s, float extra_margin_px = 0.0f);
 void activate_mature_points(State& s, std::uint32_t tracked_points);
 void window_bundle_adjustment(State& s);
+// Scale bridge (VoConfig::scale_bridge): each tracked frame's centre and rotation rate, from the
+// pose of the frame before (`dt_s` earlier), and the velocity of the last steady stretch; a break
+// of the map (called where a keyframe places points without a baseline on a map that had depths);
+// while the velocity is carried (a fast turn, and after a break until the camera is steady), the
+// tracker's prior weight on the translation and a guess with the carried centre (else `normal`
+// and the guess itself); whether the velocity is carried; the depth search's extra margin on the current frame (pixels: on a fast
+// turn's frames, a share of the rotation since the frame before); and, after each tracked frame,
+// the end of a break's carry (returns true when it ended).
+void record_motion_sample(State& s, const Se3& previous, double dt_s);
+void note_map_break(State& s);
+double translation_prior_weight(const State& s, double normal);
+Se3 held_guess(const State& s, Se3 guess);
+bool centre_carried(const State& s);
+float depth_search_margin(const State& s);
+bool update_bridge(State& s, bool keyframe_made);
 // Before the oldest keyframe leaves the window: its points' observations, the points and then
 // its own parameters eliminated, join the marginalisation prior on the remaining keyframes.
 void marginalise_oldest_keyframe(State& s);

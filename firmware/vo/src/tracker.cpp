@@ -223,7 +223,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness 
     std::uint32_t refused_in_a_row = 0;
     // A weak prior towards the motion model's prediction: at video rates the camera cannot
     // jump, and it keeps directions the points do not constrain (far scenes) from wandering.
-    const Vec3 prior = kMotionPrior * Vec3(acc.H(0, 0), acc.H(1, 1), acc.H(2, 2));
+    const Vec3 prior = translation_prior_weight(s, kMotionPrior) * Vec3(acc.H(0, 0), acc.H(1, 1), acc.H(2, 2));
     const auto prior_energy = [&](const Se3& T_try) {
       const Vec3 off = (T_try * guess.inverse()).t;
       return prior.dot(off.cwiseProduct(off));

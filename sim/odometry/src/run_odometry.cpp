@@ -110,6 +110,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   config.window_ba = options.window_ba;
   config.marginalisation_prior = options.marginalisation_prior;
   config.retirement = options.retirement;
+  config.scale_bridge = options.scale_bridge;
   config.max_keyframes = options.max_keyframes;
   config.intensity_scale = static_cast<float>(options.intensity_scale);
   config.carry_coring = static_cast<float>(options.carry_coring);
@@ -201,6 +202,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   summary.undistorted = !remap.identity();
   summary.focal_scale = remap.focal_scale();
   double vo_seconds = 0;
+  bool held_before = false;
   for (std::uint64_t i = 0; i < frames; ++i) {
     if (remap.identity()) {
       recording.read_frame(i, raw);
@@ -251,6 +253,12 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     summary.reinitialisations += r.reinitialised;
     summary.shutter_events += in.shutter_event;
     if (r.shutter_tau_s > 0) summary.shutter_taus.push_back({*row.t_s, r.shutter_tau_s});
+    if (r.centre_held) {
+      if (!held_before) summary.scale_bridges.push_back({*row.t_s, *row.t_s});
+      summary.scale_bridges.back().second = *row.t_s;
+      ++summary.centre_held;
+    }
+    held_before = r.centre_held;
     char line[256];
     std::snprintf(line, sizeof line, "%llu,%.9f,%s,%u,%d,%.4f,%.6f,%.6f,%.3f\n",
                   static_cast<unsigned long long>(i), *row.t_s, vo::to_string(r.state), r.tracked_points,
@@ -289,6 +297,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                                                              ", top view (x, y)", series));
   nlohmann::json shutter_json = nlohmann::json::array();
   for (const auto& [t, tau] : summary.shutter_taus) shutter_json.push_back({{"t_s", t}, {"tau_s", tau}});
+  nlohmann::json bridges_json = nlohmann::json::array();
+  for (const auto& [from, to] : summary.scale_bridges) bridges_json.push_back({{"from_t_s", from}, {"to_t_s", to}});
   nlohmann::json j = {{"recording", fs::absolute(options.recording).lexically_normal().string()},
                       {"photometric", vo::to_string(options.photometric)},
                       {"frames", summary.frames},
@@ -312,6 +322,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"window_ba", options.window_ba},
                       {"marginalisation_prior", vo::builds_marginalisation_prior(config)},
                       {"retirement", vo::to_string(options.retirement)},
+                      {"scale_bridge", options.scale_bridge},
+                      {"scale_bridges", bridges_json},
                       {"timing_from_options", summary.timing_from_options},
                       {"timing_assumed", summary.timing_assumed},
                       {"timing_assumed_s", summary.timing_assumed ? nlohmann::json(summary.assumed_half_period_s)

@@ -71,6 +71,11 @@ struct VoConfig {
   // on the 3x3 renders (docs/odometry-study.md, "Smoothing the tracking image"). It also makes
   // fewer keyframes, so the VO does ~19 % less work.
   std::uint32_t smoothing = 1;
+  // Across a fast turn that takes the map out of view (a look-around), the new view's map is
+  // scaled so that the camera's speed after the turn is its speed before (docs/odometry-study.md,
+  // "The scale across a look-around"); false: the new view keeps whatever scale its placeholder
+  // depths gave it.
+  bool scale_bridge = true;
 };
 
 // The configuration with its 0 defaults resolved.

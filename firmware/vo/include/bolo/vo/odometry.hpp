@@ -49,6 +49,9 @@ struct FrameResult {
   Tau tau;                        // current estimate (ir modes; the initial value otherwise)
   // ir modes, a frame after a shutter event: tau from its step response (0 when not measured).
   double shutter_tau_s = 0;
+  // The camera centre was held on its velocity before a look-around (VoConfig::scale_bridge):
+  // only the rotation was tracked.
+  bool centre_held = false;
 };
 
 struct WorldPoint {

@@ -37,6 +37,7 @@ struct OdometryOptions {
   bool window_ba = true;
   bool marginalisation_prior = false;  // retired keyframes leave a prior on the window
   vo::Retirement retirement = vo::VoConfig{}.retirement;
+  bool scale_bridge = vo::VoConfig{}.scale_bridge;  // vo::VoConfig::scale_bridge
   std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;  // sliding window, 2..8
   bool overwrite = false;
   std::optional<std::uint64_t> max_frames;
@@ -64,6 +65,10 @@ struct OdometrySummary {
   // tau each one's step response gave (time of the frame after the event, tau).
   std::uint64_t shutter_events = 0;
   std::vector<std::pair<double, double>> shutter_taus;
+  // Look-arounds over which the camera centre was held on its velocity before the turn (the
+  // times of the first and last held frames), and the frames held.
+  std::vector<std::pair<double, double>> scale_bridges;
+  std::uint64_t centre_held = 0;
   double seconds = 0;        // VO time only (not I/O)
   std::size_t arena_bytes = 0;
 };
