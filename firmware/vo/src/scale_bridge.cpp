@@ -22,10 +22,11 @@
 // the turn has no velocity to carry, and nothing changes; nor does anything on a map that never
 // breaks (the drives, the pans).
 //
-// Measured on 24 walks (12 s handheld street walks with look-arounds, seeds 1-8 with one ray a
-// pixel and 1-4 with 3 x 3, none and ir): whole-run ATE geometric mean 0.60 of what it was
-// (15 better, 5 worse), per tracking segment 0.42. Measured there and not adopted: releasing
-// after 0.4 s (0.65) or 1.2 s (0.62); with the 0.4-s release, a weaker pull (10 x the
+// Measured on 24 runs (12 s handheld street walks with look-arounds, seeds 1-8 with one ray a
+// pixel and 1-4 with 3 x 3, none and ir): whole-run ATE geometric mean 0.58 of what it was
+// (13 better, 4 worse), per tracking segment 0.52; on 48 runs with affine and ir-loop 0.62.
+// Measured on the 24 and not adopted (each without the free fallback, which took 0.60 to 0.58):
+// releasing after 0.4 s (0.65) or 1.2 s (0.62); with the 0.4-s release, a weaker pull (10 x the
 // translation's information: 0.94) and the BA holding the held keyframes' centres too (0.88);
 // moving the turn's keyframes and the current pose onto the carried path at the break (0.70);
 // no widened intervals (0.74). docs/odometry-study.md, "The scale across a look-around".
@@ -57,7 +58,8 @@ constexpr double kMinFlowPixelsPerS = 4.0;
 constexpr double kHoldSteadyS = 0.8;
 constexpr double kMaxHoldS = 2.0;
 // While carried, the tracker's prior on the translation, per unit of the translation's own
-// information: the camera centre is held (a weaker pull, 10, read 0.94 of the ATE against 0.60).
+// information: the camera centre is held (a weaker pull, 10, read 0.94 of the ATE where this
+// read 0.65, both released after 0.4 s).
 constexpr double kHeldPrior = 1e6;
 // On a turn's fast frames a depth match's interval is widened by this share of the frame's
 // rotation in pixels: the rotation's error, not the match, limits the depth then.
