@@ -167,6 +167,29 @@ TEST_CASE("every photometric mode runs on a ghosting sequence", "[vo][cli]") {
   });
 }
 
+TEST_CASE("odometry says where its tau comes from", "[vo][cli][tau]") {
+  // tau from motion alone depends on the frames' smoothness (odometry-study.md, "Render
+  // smoothness"), so the run says when that is all it had; shutter events and exposure changes
+  // are the long tests' (below).
+  const fs::path& seq = sequence("drive", "0.012");
+  TempDir out;
+  const auto run = [&](const char* name, std::vector<std::string> options) {
+    std::vector<std::string> args = {"odometry", seq.string(), "--out", (out / name).string()};
+    args.insert(args.end(), options.begin(), options.end());
+    const CliResult r = run_bolo(args);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    return std::make_pair(summary_of(out / name)["tau_source"].get<std::string>(), r.out);
+  };
+  const auto [motion, motion_out] = run("ir", {"--photometric", "ir"});
+  CHECK(motion == "motion");
+  CHECK(motion_out.find("tau from camera motion alone") != std::string::npos);
+  const auto [fixed, fixed_out] = run("fixed", {"--photometric", "ir-loop", "--fixed-tau", "--tau-init", "0.012"});
+  CHECK(fixed == "fixed");
+  CHECK(fixed_out.find("tau from camera motion alone") == std::string::npos);
+  CHECK(run("affine", {"--photometric", "affine"}).first == "none");
+}
+
 TEST_CASE("the ir modes track a ghosting drive and estimate tau", "[vo][cli][tau][long]") {
   // 2.5 s of street/drive at 60 Hz with tau 12 ms, rendered over each pixel's area (3 x 3 rays,
   // as a lens and a pixel integrate; one ray per pixel aliases, see docs/odometry-study.md).
@@ -303,6 +326,7 @@ TEST_CASE("shutter events give tau from their step response and reset the offset
     const nlohmann::json summary = summary_of(run);
     INFO(mode << ": " << e.dump(2) << summary.dump(2));
     CHECK(summary["shutter_events"] == 2);
+    CHECK(summary["tau_source"] == "shutter_events");
     REQUIRE(summary["tau_from_shutter_events"].size() == 2);
     for (const auto& event : summary["tau_from_shutter_events"]) CHECK(event["tau_s"].get<double>() == Approx(0.010).epsilon(0.02));
     CHECK(e["ate_relative"].get<double>() < 0.003);
@@ -364,6 +388,7 @@ TEST_CASE("affine and the ir modes hold a drive whose exposure switches", "[vo][
     if (std::string(mode) != "affine") {
       REQUIRE(e["tau_c_error_2s"].is_number());
       CHECK(std::fabs(e["tau_c_error_2s"].get<double>()) < 0.05);
+      CHECK(summary_of(tmp / mode)["tau_source"] == "exposure_changes");
     }
   }
 }

@@ -77,6 +77,19 @@ struct FrameTiming {
 
 std::uint32_t to_ns(double seconds) { return static_cast<std::uint32_t>(std::llround(seconds * 1e9)); }
 
+// OdometrySummary::tau_source. A change of exposure or readout between frames is a step response
+// of the static scene, which the tau fit reads at first order, as it does a shutter event.
+std::string tau_source(bool ir, bool estimated, bool from_shutter, const std::vector<FrameTiming>& timing) {
+  if (!ir) return "none";
+  if (!estimated) return "fixed";
+  if (from_shutter) return "shutter_events";
+  for (std::size_t i = 1; i < timing.size(); ++i)
+    if (to_ns(timing[i].exposure_s) != to_ns(timing[i - 1].exposure_s) ||
+        to_ns(timing[i].readout_s) != to_ns(timing[i - 1].readout_s))
+      return "exposure_changes";
+  return "motion";
+}
+
 // Removes the temporary output folder unless committed.
 struct TempDir {
   fs::path path;
@@ -295,6 +308,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
       trajectory, pose_segment, truth, period, "estimate (" + std::string(vo::to_string(options.photometric)) + ")");
   write_text(tmp.path / "trajectory.svg", trajectory_svg("bolo odometry: " + recording.dir().filename().string() +
                                                              ", top view (x, y)", series));
+  summary.tau_source = tau_source(ir, options.estimate_tau, !summary.shutter_taus.empty(), timing);
   nlohmann::json shutter_json = nlohmann::json::array();
   for (const auto& [t, tau] : summary.shutter_taus) shutter_json.push_back({{"t_s", t}, {"tau_s", tau}});
   nlohmann::json bridges_json = nlohmann::json::array();
@@ -332,6 +346,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"tau_c_s", summary.tau_c_s},
                       {"shutter_events", summary.shutter_events},
                       {"tau_from_shutter_events", shutter_json},
+                      {"tau_source", summary.tau_source},
                       {"vo_seconds", summary.seconds},
                       {"arena_bytes", summary.arena_bytes}};
   write_text(tmp.path / "summary.json", j.dump(2) + "\n");

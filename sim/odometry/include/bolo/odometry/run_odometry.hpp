@@ -65,6 +65,12 @@ struct OdometrySummary {
   // tau each one's step response gave (time of the frame after the event, tau).
   std::uint64_t shutter_events = 0;
   std::vector<std::pair<double, double>> shutter_taus;
+  // Where the reported tau comes from, and so how far to trust it: "shutter_events" and
+  // "exposure_changes" measure it at first order (within 1 % on every render the study tried);
+  // "motion" only through how the points' image velocities change, which reads it 9-27 % low on
+  // aliased images and up to +72 % on smooth ones (odometry-study.md, "Render smoothness");
+  // "fixed" is --tau-init as given; "none" where the model has no tau (none, affine).
+  std::string tau_source = "none";
   // Look-arounds over which the camera centre was held on its velocity before the turn (the
   // times of the first and last held frames), and the frames held.
   std::vector<std::pair<double, double>> scale_bridges;
