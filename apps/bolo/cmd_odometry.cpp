@@ -81,7 +81,7 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
     for (const auto& [t, tau] : s.shutter_taus) out << " " << std::setprecision(4) << tau * 1e3 << " ms at " << t << " s;";
     out << " the carry-over pairs no longer move it\n";
   }
-  if (s.tau_source == "motion")
+  if (s.tau_source == odo::TauSource::motion)
     out << "odometry: tau from camera motion alone (no shutter event or exposure change in the recording): its "
            "reading depends on how smooth the frames are (odometry-study.md, \"Render smoothness\"); flagged "
            "shutter events (frames.csv ffc = 1) or --fixed-tau --tau-init S from a calibration give a first-order tau\n";

@@ -77,17 +77,16 @@ struct FrameTiming {
 
 std::uint32_t to_ns(double seconds) { return static_cast<std::uint32_t>(std::llround(seconds * 1e9)); }
 
-// OdometrySummary::tau_source. A change of exposure or readout between frames is a step response
-// of the static scene, which the tau fit reads at first order, as it does a shutter event.
-std::string tau_source(bool ir, bool estimated, bool from_shutter, const std::vector<FrameTiming>& timing) {
-  if (!ir) return "none";
-  if (!estimated) return "fixed";
-  if (from_shutter) return "shutter_events";
+// A change of exposure or readout between frames is a step response of the static scene, which
+// the tau fit reads at first order, as it does a shutter event; compared as the VO compares them.
+TauSource tau_source(bool ir, bool estimated, bool from_shutter, const std::vector<FrameTiming>& timing) {
+  if (!ir) return TauSource::none;
+  if (!estimated) return TauSource::fixed;
+  if (from_shutter) return TauSource::shutter_events;
   for (std::size_t i = 1; i < timing.size(); ++i)
-    if (to_ns(timing[i].exposure_s) != to_ns(timing[i - 1].exposure_s) ||
-        to_ns(timing[i].readout_s) != to_ns(timing[i - 1].readout_s))
-      return "exposure_changes";
-  return "motion";
+    if (timing[i].exposure_s != timing[i - 1].exposure_s || timing[i].readout_s != timing[i - 1].readout_s)
+      return TauSource::exposure_changes;
+  return TauSource::motion;
 }
 
 // Removes the temporary output folder unless committed.
@@ -107,6 +106,17 @@ void write_text(const fs::path& file, const std::string& text) {
 }
 
 }  // namespace
+
+const char* to_string(TauSource source) {
+  switch (source) {
+    case TauSource::none: return "none";
+    case TauSource::fixed: return "fixed";
+    case TauSource::shutter_events: return "shutter_events";
+    case TauSource::exposure_changes: return "exposure_changes";
+    case TauSource::motion: return "motion";
+  }
+  return "none";
+}
 
 OdometrySummary run_odometry(const OdometryOptions& options) {
   const fs::path out_dir = options.output;
@@ -346,7 +356,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"tau_c_s", summary.tau_c_s},
                       {"shutter_events", summary.shutter_events},
                       {"tau_from_shutter_events", shutter_json},
-                      {"tau_source", summary.tau_source},
+                      {"tau_source", to_string(summary.tau_source)},
                       {"vo_seconds", summary.seconds},
                       {"arena_bytes", summary.arena_bytes}};
   write_text(tmp.path / "summary.json", j.dump(2) + "\n");

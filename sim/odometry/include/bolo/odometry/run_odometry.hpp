@@ -44,6 +44,14 @@ struct OdometryOptions {
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
 };
 
+// Where a run's tau comes from, and so how far to trust it: shutter_events and exposure_changes
+// measure it at first order (within 1 % on every render the study tried); motion only through how
+// the points' image velocities change, which reads it 9-27 % low on aliased images and up to +72 %
+// on smooth ones (odometry-study.md, "Render smoothness"); fixed is --tau-init as given; none where
+// the model has no tau (none, affine).
+enum class TauSource { none, fixed, shutter_events, exposure_changes, motion };
+const char* to_string(TauSource source);
+
 struct OdometrySummary {
   std::uint64_t frames = 0, posed = 0, lost = 0, keyframes = 0, reinitialisations = 0;
   std::uint64_t points = 0;  // in points.ply
@@ -65,12 +73,7 @@ struct OdometrySummary {
   // tau each one's step response gave (time of the frame after the event, tau).
   std::uint64_t shutter_events = 0;
   std::vector<std::pair<double, double>> shutter_taus;
-  // Where the reported tau comes from, and so how far to trust it: "shutter_events" and
-  // "exposure_changes" measure it at first order (within 1 % on every render the study tried);
-  // "motion" only through how the points' image velocities change, which reads it 9-27 % low on
-  // aliased images and up to +72 % on smooth ones (odometry-study.md, "Render smoothness");
-  // "fixed" is --tau-init as given; "none" where the model has no tau (none, affine).
-  std::string tau_source = "none";
+  TauSource tau_source = TauSource::none;
   // Look-arounds over which the camera centre was held on its velocity before the turn (the
   // times of the first and last held frames), and the frames held.
   std::vector<std::pair<double, double>> scale_bridges;
