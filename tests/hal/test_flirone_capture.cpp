@@ -19,14 +19,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path capture_dir() {
-  const fs::path dir = fs::path(BOLO_SHARED_DATA) / "usb" / "flirone-pro";
-  if (!fs::exists(dir / "1.txt")) {
-    WARN("skipped: the FLIR ONE capture " << dir.string() << " is absent");
-    return {};
-  }
-  return dir;
-}
+// Empty (the case skipped) when ../shared/data is absent.
+fs::path capture_dir() { return test::shared_folder("usb/flirone-pro", "1.txt"); }
 
 }  // namespace
 
@@ -73,8 +67,8 @@ TEST_CASE("flirone capture: 20 frames, every packet's CRC verifies, telemetry an
 
 TEST_CASE("flirone capture: the source's frames equal the shared recording bit for bit", "[hal][flirone][real]") {
   const fs::path dir = capture_dir();
+  if (dir.empty()) return;
   const fs::path rec_dir = test::shared_recording("flirone-lepton-telemetry");
-  if (dir.empty() || rec_dir.empty()) return;
   rec::Recording recording(rec_dir);
   REQUIRE(recording.frame_count() == 20);
   hal::CapturedTransfers log(dir);

@@ -1,4 +1,4 @@
-// The real recordings in ../shared/data/real (skipped with a message when absent).
+// The real recordings in ../shared/data/real (the cases report SKIP when it is absent).
 
 #include "rec_test_helpers.hpp"
 
