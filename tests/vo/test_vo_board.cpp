@@ -240,17 +240,19 @@ TEST_CASE("the VO tracks an analytic wall and the result is deterministic", "[vo
   std::vector<std::vector<std::uint16_t>> frames;
   const int n = 40;
   for (int i = 0; i < n; ++i) frames.push_back(render(i / 30.0));
-  std::vector<double> first_run;
+  std::vector<vo::FrameResult> first_run;
   for (int run = 0; run < 2; ++run) {
     std::vector<std::byte> arena(vo::Odometry::arena_bytes(c));
     vo::Odometry odometry(c, arena);
     REQUIRE(odometry.ok());
     std::vector<vo::Vec3> est, truth;
+    std::vector<vo::FrameResult> results;
     for (int i = 0; i < n; ++i) {
       vo::FrameInput in;
       in.raw = frames[static_cast<std::size_t>(i)];
       in.t_s = i / 30.0, in.chain_broken = i == 0;
       const vo::FrameResult r = odometry.process(in);
+      results.push_back(r);
       if (r.has_pose) est.push_back(r.T_wc.t), truth.push_back(pose_wc(i / 30.0).t);
     }
     REQUIRE(est.size() >= 20);
@@ -259,11 +261,27 @@ TEST_CASE("the VO tracks an analytic wall and the result is deterministic", "[vo
     const double angle = std::acos(de.normalized().dot(dt.normalized())) * 180 / M_PI;
     INFO("posed " << est.size() << " of " << n << ", direction error " << angle << " deg");
     CHECK(angle < 10.0);
-    if (run == 0)
-      for (const auto& p : est) first_run.push_back(p.x()), first_run.push_back(p.y()), first_run.push_back(p.z());
-    else {
-      REQUIRE(first_run.size() == 3 * est.size());
-      for (std::size_t k = 0; k < est.size(); ++k) CHECK(est[k].x() == first_run[3 * k]);
+    if (run == 0) {
+      first_run = results;
+      continue;
+    }
+    // Deterministic: the second run gives every frame's result bit for bit (the whole pose,
+    // rotation and translation, and what the frame did).
+    REQUIRE(results.size() == first_run.size());
+    for (std::size_t k = 0; k < results.size(); ++k) {
+      const vo::FrameResult &a = first_run[k], &b = results[k];
+      INFO("frame " << k);
+      CHECK(b.state == a.state);
+      CHECK(b.has_pose == a.has_pose);
+      CHECK(b.T_wc.R == a.T_wc.R);
+      CHECK(b.T_wc.t == a.T_wc.t);
+      CHECK(b.keyframe == a.keyframe);
+      CHECK(b.reinitialised == a.reinitialised);
+      CHECK(b.tracked_points == a.tracked_points);
+      CHECK(b.residual_rms == a.residual_rms);
+      CHECK(b.tau.h == a.tau.h);
+      CHECK(b.tau.c == a.tau.c);
+      CHECK(b.centre_held == a.centre_held);
     }
   }
 }
