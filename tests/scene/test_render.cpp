@@ -1,8 +1,6 @@
 // Renderer geometry and physics on small hand-built scenes.
-#include <chrono>
 #include <cmath>
 #include <cstring>
-#include <iostream>
 
 #include <catch2/catch.hpp>
 
@@ -272,29 +270,6 @@ TEST_CASE("supersampling averages sub-pixel rays", "[scene][render]") {
     if (four[i] > 280.5f && four[i] < 309.5f && four[i] != 295.0f) ++between;
   CHECK(between > 20);  // edge pixels are mixtures
   for (float v : one) CHECK((v == 280.0f || v == 310.0f || v == 275.0f || v == 295.0f || v < 262.0f));
-}
-
-TEST_CASE("render time of a 320x256 street frame (printed, not asserted)", "[scene][render][timing]") {
-  const Scene street = make_scene("street", 1);
-  const Trajectory drive = make_trajectory("drive", 1);
-  const Camera cam(320, 256, 50.0);
-  for (unsigned threads : {1u, 0u}) {
-    const Renderer r(street, cam, {threads, 1});
-    std::vector<float> out(320 * 256);
-    double best = 1e9, total = 0.0;
-    const int n = 12;
-    for (int i = 0; i < n; ++i) {
-      const double t = 2.0 + 5.0 * i;
-      const auto t0 = std::chrono::steady_clock::now();
-      r.render(drive.pose(t), t, out);
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      best = std::min(best, ms);
-      total += ms;
-    }
-    std::cout << "scene render 320x256 street/drive, threads=" << (threads ? std::to_string(threads) : "auto")
-              << ": best " << best << " ms, mean " << total / n << " ms per frame\n";
-  }
-  SUCCEED();
 }
 
 TEST_CASE("the tiled renderer and per-ray tracing agree on the street (distortion, supersampling)",
