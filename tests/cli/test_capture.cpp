@@ -75,9 +75,9 @@ TEST_CASE("capture: --frames stops early, the source ending first is reported", 
 }
 
 TEST_CASE("capture: the real FLIR ONE transfer log gives the shared recording", "[cli][capture][real]") {
-  const fs::path log = fs::path(BOLO_SHARED_DATA) / "usb" / "flirone-pro";
+  const fs::path log = shared_folder("usb/flirone-pro", "1.txt");
+  if (log.empty()) return;
   const fs::path ref = shared_recording("flirone-lepton-telemetry");
-  if (ref.empty() || !fs::exists(log / "1.txt")) return;
   TempDir tmp;
   const CliResult r = run_bolo({"capture", "--device", "flirone-log:" + log.string(), "--out", (tmp / "out").string()});
   INFO(r.err);

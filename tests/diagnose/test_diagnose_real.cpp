@@ -1,4 +1,4 @@
-// The shared real recordings (skipped with a message when ../shared/data is absent): a static
+// The shared real recordings (the cases report SKIP when ../shared/data is absent): a static
 // camera baseline, the flagged shutter event of lepton35-trailcam-ffc found as ffc_step.
 
 #include <catch2/catch.hpp>
