@@ -1,7 +1,7 @@
 #pragma once
 // Feeding the tau estimator with ground truth: raw frames pushed into the VO state with their
 // true poses, and keyframes whose points sit at their true depth. Shared by the [tau] tests and
-// the hidden tau experiment harness.
+// the study harnesses in scripts/study/vo-experiments.
 
 #include <algorithm>
 #include <cstdint>
