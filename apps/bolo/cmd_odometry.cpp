@@ -83,7 +83,7 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   }
   if (s.tau_source == odo::TauSource::motion)
     out << "odometry: tau from camera motion alone (no shutter event or exposure change in the recording): its "
-           "reading depends on how smooth the frames are (odometry-study.md, \"Render smoothness\"); flagged "
+           "reading depends on how smooth the frames are (docs/odometry-study.md); flagged "
            "shutter events (frames.csv ffc = 1) or --fixed-tau --tau-init S from a calibration give a first-order tau\n";
   if (!s.scale_bridges.empty()) {
     out << "odometry: the camera centre held on its velocity over " << s.scale_bridges.size() << " look-around"

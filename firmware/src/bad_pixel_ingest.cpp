@@ -187,10 +187,10 @@ struct IngestCursor {
   std::uint8_t* flag_bits;
 };
 
-// With IngestLine::prefetch: how far ahead of a step its input and table lines are asked for.
-// Measured on a Zen 5 core at 1280x1024 (the tables and input stream from L3): 1024 and 2048
-// pixels ahead both gained ~12 % of the pipeline's rate; where they come from L2 (160x120) the
-// extra instructions cost ~4 %, which is why it is a hint the stage sets for large frames only.
+// With IngestLine::prefetch: how far ahead of a step its input and table lines are asked for. It
+// pays where the tables and input stream from L3 or DRAM; where they sit in L2 the extra
+// instructions cost more than they save, which is why it is a hint the stage sets for large
+// frames only (docs/benchmarks.md).
 constexpr std::size_t kPrefetchPixels = 2048;
 
 // Asks for the line kPrefetchPixels elements past `p`. The address is computed as an integer: it

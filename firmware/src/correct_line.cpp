@@ -216,9 +216,9 @@ BOLO_AVX512_VNNI inline __attribute__((always_inline)) void avx512_vnni_step(
 // [0, 65535] becomes one three-way OR per step: the inputs (bit 15) and the values (bits 16..31)
 // are gathered over the block and tested once at its end. A block with an input at or above 2^15
 // or a value out of range is done again the general way (flip, exact counts) from the inputs
-// still in registers: the frame store is updated as each step loads it. (Deferring those stores
-// to after the test, so the redo could reload the predecessor, cost ~30 % when the frames come
-// from DRAM.) Outputs of a block that passes are the general way's (same integers), counts 0.
+// still in registers: the frame store is updated as each step loads it (deferring those stores
+// until after the test would cost throughput from DRAM). Outputs of a block that passes are the
+// general way's (same integers), counts 0.
 constexpr std::size_t kBlockSteps = 4;
 
 template <bool kWide>

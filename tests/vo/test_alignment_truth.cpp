@@ -30,7 +30,7 @@ struct Fixture {
     // the bounds were measured on. With the default low-pass (VoConfig::smoothing 1) the depth
     // search activated 41 of 480 points at a median error of 19 % (unambiguous-looking matches in
     // weak texture), and the BA left 0.031 m and 0.16 deg; the whole VO on such frames does better
-    // with it (docs/odometry-study.md, "Smoothing the tracking image").
+    // with it (docs/odometry-study.md, "Accuracy").
     cfg.smoothing = 0;
     memory.resize(vo::Odometry::arena_bytes(cfg));
     vo::Arena arena(memory);

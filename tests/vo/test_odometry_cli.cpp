@@ -168,8 +168,7 @@ TEST_CASE("every photometric mode runs on a ghosting sequence", "[vo][cli]") {
 }
 
 TEST_CASE("odometry says where its tau comes from", "[vo][cli][tau]") {
-  // tau from motion alone depends on the frames' smoothness (odometry-study.md, "Render
-  // smoothness"), so the run says when that is all it had; shutter events and exposure changes
+  // tau from motion alone depends on the frames' smoothness (docs/odometry-study.md, "τ"), so the run says when that is all it had; shutter events and exposure changes
   // are the long tests' (below).
   const fs::path& seq = sequence("drive", "0.012");
   TempDir out;
@@ -307,7 +306,7 @@ TEST_CASE("dead pixels do not pull the tau estimate", "[vo][cli][tau][long]") {
 
 TEST_CASE("shutter events give tau from their step response and reset the offset", "[vo][cli][tau][long]") {
   // 2.5 s of street/drive, 60 Hz, tau 10 ms, rendered with 6 x 6 rays (smooth images, where the
-  // carry-over pairs read tau 27-52 % high: odometry-study.md, "Render smoothness"), with a flagged
+  // carry-over pairs read tau high: docs/odometry-study.md, "τ"), with a flagged
   // shutter event every 50 frames: the pixels settle on the shutter and the camera's offset jumps
   // by 10-20 counts. The frame after an event is the scene's step response; its contrast against
   // the keyframes gives tau. Measured when written: 9.99-10.01 ms at both events in both modes,

@@ -106,8 +106,8 @@ TEST_CASE("SE(3) exp and log are inverse", "[vo][board]") {
 }
 
 TEST_CASE("the default point budget is one per 40 pixels, 100 to 500 a keyframe", "[vo][board]") {
-  // 500, not 800: at 320x256 the window BA and the depth search cost 1.5x as much with 800 for no
-  // better accuracy (docs/odometry-study.md, "Speed, second round"); 160x120 keeps its 480.
+  // The cap bounds the window BA's and the depth search's time at the larger sizes (config.cpp);
+  // 160x120 keeps its 480.
   const auto points = [](std::uint32_t w, std::uint32_t h) {
     vo::VoConfig c;
     c.width = w, c.height = h, c.camera = camera();

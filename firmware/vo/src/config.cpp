@@ -45,9 +45,8 @@ VoConfig resolved(const VoConfig& config) {
   }
   if (c.points_per_keyframe == 0) {
     // One per 40 pixels up to 500 a keyframe (8 keyframes: <= 4000 in the window; DSO keeps ~2000
-    // active at 640x480). The cap was 800: at 320x256 that cost 1.5x the time (window BA and
-    // depth search scale with the points); accuracy stays within the seed spread on the study's
-    // sequences (docs/odometry-study.md, "Speed, second round").
+    // active at 640x480). The cap bounds the time at the larger sizes: the window BA and the depth
+    // search scale with the points, and more points bought no accuracy beyond the seeds' spread.
     const std::uint32_t n = c.width * c.height / 40;
     c.points_per_keyframe = n < 100 ? 100 : (n > kMaxDefaultPointsPerKeyframe ? kMaxDefaultPointsPerKeyframe : n);
   }

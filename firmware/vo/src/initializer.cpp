@@ -26,10 +26,9 @@ constexpr double kMinInitSeconds = 10.0 / 30.0;  // or as long as kMinInitFrames
 constexpr std::uint32_t kGiveUp = 1000;  // >= the frame loop's restart limit
 constexpr std::uint32_t kMinInitPoints = 20;  // the tracker's least inliers
 // Baseline needed, as the flow it would cause at the mean depth across the view (f |t| with the
-// mean inverse depth at 1), share of width + height. It was the points' median translation
-// flow: under forward motion that flow is radial, small near the focus of expansion, and reached
-// 2 % only after ~1.3 m on the handheld sequences (0.1 baseline/depth instead of 0.03), by when
-// the first keyframe's patterns had changed so much that the solve jumped between basins.
+// mean inverse depth at 1), share of width + height; not the points' median translation flow,
+// which under forward motion is radial and small near the focus of expansion, so it would be
+// reached only after the first keyframe's patterns had changed too much to match.
 constexpr double kInitFlow = 0.02;
 
 struct InitSystem {
@@ -310,9 +309,8 @@ void restore_depths(Keyframe& host, const float* from) {
 // while the host turned out of the view (a 9 Hz pan at 30 deg/s), and its map then held that
 // translation. When a rotation alone fits the frame about as well, M and the brightness become the
 // rotation's, with the point energies of that fit (the outlier test at the end); otherwise the
-// point energies are put back as they were. Energy of the rotation over the joint solve's,
-// measured: pans at 9-60 Hz 0.74-1.02 when first checked; the 120 street sequences of the study
-// 1.19 or more; restarts within the look-arounds of 9-15 Hz walks 0.93-1.10.
+// point energies are put back as they were. The ratio separates pans (below it) from the study's
+// street sequences with a translation (well above it); scripts/study/pans.sh exercises it.
 constexpr double kRotationEnergyRatio = 1.05;
 bool explained_by_rotation(State& s, Se3& M, Brightness& br) {
   Keyframe& host = init_host(s);
@@ -360,22 +358,19 @@ bool same_basin(const Se3& a, const Se3& b) {
 // The warm start (last solution, constant velocity) keeps whatever basin the first frames chose,
 // when the translation was not observable yet: with forward motion and hand shake it often
 // settles on a lateral translation whose flow a wrong rotation cancels, with depths fitted to it
-// (measured: translation direction 30-70 degrees off, a rotation that grows frame by frame; the
-// map then turned 15-20 degrees a second for the rest of the run, in every photometric mode).
+// (the translation direction tens of degrees off, and a map that then keeps turning).
 // A solve from scratch (no motion, flat depths) on the same frame finds the true basin once the
 // baseline is there. Fitting better than the warm solve, it replaces it. But fitting worse does
-// not make it wrong: the warm solve's depths were refined over every earlier frame, and a wrong
-// warm basin read 3-15 % lower than a right fresh one. So when the two disagree on the basin,
+// not make it wrong: the warm solve's depths were refined over every earlier frame, which can
+// make a wrong warm basin fit better than a right fresh one. So when the two disagree on the basin,
 // both are solved again from flat depths to the same convergence, and the fresh basin wins if
 // it fits better by kBasinMargin. The margin keeps a planar scene, where both basins explain the
-// frames (the two-fold ambiguity of a plane), on the basin it started in: on the board tests'
-// wall a 0.05 % difference flipped it, and the run went another way from there.
+// frames (the two-fold ambiguity of a plane), on the basin it started in (test_vo_board's wall).
 constexpr double kBasinMargin = 0.01;
 // The comparison runs only on a frame the warm solve fits well (4 in 5 of the host's points
 // inliers): on a frame that matches poorly (heavy aliasing; the IR modes after an exposure change
 // at a wrong tau, before the brightness was freed there) both energies are mostly outliers and the
-// choice is noise. On the wall, a re-initialisation across exposure switches flipped on such a
-// frame (8 % apart) on aarch64 and the run lost the track once more.
+// choice is noise (it made the board tests' wall differ between architectures).
 bool fits_well(const Solved& solved, const Keyframe& host) { return solved.inliers * 5 >= host.count * 4; }
 // Returns whether the two solves ended in different basins.
 // The brightness is the frame's whatever the basin: the fresh solves start from the warm one's.
@@ -409,9 +404,8 @@ bool solve_afresh_if_better(State& s, Se3& M, Brightness& br, Solved& solved) {
 }
 
 // While the fresh and the warm solve still disagree on the basin, the initialisation goes on, up
-// to kBasinWaitFrames: with more baseline the true basin comes to fit better. Measured on the
-// handheld street renders, initialisations more than 20 degrees off: 15 -> 2 of 48 (3x3 rays,
-// seeds 4-6), 14 -> 1 of 120 (one ray, the study's grid), 13 frames on average instead of 11.
+// to kBasinWaitFrames: with more baseline the true basin comes to fit better (the figures:
+// docs/odometry-study.md, "Accuracy").
 constexpr std::uint32_t kBasinWaitFrames = 30;
 bool keep_waiting_for_the_basin(const State& s, bool basins_differ) {
   return basins_differ && s.init_frames < kBasinWaitFrames;

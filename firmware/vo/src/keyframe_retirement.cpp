@@ -8,9 +8,8 @@ namespace bolo::vo {
 namespace {
 
 // A keyframe nearer than this share of the window's mean spacing to a neighbour along the path
-// is crowded. The walks gained from 0.25 to 0.35; from 0.4 the drives kept their oldest keyframes
-// too long, whose points, far ahead, are seen zoomed (docs/odometry-study.md, "Keyframe
-// retirement").
+// is crowded. Chosen on the study's walks and drives: much larger and the drives keep their
+// oldest keyframes too long, whose points, far ahead, are seen zoomed.
 constexpr double kCrowdedSpacing = 0.35;
 
 double centre_distance(const Keyframe& a, const Keyframe& b) { return (a.T_cw * b.T_cw.inverse()).t.norm(); }

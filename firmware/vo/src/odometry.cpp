@@ -276,8 +276,7 @@ void write_scene_estimate(State& s) {
   // static pixel reads at this frame's timing: a static pixel keeps its value whatever tau is, so
   // a refined tau does not shift every pixel's level against the keyframes. Without the scale,
   // u's static level is (1 - alpha) / beta times the raw one, which moves with tau unless
-  // t_e = t_r: with t_e 12.5 and t_r 4.2 ms (60 Hz, tau 10 ms) ir read tau 20 ms, ir-loop 82 ms,
-  // and the trajectories 2-12 % of the path off. At a change of the timing the raw static level
+  // t_e = t_r, and the tau fit and the tracking then chase each other. At a change of the timing the raw static level
   // itself changes (by the true tau's factor): the tracker and the initialiser free the gain and
   // offset there (same_level).
   s.scene_scale = scene_level_scale(s);
@@ -651,8 +650,8 @@ FrameResult Odometry::process(const FrameInput& in) {
       // On a map that began as a rotation, while the camera still only turns, the tracked points
       // leave the view at the turn's rate (a 9 Hz pan at 30 deg/s takes 30-40 of them a frame),
       // and the rotation's points are all the map can get: the count the next keyframe would
-      // track decides. (On a map with depths the same rule cost scale in the look-arounds of
-      // walks: docs/odometry-study.md.)
+      // track decides. (Not on a map with depths: there the same rule costs scale in the
+      // look-arounds of walks.)
       activate_mature_points(s, s.map_without_baseline ? tracked_at_next_keyframe(s, best.inliers) : best.inliers);
       const std::uint32_t slot = new_keyframe_slot(s);
       make_keyframe(s, slot, true);

@@ -5,9 +5,8 @@
 // second) the map's points leave the view within a few frames and the points of the new view are
 // placed at the window's typical depth (activate_mature_points). The translation tracked in the
 // turn is then mostly its rotation error, and after it, with the new view's points at depths that
-// are not theirs, a sideways walk past a facade reads as a slow turn of a standing camera: on the
-// street walks the map came out 3x smaller at the first look-around and ~30x at the second, and
-// it stayed so without the bundle adjustment too (the tracking and the depth search shrink it).
+// are not theirs, the map shrinks at every look-around (the tracking and the depth search shrink
+// it, with or without the bundle adjustment).
 //
 // What does carry over the turn is the camera's velocity: a walker keeps walking and a car keeps
 // driving while the camera turns. So the velocity of the last steady stretch of frames (rotating
@@ -22,14 +21,9 @@
 // the turn has no velocity to carry, and nothing changes; nor does anything on a map that never
 // breaks (the drives, the pans).
 //
-// Measured on 24 runs (12 s handheld street walks with look-arounds, seeds 1-8 with one ray a
-// pixel and 1-4 with 3 x 3, none and ir): whole-run ATE geometric mean 0.58 of what it was
-// (13 better, 4 worse), per tracking segment 0.52; on 48 runs with affine and ir-loop 0.62.
-// Measured on the 24 and not adopted (each without the free fallback, which took 0.60 to 0.58):
-// releasing after 0.4 s (0.65) or 1.2 s (0.62); with the 0.4-s release, a weaker pull (10 x the
-// translation's information: 0.94) and the BA holding the held keyframes' centres too (0.88);
-// moving the turn's keyframes and the current pose onto the carried path at the break (0.70);
-// no widened intervals (0.74). docs/odometry-study.md, "The scale across a look-around".
+// The hold's release (kHoldSteadyS), its pull and the widened intervals were chosen on 12-s
+// handheld walks with look-arounds (scripts/study/long-walks.sh; docs/odometry-study.md, "Long
+// walks, look-arounds and restarts").
 
 #include <algorithm>
 #include <cmath>

@@ -7,62 +7,37 @@
 //   A = y_i(p_i) - y_{i-1}(p_{i-1})   and   B = y_{i-1}(p_i) - y_{i-2}(p_{i-1})
 // satisfy A = alpha B: beta and u cancel, and alpha = exp(-t_r / tau_c) is fitted by weighted
 // least squares, alpha = sum(w A B) / sum(w B^2), from sums accumulated over frames. B is the
-// carry-over that moved with the image: it is zero where the image does not change, so only
-// moving edges inform tau (the estimate stays where it is while the camera is still).
+// carry-over that moved with the image: zero where the image does not change, so only moving
+// edges inform tau. Consecutive frames, not the host keyframe, because over a keyframe baseline
+// the pattern is zoomed and sheared against the frame.
 //
-// Why not against the host keyframe (u_i(p') - u_h(p), the first version): over the window's
-// baselines the host's pattern is zoomed and sheared against the frame, and that error grows
-// with 1/beta; the fit then drifted to a third of the true tau. Between consecutive frames the
-// patterns match up to the sampling phase.
+// Contract of the fit, and why each part is there:
+// * Each frame's pairs are fitted jointly in alpha, the poses of frames i and i-1 and every
+//   point's inverse depth, and only the information alpha keeps once those are eliminated (Schur
+//   complement) is summed: the frame was tracked on the image made with the current tau, and
+//   pairs sampled at that pose would otherwise lean towards the current alpha.
+// * The pixel noise's expected share (from the measured noise, noise_estimator.cpp, and each
+//   sample's interpolation weights, less the inverse depth's leverage) comes off alpha's entries
+//   before the elimination: noise in B biases alpha low, and the elimination leaves it a larger
+//   share.
+// * A and B are sampled with Keys' cubic: interpolation errors that depend on the sub-pixel
+//   position are nearly the same in consecutive frames and would pull alpha towards 1.
+// * Active points count up to 4x the tracker's outlier cut: the tracker's inliers are judged on
+//   the current-tau image and would favour the current alpha; the cut keeps the garbage of the
+//   first frames after initialisation out.
+// * The d r / d p Jacobians are central differences of the raw frames' combinations the samples
+//   come from, not the (low-passed) tracking images' gradients, so they match the samples.
+// * Across a change of exposure or readout each pair also has a constant of its own frame, which
+//   takes up a camera's offset; see refine_tau.
 //
-// The poses and depths are marginalised out of the fit. Frame i was tracked on the image made
-// with the current tau, whose leftover ghost (or over-subtracted negative ghost) shifts its pose a
-// little along the motion; A and B sampled at that pose then lean towards the current alpha, and
-// the estimate glided slowly from wherever it started. So each frame's pairs are fitted jointly in
-// alpha, the poses of frames i and i-1 and every point's inverse depth (linearised at the tracked
-// values), and only the information alpha keeps once those are free (Schur complement) is summed:
-// what a pose or depth change could explain no longer pulls alpha. Without this the estimate at
-// 2 s depended on its start by up to 2.7 ms on handheld sequences (tau 8 ms from 10 / 15 ms: 9.2 /
-// 12.1 ms); with it by under 1 ms.
-//
-// Three things the pairs need besides (measured on 12 street sequences at 60 Hz, 3 x 3 rays, tau
-// 8 / 12 / 15 ms, noise 3, in the full VO: tau at 2 s within 10 % in 7 before, 10 after):
-// * The pixel noise's share is subtracted. Noise in B biases alpha low (errors in variables), and
-//   the elimination makes it matter: B's carry-over signal has the shape of a displacement of the
-//   pattern, so eliminating the poses and depths removes most of it and leaves the noise a larger
-//   share (with true geometry, street/drive at 15 ms: 17.1 / 15.8 / 12.6 ms at 0 / 3 / 6 counts of
-//   noise, where the plain ratio without the elimination hardly moves, 16.9 / 16.6 / 16.4). Each
-//   sample's noise variance in B and covariance with r follow from its interpolation weights and
-//   the measured noise (noise_estimator.cpp); their weighted sums, less what the inverse depth's
-//   elimination removes with it (its leverage), come off alpha's entries before the elimination.
-// * A and B are sampled with Keys' cubic, not bilinear: interpolation errors that depend on the
-//   sub-pixel position are nearly the same in consecutive frames, so they enter A and B alike and
-//   pull alpha towards 1 (in the full VO on noise-free renders bilinear read 1.1-2.6 ms higher).
-// * Active points count up to 4x the tracker's outlier cut, not only the tracker's inliers: the
-//   tracker judges a point by its residual on the image made with the current tau, so its
-//   inliers favour pairs that agree with the current alpha (drive, 15 ms: 12.6 / 13.4 ms with the
-//   inliers, 13.9 / 14.8 with every active point). Without any cut, the garbage of the first
-//   frames after initialisation once threw an aliased drive's estimate to 24 ms for 10 ms (4x
-//   the cut: 13 ms, then back to 9-10).
-// The d r / d p Jacobians are central differences of the raw frames' combinations (y_i - alpha
-// y_{i-1} and its previous-frame counterpart), sampled bilinearly from the 4 x 4 block the cubic
-// taps read. They were the tracking images' gradients until those were low-passed
-// (VoConfig::smoothing): gradients of smoothed images no longer match pairs sampled from the raw
-// frames, the poses' elimination then leaves some of the tracked pose's lean on the current tau
-// in alpha, and the estimate followed its start (handheld, 3 x 3 rays, tau 15 ms, at 2 s: 12.1-12.6
-// ms from 6 ms, 14.9-15.9 from 20; with these, 13.1-13.8 and 14.7-15.3).
-//
-// Across a change of exposure or readout each pair also has a constant of its own frame, which
-// takes up a camera's offset (raw counts that do not start from 0); see refine_tau.
-//
-// Shutter events give a better measurement where the camera reports them (FrameInput::
-// shutter_event): the pixels settle on the uniform shutter, and the next frame's contrast against
-// the static level is a known function of tau (shutter_step_gain, carry_model.hpp), measured by
-// tracking that frame with a free gain. Once one was measured, tau follows those measurements.
+// Shutter events (FrameInput::shutter_event) measure tau at first order where the camera reports
+// them: the next frame's contrast against the static level is a known function of tau
+// (shutter_step_gain, carry_model.hpp), read from the gain that frame is tracked with. Once one
+// was measured, tau follows those measurements.
 //
 // tau_h is not observable here: with a constant exposure it only scales u, and the tracking
-// images are scaled back to the static raw level (scene_level_scale), so it cancels.
-// It is kept equal to tau_c.
+// images are scaled back to the static raw level (scene_level_scale), so it cancels. It is kept
+// equal to tau_c. How well all this does on simulated sequences: docs/odometry-study.md, "τ".
 
 #include <algorithm>
 #include <cmath>
@@ -79,11 +54,8 @@ constexpr double kPriorWeight = 1e4;   // sum of B^2 the starting tau counts for
 constexpr double kMinInformation = 1e6;  // sum of B^2 before the estimate moves (counts^2)
 // ... and the share of it that is not pixel noise: below, the pairs hold too little carry-over
 // to correct for the noise reliably, and the estimate stays where it is. The noise is measured
-// on the flattest blocks of the frame difference, and fine texture moving there passes for
-// noise: on a render of a real thermal frame on a plane (scripts/study/plane-render.sh, 3 counts
-// of noise) it read 3.5 counts, the noise took three quarters of B^2, and the over-corrected fit
-// ran tau from 10 to 30 ms (0.1 of the information was the bound then). On the street sequences
-// the noise is 1-10 % of it, and no run of the grids' IR modes at 60 Hz changed.
+// on the flattest blocks of the frame difference, where moving fine texture passes for noise, so
+// a noise-dominated fit would over-correct (scripts/study/plane-render.sh shows such frames).
 constexpr double kMinSignalShare = 0.5;
 // Points whose last tracked pattern energy exceeds this many of the tracker's outlier cuts are
 // left out (wrong depth, occlusion); the tracker's own cut would favour pairs that agree with
@@ -92,8 +64,8 @@ constexpr float kOutlierCutoffs = 4.0f;
 // A pixel whose raw value did not change at this many checks (every other frame, so over 8
 // frames), while it differs from its neighbours, is stuck (dead, or a hot pixel clipped at the
 // sensor's range): a live pixel under noise keeps its exact value that often with vanishing
-// probability, and never stands that far from all its neighbours. Every other frame: the check
-// reads two whole frames, ~6 % of the VO's time at 640x512 when done every frame.
+// probability, and never stands that far from all its neighbours. Every other frame, because the
+// check reads two whole frames.
 constexpr std::uint8_t kStuckChecks = 4;
 constexpr float kStuckContrast = 64.0f;  // counts from each of its four neighbours
 // A shutter event's step response is taken within this factor of the current tau.
@@ -175,8 +147,7 @@ Mat26 pixel_jacobian(const Scaled& k, const Eigen::Vector3f& X, float idepth) {
 
 // Whether a stuck pixel (count_unchanged_frames) lies within `reach` pixels of (u, v). A stuck
 // pixel in a sample's interpolation footprint puts its step against the live neighbours
-// (thousands of counts for a dead one) into A and B alike, which reads as alpha = 1 (10 dead
-// pixels in a 160x120 street drive at 10 ms: 13.3 ms).
+// (thousands of counts for a dead one) into A and B alike, which reads as alpha = 1.
 bool stuck_pixel_near(const State& s, float u, float v, int reach) {
   const int w = static_cast<int>(s.cfg.width), h = static_cast<int>(s.cfg.height);
   const int cu = static_cast<int>(u), cv = static_cast<int>(v);
@@ -234,8 +205,8 @@ bool take_shutter_measurement(State& s, double tau_s) {
 
 void refine_tau(State& s) {
   // A shutter event's step response measures alpha from the whole frame's contrast (first order);
-  // the pairs see it only through how the image motion changes (second order), and read it
-  // 20-50 % off depending on how smooth the images are (odometry-study.md, "Render smoothness").
+  // the pairs see it only through how the image motion changes (second order), which the
+  // images' smoothness biases (docs/odometry-study.md, "τ"). So the events, once there, decide.
   if (s.shutter_measurements > 0) return;
   if (!s.chain_ok || !s.chain_ok_prev || !s.prev_posed || s.kf_count == 0) return;
   const std::uint32_t w = s.cfg.width, h = s.cfg.height;
@@ -259,12 +230,11 @@ void refine_tau(State& s) {
   // Then rho and kappa move with tau too: d r / d alpha_i = -y_{i-1}(p_i) + c_prev y_{i-2}(p_{i-1})
   // - c_rho (y_{i-1}(p_{i-1}) - alpha_{i-1} y_{i-2}(p_{i-1})), which is -B for a constant timing
   // (the fit is then Gauss-Newton, one step a frame; the noise correction below stays B's).
-  // Measured on the board test's wall with the exposure switching every 12 frames: 10.05 ms after
-  // 1.5 s for 10 (without rho: 11.25; with rho and the Jacobian -B: 11.11).
+  // test_vo_board's exposure-switching wall checks the estimate across such changes.
   // A camera's raw counts start from an offset o, not from 0: y_i - o = beta_i u + alpha_i (y_{i-1}
   // - o). For a constant timing o cancels in A and B; across a change A - alpha_i B = o ((1 -
-  // alpha_i) - rho (1 - alpha_{i-1})), the same at every pixel, which the step response read as
-  // alpha (3000 counts on the board tests' wall: 19.8 / 15.7 ms from 15 / 20 for 10). Such a frame's fit has a
+  // alpha_i) - rho (1 - alpha_{i-1})), the same at every pixel, which the step response would read
+  // as alpha. Such a frame's fit has a
   // constant of its own, eliminated with the poses: the step's contrast across the scene still
   // measures alpha, its mean level no longer does.
   const double c_prev = rho * prev_k.dalpha_dtau_c / now_k.dalpha_dtau_c;

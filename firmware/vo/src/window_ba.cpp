@@ -248,7 +248,7 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
 // The prior evaluated at the current parameters. A quadratic prior is not invariant to the
 // scale of a monocular window: with its linearisation point x0 in its null space, the window
 // scaled by k about x0's shape costs k^2 (x - x0)^T H (x - x0) and is pulled towards scale 0
-// (measured: the drive's scale shrank 20 % in 3 s). So it is read in the linearisation's scale:
+// (the map shrinks within seconds). So it is read in the linearisation's scale:
 // the linearisation point's camera centres are scaled by the ratio k of the current spread to
 // theirs (about the current centroid), and translation offsets are divided by k (D = diag(1/k)).
 struct PriorAtCurrent {

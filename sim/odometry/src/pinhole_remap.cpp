@@ -21,8 +21,8 @@ bool readable(const Eigen::Vector2d& s, std::uint32_t w, std::uint32_t h) {
   return s.x() >= 0.0 && s.y() >= 0.0 && s.x() <= w - 1.0 && s.y() <= h - 1.0;
 }
 
-// Keys' cubic convolution (a = -0.5): sharper than bilinear (trajectories on a barrel-distorted
-// street drive 0.08-0.09 % of the path against 0.12-0.18 %), and as good as Lanczos-3 there.
+// Keys' cubic convolution (a = -0.5): sharper than bilinear, which blurs what the VO tracks, at a
+// 4 x 4 footprint.
 float keys(float t) {
   t = std::fabs(t);
   if (t < 1) return (1.5f * t - 2.5f) * t * t + 1;

@@ -46,8 +46,8 @@ class BadPixelStage final : public Stage {
   // at least 4 and at most 64 (the row_flagged_ bits).
   static constexpr std::size_t kRunPixels = 2048;
   // Frames of at least this many pixels have their input and NUC tables prefetched ahead by the
-  // intake (IngestLine::prefetch): measured on a Zen 5 core, +12 % for the pipeline at 1280x1024
-  // (tables and input from L3), -3..-6 % at 640x512 and 160x120, where it does not pay.
+  // intake (IngestLine::prefetch): it pays where tables and input come from L3 or DRAM, not at
+  // the sizes that sit in L2.
   static constexpr std::size_t kPrefetchFromPixels = std::size_t{1} << 20;
   static constexpr std::uint32_t ring_rows(std::uint32_t width) {
     const std::size_t run = width == 0 || width > kRunPixels ? 1 : kRunPixels / width;

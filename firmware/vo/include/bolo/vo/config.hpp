@@ -50,31 +50,28 @@ struct VoConfig {
   float intensity_scale = 0.0f;
   bool window_ba = true;       // sliding-window bundle adjustment at every keyframe
   // A retired keyframe's information stays as a prior on the window (DSO's marginalisation)
-  // instead of being dropped. Off by default: on the study's sequences it was no better overall
-  // (docs/odometry-study.md, "A marginalisation prior").
+  // instead of being dropped. Off by default: it buys nothing consistent on the study's
+  // sequences (docs/odometry-study.md).
   bool marginalisation_prior = false;
   // Which keyframe leaves a full window: the oldest, or (spread) a keyframe much nearer its
   // neighbours along the path than the window's mean spacing if there is one, so that the window
-  // keeps its baseline through turns and look-arounds (docs/odometry-study.md, "Keyframe retirement").
+  // keeps its baseline through turns and look-arounds.
   Retirement retirement = Retirement::spread;
   // ir modes: the carry-over correction (deghosted minus raw) is kept only where it stands out
   // of its own noise: its part within carry_coring times that noise's sigma is left out of the
-  // tracking image (a soft threshold). Deghosting is an inverse filter: at tau 12 ms and 60 Hz it
-  // multiplies the pixel noise by ~2.2 where nothing moves. 0: the paper's full correction.
+  // tracking image (a soft threshold), because deghosting is an inverse filter that multiplies
+  // the pixel noise where nothing moves. 0: the paper's full correction.
   float carry_coring = 1.0f;
   // Passes of a 3x3 binomial low-pass over each tracking image before its pyramid (0: none).
   // Bilinear sampling at a fraction of a pixel is least accurate where the image holds detail
   // near the sampling limit (aliased renders, the deghosted image's amplified noise and flicker);
-  // one pass damps that band. On the study's street sequences (60 Hz, tau 10-12 ms, six seeds,
-  // 3x3 and one ray a pixel, 384 paired runs) one pass took the IR modes' ATE to 0.48-0.63 of
-  // what it was (geometric means), none and affine to 0.80-0.93; two passes were worse than one
-  // on the 3x3 renders (docs/odometry-study.md, "Smoothing the tracking image"). It also makes
-  // fewer keyframes, so the VO does ~19 % less work.
+  // one pass damps that band, and also makes fewer keyframes. Its effect on accuracy and work:
+  // docs/odometry-study.md, "Accuracy".
   std::uint32_t smoothing = 1;
-  // Across a fast turn that takes the map out of view (a look-around), the new view's map is
-  // scaled so that the camera's speed after the turn is its speed before (docs/odometry-study.md,
-  // "The scale across a look-around"); false: the new view keeps whatever scale its placeholder
-  // depths gave it.
+  // Across a fast turn that takes the map out of view (a look-around), the camera centre is held
+  // on the velocity of the steady stretch before the turn until the new view's points have depths
+  // of their own, so they keep the old map's scale (scale_bridge.cpp); false: the new view keeps
+  // whatever scale its placeholder depths gave it.
   bool scale_bridge = true;
 };
 

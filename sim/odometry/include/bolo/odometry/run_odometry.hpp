@@ -45,9 +45,8 @@ struct OdometryOptions {
 };
 
 // Where a run's tau comes from, and so how far to trust it: shutter_events and exposure_changes
-// measure it at first order (within 1 % on every render the study tried); motion only through how
-// the points' image velocities change, which reads it 9-27 % low on aliased images and up to +72 %
-// on smooth ones (odometry-study.md, "Render smoothness"); fixed is --tau-init as given; none where
+// measure it at first order; motion only through how the points' image velocities change, which
+// the frames' smoothness biases either way (docs/odometry-study.md, "τ"); fixed is --tau-init as given; none where
 // the model has no tau (none, affine).
 enum class TauSource { none, fixed, shutter_events, exposure_changes, motion };
 const char* to_string(TauSource source);
