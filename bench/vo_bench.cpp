@@ -29,8 +29,13 @@
 #include "bolo/sim/scene/trajectory.hpp"
 #include "bolo/vo/odometry.hpp"
 #include "number_arg.hpp"
-#if BOLO_VO_BENCH_COUNTS_ALLOCATIONS
+#if __has_include("counting_allocator.hpp")
 #include "counting_allocator.hpp"
+#endif
+#if defined(BOLO_COUNTING_ALLOCATOR_ACTIVE) && BOLO_COUNTING_ALLOCATOR_ACTIVE
+#define BOLO_VO_BENCH_COUNTS_ALLOCATIONS 1
+#else
+#define BOLO_VO_BENCH_COUNTS_ALLOCATIONS 0
 #endif
 #include "size_list.hpp"
 
@@ -61,7 +66,7 @@ Resident resident_kib() {
 }
 
 // Adds the heap allocations (malloc, calloc, realloc, operator new) made by `work` to `total`;
-// where the counting allocator is not linked (sanitizer builds) `total` stays -1, "not counted".
+// where the counting allocator is not linked or a sanitizer owns malloc, `total` is -1, "not counted".
 template <typename Work>
 void count_allocations(long& total, Work&& work) {
 #if BOLO_VO_BENCH_COUNTS_ALLOCATIONS
@@ -215,6 +220,8 @@ int main(int argc, char** argv) {
                 keyframes, 1e3 * wall / frames, after_frames.file - before_frames.file,
                 after_frames.anonymous - before_frames.anonymous);
   }
+  if (!BOLO_VO_BENCH_COUNTS_ALLOCATIONS)
+    std::printf("heap allocations not counted: no counting allocator in this build, or a sanitizer owns malloc\n");
   std::printf("goal: >= 5x real time at 320x256, 60 Hz; no heap allocation while frames are processed (all VO memory is\n"
               "the arena). Resident memory grows during the first size only: code, stack and dynamic-linking pages\n"
               "touched the first time.\n");

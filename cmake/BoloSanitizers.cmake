@@ -12,13 +12,17 @@ if(BOLO_SANITIZE)
   add_compile_options(-fsanitize=${BOLO_SANITIZE} -fno-sanitize-recover=all
                       -fno-omit-frame-pointer)
   add_link_options(-fsanitize=${BOLO_SANITIZE})
-  if(BOLO_SANITIZE MATCHES "undefined")
-    # UBSan's vptr check reads the RTTI of polymorphic objects. firmware/ and hal_raw are built
-    # with -fno-rtti (board code), and host code calls into their LineSink/Stage objects, whose
-    # vtables carry no type info: the check cannot work across that line, so it is off everywhere.
-    add_compile_options(-fno-sanitize=vptr)
-    add_link_options(-fno-sanitize=vptr)
-  endif()
+endif()
+
+# UBSan's vptr check reads the RTTI of polymorphic objects. firmware/ and hal_raw are built with
+# -fno-rtti (board code), and host code calls into their LineSink/Stage objects, whose vtables
+# carry no type info: the check cannot work across that line, so it is off everywhere, whether
+# the sanitizer came through BOLO_SANITIZE or the user's own CMAKE_<LANG>_FLAGS.
+string(TOUPPER "${CMAKE_BUILD_TYPE}" _bolo_build_type)
+set(_bolo_user_flags "${CMAKE_CXX_FLAGS} ${CMAKE_CXX_FLAGS_${_bolo_build_type}} ${CMAKE_EXE_LINKER_FLAGS}")
+if(BOLO_SANITIZE MATCHES "undefined|vptr" OR _bolo_user_flags MATCHES "-fsanitize=[^ ]*(undefined|vptr)")
+  add_compile_options(-fno-sanitize=vptr)
+  add_link_options(-fno-sanitize=vptr)
 endif()
 
 if(BOLO_FUZZ)

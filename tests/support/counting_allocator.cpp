@@ -18,6 +18,7 @@ std::atomic<bool> g_counting{false};
 void* volatile g_escape = nullptr;
 }  // namespace bolo::test
 
+#if BOLO_COUNTING_ALLOCATOR_ACTIVE
 namespace {
 void note() {
   if (bolo::test::g_counting.load(std::memory_order_relaxed)) bolo::test::g_allocations.fetch_add(1);
@@ -50,3 +51,4 @@ void operator delete(void* p) noexcept { __libc_free(p); }
 void operator delete[](void* p) noexcept { __libc_free(p); }
 void operator delete(void* p, std::size_t) noexcept { __libc_free(p); }
 void operator delete[](void* p, std::size_t) noexcept { __libc_free(p); }
+#endif  // BOLO_COUNTING_ALLOCATOR_ACTIVE

@@ -12,9 +12,11 @@
 namespace bolo::hal {
 
 constexpr std::uint16_t crc16_ccitt_step(std::uint16_t crc, std::uint8_t byte) {
-  crc = static_cast<std::uint16_t>(crc ^ (byte << 8));
+  // Unsigned arithmetic throughout: integer promotion would otherwise make these shifts int.
+  std::uint32_t value = crc ^ (std::uint32_t{byte} << 8u);
   for (int bit = 0; bit < 8; ++bit)
-    crc = static_cast<std::uint16_t>((crc & 0x8000u) ? (crc << 1) ^ 0x1021u : crc << 1);
+    value = (value & 0x8000u) ? (value << 1u) ^ 0x1021u : value << 1u;
+  crc = static_cast<std::uint16_t>(value & 0xFFFFu);
   return crc;
 }
 
