@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Configures and builds bolo (Release, Ninja) into ./build.
+# Configures and builds bolo into ./build: the `release` preset (Release, Ninja, -Werror on the
+# board code, unity build).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j "$(nproc)"
+cmake --preset release >/dev/null
+cmake --build --preset release -j "$(nproc)"

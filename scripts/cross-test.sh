@@ -33,7 +33,7 @@ for target in "${targets[@]}"; do
   dir=build-$target
   echo "== $target: configure, build, test under ${emulator[0]}"
   cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_TOOLCHAIN_FILE="$toolchain" \
-    -DBOLO_BUILD_HOST_TOOLS=OFF >/dev/null
+    -DBOLO_BUILD_HOST_TOOLS=OFF -DBOLO_WERROR=ON -DCMAKE_UNITY_BUILD=ON >/dev/null
   cmake --build "$dir" -j "$jobs"
   ctest --test-dir "$dir" --output-on-failure -j "$jobs" || status=1
   golden_hashes "$dir" "${emulator[@]}" > "$dir/golden-$target.txt"

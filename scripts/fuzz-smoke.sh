@@ -1,26 +1,28 @@
 #!/usr/bin/env bash
-# Fuzz smoke test for CI: builds the `fuzz` preset (clang, libFuzzer, ASan + UBSan) and runs every
-# fuzz target for a short fixed time, starting from its committed corpus and regressions
+# Fuzz smoke test for CI: builds the libFuzzer targets of the `asan` preset (clang, ASan + UBSan,
+# coverage-instrumented libraries; the same build the sanitizer stage tests, so CI compiles the
+# instrumented code once) and runs every fuzz target for a short fixed time, starting from its committed corpus and regressions
 # (fuzz/corpus/<target>, fuzz/regressions/<target>; new inputs go to a scratch folder). Fails on
 # any crash, leak, timeout or broken property; the input that did it is kept in
-# build-fuzz/artifacts/<target>/ and printed (base64) with the report.
+# build-asan/artifacts/<target>/ and printed (base64) with the report.
 #   scripts/fuzz-smoke.sh [SECONDS]      (per target; default 15, or $BOLO_FUZZ_SECONDS)
 set -uo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-${BOLO_FUZZ_SECONDS:-15}}
 jobs=$(nproc)
 
-cmake --preset fuzz >/dev/null || exit 1
-cmake --build --preset fuzz -j "$jobs" || exit 1
+cmake --preset asan >/dev/null || exit 1
+cmake --build --preset fuzzers -j "$jobs" || exit 1
 
 work=$(mktemp -d)
 # BOLO_FUZZ_LOGS=DIR keeps each target's libFuzzer log and its grown corpus (long runs).
 trap '[ -n "${BOLO_FUZZ_LOGS:-}" ] && mkdir -p "$BOLO_FUZZ_LOGS" && cp -r "$work"/. "$BOLO_FUZZ_LOGS"/; rm -rf "$work"' EXIT
 targets=()
 # BOLO_FUZZ_TARGETS="a b" runs only those targets.
-for bin in build-fuzz/fuzz/fuzz_*; do
+for bin in build-asan/fuzz/fuzz_*; do
   t=${bin##*/fuzz_}
   [ -x "$bin" ] || continue
+  [[ $t == *_replay ]] && continue  # the corpus replays of the test suite, not libFuzzer binaries
   [ -z "${BOLO_FUZZ_TARGETS:-}" ] || [[ " $BOLO_FUZZ_TARGETS " == *" $t "* ]] && targets+=("$t")
 done
 [ ${#targets[@]} -gt 0 ] || { echo "fuzz-smoke: no fuzz targets built" >&2; exit 1; }
@@ -28,9 +30,9 @@ done
 run_one() {  # target -> exit status of libFuzzer; log in $work/<target>.log
   local t=$1 dirs=("$work/$t") d
   for d in fuzz/corpus/$t fuzz/regressions/$t; do [ -d "$d" ] && dirs+=("$d"); done
-  mkdir -p "$work/$t" "build-fuzz/artifacts/$t"
-  "build-fuzz/fuzz/fuzz_$t" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
-    -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/$t/" "${dirs[@]}" \
+  mkdir -p "$work/$t" "build-asan/artifacts/$t"
+  "build-asan/fuzz/fuzz_$t" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
+    -print_final_stats=1 -artifact_prefix="build-asan/artifacts/$t/" "${dirs[@]}" \
     >"$work/$t.log" 2>&1
 }
 
@@ -52,5 +54,5 @@ for ((i = 0; i < ${#targets[@]}; i += jobs)); do
     fi
   done
 done
-[ $status -eq 0 ] && echo "fuzz-smoke: no crash" || echo "fuzz-smoke: crashes found (inputs in build-fuzz/artifacts/)" >&2
+[ $status -eq 0 ] && echo "fuzz-smoke: no crash" || echo "fuzz-smoke: crashes found (inputs in build-asan/artifacts/)" >&2
 exit $status

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Sanitizer run for CI: builds the `asan` preset (gcc, AddressSanitizer + UndefinedBehaviorSanitizer,
-# -O2 -g1, errors fatal) into build-asan and runs the host test suite there, the fuzz corpus and
-# regression replays included, the VO's long accuracy tests (label vo-long) left out; then the
+# Sanitizer run for CI: builds the `asan` preset (clang, AddressSanitizer + UndefinedBehaviorSanitizer,
+# -O2 -g1, errors fatal, libraries coverage-instrumented for the fuzz targets that
+# scripts/fuzz-smoke.sh runs from the same build) into build-asan and runs the host test suite
+# there, the fuzz corpus and regression replays included, the VO's long accuracy tests (label
+# vo-long) left out; then the
 # `tsan` preset (ThreadSanitizer) on the threaded code. See docs/hardening.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -25,7 +25,7 @@ namespace {
 constexpr float kFlatShare = 0.3f;            // share of blocks used, the flattest
 constexpr double kClip = 3.0;                 // clipping, in sigmas
 constexpr double kClippedVariance = 0.9733;   // E[x^2 | |x| < 3 sigma] / sigma^2 for a normal x
-constexpr double kForget = 0.95;
+constexpr double kNoiseVarianceForget = 0.95;
 
 float block_roughness(const float* q, std::size_t o, std::size_t w) {
   return std::fabs(q[o + 1] - q[o]) + std::fabs(q[o + w] - q[o]) + std::fabs(q[o + w + 1] - q[o + 1]) +
@@ -85,7 +85,9 @@ double frame_noise_variance(State& s) {
 void update_noise_variance(State& s) {
   const double frame_var = frame_noise_variance(s);
   if (!(frame_var >= 0)) return;
-  s.noise_var = s.noise_var > 0 ? kForget * s.noise_var + (1 - kForget) * frame_var : frame_var;
+  s.noise_var = s.noise_var > 0
+                    ? kNoiseVarianceForget * s.noise_var + (1 - kNoiseVarianceForget) * frame_var
+                    : frame_var;
 }
 
 }  // namespace bolo::vo

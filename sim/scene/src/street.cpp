@@ -16,7 +16,6 @@ namespace L = street_layout;
 using detail::PlanarPath;
 using detail::Rng;
 
-constexpr double kPi = std::numbers::pi;
 
 Box aabox(double x0, double x1, double y0, double y1, double z0, double z1, std::size_t mat, std::uint64_t seed) {
   Box b;
@@ -181,7 +180,7 @@ Scene make_street_scene(std::uint64_t seed) {
   s.sky = Sky{232.0, 258.0, 0.2};
   s.atmosphere = Atmosphere{278.0, 1500.0};
   s.viewpoint = Eigen::Vector3d(150.0, -7.2, 1.65);
-  s.viewpoint_yaw = kPi / 3.0;
+  s.viewpoint_yaw = std::numbers::pi / 3.0;
 
   const double hw = L::kRoadHalfWidth, sw = L::kSidewalkOuter, cx = L::kCrossX;
   const double west = L::kMainWest, east = L::kMainEast, south = L::kCrossSouth;
@@ -307,26 +306,26 @@ Scene make_street_scene(std::uint64_t seed) {
 
   // Parked cars (right-hand traffic: facing the direction of the adjacent lane).
   const double park = 0.5 * (L::kRoadHalfWidth + 4.0);  // 5 m: middle of the parking strip
-  park_strip(s, rng, 0, park, kPi, west, east, cx - sw - 12.0, cx + sw + 12.0);
+  park_strip(s, rng, 0, park, std::numbers::pi, west, east, cx - sw - 12.0, cx + sw + 12.0);
   park_strip(s, rng, 0, -park, 0.0, west, east, cx - sw - 12.0, cx + sw + 12.0);
-  park_strip(s, rng, 1, cx - park, -kPi / 2.0, south, -sw, -sw - 8.0, 0.0);
-  park_strip(s, rng, 1, cx + park, kPi / 2.0, south, -sw, -sw - 8.0, 0.0);
+  park_strip(s, rng, 1, cx - park, -std::numbers::pi / 2.0, south, -sw, -sw - 8.0, 0.0);
+  park_strip(s, rng, 1, cx + park, std::numbers::pi / 2.0, south, -sw, -sw - 8.0, 0.0);
 
   // Traffic. Westbound in the main street's north lane, from inside the east building to inside
   // the west one. Northbound in the cross street, turning right into the main street's
   // eastbound lane, into the east building. (The `drive` trajectory uses the main street's
   // eastbound lane west of the junction and the cross street's southbound lane: no collision.)
   const double lane = L::kLaneOffset;
-  auto westbound = std::make_shared<const PlanarPath>(Eigen::Vector2d(east + 15.0, lane), kPi,
+  auto westbound = std::make_shared<const PlanarPath>(Eigen::Vector2d(east + 15.0, lane), std::numbers::pi,
                                                       std::vector<PlanarPath::Segment>{{east - west + 30.0, 0.0}});
   add_traffic(s, rng, westbound, rng.uniform(9.5, 12.5), 6);
   const double turn_len = 14.0;
-  const Eigen::Vector2d a = detail::turn_displacement(turn_len, -kPi / 2.0);  // forward a.x, right -a.y
+  const Eigen::Vector2d a = detail::turn_displacement(turn_len, -std::numbers::pi / 2.0);  // forward a.x, right -a.y
   const double y_turn = -lane - a.x();
   const double x_after = cx + lane - a.y();
   auto northbound = std::make_shared<const PlanarPath>(
-      Eigen::Vector2d(cx + lane, south - 10.0), kPi / 2.0,
-      std::vector<PlanarPath::Segment>{{y_turn - (south - 10.0), 0.0}, {turn_len, -kPi / 2.0},
+      Eigen::Vector2d(cx + lane, south - 10.0), std::numbers::pi / 2.0,
+      std::vector<PlanarPath::Segment>{{y_turn - (south - 10.0), 0.0}, {turn_len, -std::numbers::pi / 2.0},
                                        {east + 15.0 - x_after, 0.0}});
   add_traffic(s, rng, northbound, rng.uniform(9.0, 12.0), 6);
   return s;

@@ -16,8 +16,7 @@ namespace L = street_layout;
 using detail::PlanarPath;
 using detail::Rng;
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
+constexpr double kDeg = std::numbers::pi / 180.0;
 
 double smootherstep01(double x) {
   if (x <= 0.0) return 0.0;
@@ -35,12 +34,12 @@ struct Wobble {
     for (int i = 0; i < 3; ++i) {
       amp[i] = amplitude * share[i];
       freq[i] = rng.uniform(f_lo, f_hi) * (1.0 + 0.7 * i);
-      phase[i] = rng.uniform(0.0, 2.0 * kPi);
+      phase[i] = rng.uniform(0.0, 2.0 * std::numbers::pi);
     }
   }
   double operator()(double t) const {
     double v = 0.0;
-    for (int i = 0; i < 3; ++i) v += amp[i] * std::sin(2.0 * kPi * freq[i] * t + phase[i]);
+    for (int i = 0; i < 3; ++i) v += amp[i] * std::sin(2.0 * std::numbers::pi * freq[i] * t + phase[i]);
     return v;
   }
 };
@@ -51,18 +50,18 @@ Trajectory make_drive(std::uint64_t seed) {
   Rng rng(seed ^ 0xD21FEull);
   const double lane = L::kLaneOffset, cx = L::kCrossX;
   const double turn_len = 16.0;
-  const Eigen::Vector2d a = detail::turn_displacement(turn_len, -kPi / 2.0);  // (forward, -right)
+  const Eigen::Vector2d a = detail::turn_displacement(turn_len, -std::numbers::pi / 2.0);  // (forward, -right)
   const double x_turn = cx - lane - a.x();
   auto path = std::make_shared<const PlanarPath>(
       Eigen::Vector2d(0.0, -lane), 0.0,
-      std::vector<PlanarPath::Segment>{{x_turn, 0.0}, {turn_len, -kPi / 2.0}, {900.0, 0.0}});
+      std::vector<PlanarPath::Segment>{{x_turn, 0.0}, {turn_len, -std::numbers::pi / 2.0}, {900.0, 0.0}});
   const double y_after = -lane + a.y();
   const double s_stop = x_turn + turn_len + (y_after - (L::kCrossSouth + 25.0));
   const double s_mid = x_turn + 0.5 * turn_len;
 
   const double v_cruise = rng.uniform(9.5, 10.5), v_turn = 5.0, dip_w = 2.5;
-  const double amp = 1.5, omega = 2.0 * kPi / rng.uniform(12.0, 18.0), phi = rng.uniform(0.0, 2.0 * kPi);
-  const double dv = v_cruise - v_turn, k = dv * dip_w * std::sqrt(kPi) / 2.0;
+  const double amp = 1.5, omega = 2.0 * std::numbers::pi / rng.uniform(12.0, 18.0), phi = rng.uniform(0.0, 2.0 * std::numbers::pi);
+  const double dv = v_cruise - v_turn, k = dv * dip_w * std::sqrt(std::numbers::pi) / 2.0;
   auto u_of = [=](double t, double tc) {
     return v_cruise * t - k * (std::erf((t - tc) / dip_w) + std::erf(tc / dip_w)) +
            amp * (std::sin(omega * t + phi) - std::sin(phi));
@@ -131,7 +130,7 @@ Trajectory make_handheld(std::uint64_t seed) {
   const double y0 = -7.8, x0 = 40.0, run = 200.0, uturn = 1.6;
   auto path = std::make_shared<const PlanarPath>(
       Eigen::Vector2d(x0, y0), 0.0,
-      std::vector<PlanarPath::Segment>{{run, 0.0}, {uturn, kPi}, {run, 0.0}, {uturn, kPi}});
+      std::vector<PlanarPath::Segment>{{run, 0.0}, {uturn, std::numbers::pi}, {run, 0.0}, {uturn, std::numbers::pi}});
   const double loop = path->length();
   const double speed = rng.uniform(1.25, 1.45);
   const double step_hz = rng.uniform(1.7, 1.95);
@@ -141,20 +140,20 @@ Trajectory make_handheld(std::uint64_t seed) {
   const Wobble tremor(rng, 0.08 * kDeg, 6.0, 9.0);
   const std::uint64_t look_seed = rng.next();
   auto pose = [=](double t) {
-    double s = std::fmod(speed * t + 0.03 * std::sin(2.0 * kPi * step_hz * t), loop);
+    double s = std::fmod(speed * t + 0.03 * std::sin(2.0 * std::numbers::pi * step_hz * t), loop);
     if (s < 0.0) s += loop;
     const auto st = path->at(s);
     const Eigen::Vector2d fwd(std::cos(st.heading), std::sin(st.heading));
     const Eigen::Vector2d left(-fwd.y(), fwd.x());
-    const double bob = 0.02 * std::sin(2.0 * kPi * step_hz * t);
-    const double sway = 0.015 * std::sin(kPi * step_hz * t);  // one sway per two steps
+    const double bob = 0.02 * std::sin(2.0 * std::numbers::pi * step_hz * t);
+    const double sway = 0.015 * std::sin(std::numbers::pi * step_hz * t);  // one sway per two steps
     const Eigen::Vector2d xy = st.p + sway * left;
     const Eigen::Vector3d p(xy.x() + sx(t), xy.y() + sy(t), eye + bob + sz(t));
     double look_yaw, look_pitch;
     look_offsets(look_seed, t, look_yaw, look_pitch);
     const double yaw = st.heading + look_yaw + ryaw(t) + tremor(t);
     const double pitch = -4.0 * kDeg + look_pitch + rpitch(t) + tremor(t + 0.37);
-    const double roll = 0.8 * kDeg * std::sin(kPi * step_hz * t) + rroll(t);
+    const double roll = 0.8 * kDeg * std::sin(std::numbers::pi * step_hz * t) + rroll(t);
     return camera_pose(p, yaw, pitch, roll);
   };
   return Trajectory("handheld", "street", 60.0, pose);
@@ -192,14 +191,14 @@ Trajectory make_trajectory(const std::string& name, std::uint64_t seed) {
   if (name == "handheld") return make_handheld(seed);
   if (name == "flyover") return make_flyover(seed);
   if (name == "static") {
-    const Pose p = camera_pose(Eigen::Vector3d(150.0, -7.2, L::kSidewalkHeight + 1.5), kPi / 3.0, -3.0 * kDeg);
+    const Pose p = camera_pose(Eigen::Vector3d(150.0, -7.2, L::kSidewalkHeight + 1.5), std::numbers::pi / 3.0, -3.0 * kDeg);
     return Trajectory("static", "street", 30.0, [p](double) { return p; });
   }
   if (name == "pan") {
     const Eigen::Vector3d eye(L::kCrossX, 7.5, L::kSidewalkHeight + 1.5);
     const double rate = 30.0 * kDeg;
     return Trajectory("pan", "street", 24.0,
-                      [eye, rate](double t) { return camera_pose(eye, -kPi / 2.0 + rate * t, -2.0 * kDeg); });
+                      [eye, rate](double t) { return camera_pose(eye, -std::numbers::pi / 2.0 + rate * t, -2.0 * kDeg); });
   }
   if (name == "blackbody") {
     const Pose p = camera_pose(Eigen::Vector3d(0.0, 0.0, 1.2), 0.0, 0.0);
