@@ -155,12 +155,16 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   auto restore_valid = [&] { if (motion) d.valid = *motion; else d.reset_valid(); };
   BaselineFit fit;
   fit.model = "two-frame";
+  // tau_c and tau_h act through different frames (changes of the input, changes of the exposure):
+  // one search each way, then tau_c again with tau_h in place. The refits that follow (masks,
+  // findings) keep the first fit's tau_h and search tau_c alone.
+  const bool search_tau_h = fit_tau_h && !(d.tau_h_s > 0);
+  if (fit_tau_h && !search_tau_h) tau_h = d.tau_h_s;
   tau_c = std::exp(log_search(cost, std::log(2e-4), std::log(0.3)));
-  if (fit_tau_h) {
-    // tau_c and tau_h act through different frames (changes of the input, changes of the
-    // exposure): one search each way, then tau_c again with tau_h in place.
+  if (search_tau_h) {
     tau_h = std::exp(log_search(cost_tau_h, std::log(2e-4), std::log(1.0)));
     tau_c = std::exp(log_search(cost, std::log(2e-4), std::log(0.3)));
+    d.tau_h_s = tau_h;
   }
   fit.tau_c_s = tau_c;
   two_frame(d, tau_c, fit_tau_h ? tau_h : tau_c, sim);

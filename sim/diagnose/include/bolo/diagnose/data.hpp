@@ -42,6 +42,7 @@ struct DiagnoseData {
   std::vector<std::int8_t> input_flow_dy, input_flow_dx;
   double fps = 0;
   double tau_c_s = 0;    // the baseline's fitted cooling time constant (0: none)
+  double tau_h_s = 0;    // the heating time constant fitted where the exposures differ (0: none yet)
   double gain = 1;       // the baseline's gain: recording units per input unit
   double level_mid = 0;  // a typical level of the baseline (for nonlinearity and tau_temperature)
   std::string units;
