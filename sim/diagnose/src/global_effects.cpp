@@ -71,29 +71,29 @@ Eigen::VectorXd fit_frames(const FrameMeans& m, const Eigen::MatrixXd& X, const 
   return xtx.ldlt().solve(xtr);
 }
 
-// Offset jumps at shutter events, and the drift that restarts after each (the core settling
-// again after its flat-field correction: a sawtooth between events). Events are the flagged
-// frames and frames whose mean residual leaves the line the frames before it follow by far more
-// than the frame-to-frame scatter: found with or without frames.csv's flag, with or without a
-// time gap at the event.
+// Offset jumps at shutter events, and the shift that settles in after one (a core's per-frame
+// filter, or its re-settling after the flat-field correction; a long settle is a drift restarting
+// at the event). Events are the flagged frames and frames whose mean residual leaves the line the
+// frames before it follow by far more than the frame-to-frame scatter: found with or without
+// frames.csv's flag, with or without a time gap at the event.
 class FfcStep final : public Candidate {
  public:
   const char* id() const override { return "ffc_step"; }
   int parameter_count() const override {
-    const int drifts = int(std::count(drifts_.begin(), drifts_.end(), 1));
-    return std::max<int>(1, int(events_.size())) + (drifts > 0 ? drifts + 1 : 0);
+    const int settling = int(std::count(settles_after_.begin(), settles_after_.end(), 1));
+    return std::max<int>(1, int(events_.size())) + (settling > 0 ? settling + 1 : 0);
   }
   void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
     data_ = &d;
     residual_ = &r;
     means_ = frame_means(d, r);
     events_ = find_events(d, means_);
-    drifts_.assign(events_.size(), 0);
+    settles_after_.assign(events_.size(), 0);
     settle_frames_ = 0;
     if (events_.empty()) return;
-    // An event's restarted drift is part of the model when it pays for its parameter on the
-    // frame means of the whole recording (BIC on their residual sum of squares); the held-out
-    // scoring then judges the whole model. One at a time, the strongest first.
+    // An event's settling step is part of the model when it pays for its parameter on the frame
+    // means of the whole recording (BIC on their residual sum of squares); the held-out scoring
+    // then judges the whole model. One at a time, the strongest first.
     const std::vector<char> all(d.shape.n, 1);
     const double log_n = std::log(double(d.shape.n));
     double sse = mean_sse(offsets(all, nullptr));
@@ -101,20 +101,20 @@ class FfcStep final : public Candidate {
       int best = -1;
       double best_sse = sse;
       for (std::size_t e = 0; e < events_.size(); ++e) {
-        if (drifts_[e]) continue;
-        drifts_[e] = 1;
+        if (settles_after_[e]) continue;
+        settles_after_[e] = 1;
         const double with = mean_sse(offsets(all, nullptr));
-        drifts_[e] = 0;
+        settles_after_[e] = 0;
         if (with < best_sse) { best_sse = with; best = int(e); }
       }
       if (best < 0 || !(double(d.shape.n) * std::log(sse / std::max(1e-300, best_sse)) > log_n + 10)) break;
-      drifts_[best] = 1;
+      settles_after_[best] = 1;
       sse = best_sse;
     }
     // The settle is the shape of the shift, chosen here on all frames as the events are: a fold
     // whose training frames hold only the start of a settling cannot tell a curve from a line.
     settle_frames_ = 0;
-    if (std::find(drifts_.begin(), drifts_.end(), 1) != drifts_.end()) offsets(all, &settle_frames_);
+    if (std::find(settles_after_.begin(), settles_after_.end(), 1) != settles_after_.end()) offsets(all, &settle_frames_);
   }
   std::unique_ptr<FittedEffect> fit(const std::vector<char>& train) const override {
     if (events_.empty()) return nullptr;
@@ -137,15 +137,15 @@ class FfcStep final : public Candidate {
     where.col1 = data_->shape.width - 1;
     int flagged = 0;
     for (int e : events_) flagged += data_->flagged_event[e];
-    std::string drifting;
+    std::string settling_after;
     for (int e = 0; e < k; ++e)
-      if (drifts_[e]) drifting += (drifting.empty() ? "" : "/") + std::to_string(events_[e]);
+      if (settles_after_[e]) settling_after += (settling_after.empty() ? "" : "/") + std::to_string(events_[e]);
     where.summary = "global offset steps at frames " + frames + " (" + std::to_string(flagged) + " of " +
                     std::to_string(k) + " flagged in frames.csv)" +
-                    (drifting.empty() ? "" : "; after " + drifting + " the offset goes on moving, settling over ~" +
+                    (settling_after.empty() ? "" : "; after " + settling_after + " the offset goes on moving, settling over ~" +
                                                  number(settle_frames) + " frames");
     nlohmann::json params = {{"frames", events_}, {"steps", steps}, {"flagged", flagged}};
-    if (!drifting.empty()) {
+    if (!settling_after.empty()) {
       params["settling_steps"] = settling;  // per event; 0 where none follows
       params["settle_frames"] = settle_frames;
     }
@@ -187,7 +187,7 @@ class FfcStep final : public Candidate {
   }
 
  private:
-  // Per frame: a constant, a step at each event, and for the events in drifts_ a second step
+  // Per frame: a constant, a step at each event, and for the events in settles_after_ a second step
   // that settles in over the frames after it, 1 - a^(n - e + 1) with a = exp(-1 / settle): a
   // shift seen through a core's per-frame filter, or re-settling after the correction; a long
   // settle is a linear drift. The settle is settle_frames_ or else the best of a grid. Fitted on
@@ -197,29 +197,29 @@ class FfcStep final : public Candidate {
   std::vector<double> offsets(const std::vector<char>& train, double* settle_frames, Eigen::VectorXd* coefficients = nullptr) const {
     const DiagnoseData& d = *data_;
     const int N = d.shape.n, k = int(events_.size());
-    const bool any_drift = std::find(drifts_.begin(), drifts_.end(), 1) != drifts_.end();
+    const bool any_settling = std::find(settles_after_.begin(), settles_after_.end(), 1) != settles_after_.end();
     std::vector<double> best;
     double best_sse = std::numeric_limits<double>::infinity();
-    const std::vector<double> settles = !any_drift ? std::vector<double>{0}
+    const std::vector<double> settles = !any_settling ? std::vector<double>{0}
                                         : settle_frames_ > 0 ? std::vector<double>{settle_frames_}
                                                              : std::vector<double>{1, 2, 4, 8, 16, 32, 64, 256};
     for (double settle : settles) {
       std::vector<char> step(k, 1);
-      for (int e = 0; e < k && any_drift; ++e) {
-        if (!drifts_[e]) continue;
+      for (int e = 0; e < k && any_settling; ++e) {
+        if (!settles_after_[e]) continue;
         int seen = 0;
         for (int n = events_[e]; n < N && n - events_[e] < 3 * settle && (e + 1 == k || n < events_[e + 1]); ++n)
           seen += train[n] && means_.count[n] > 0;
         step[e] = seen >= 3;
       }
       Eigen::MatrixXd X = Eigen::MatrixXd::Zero(N, 1 + 2 * k);
-      const double a = any_drift ? std::exp(-1.0 / settle) : 0.0;
+      const double a = any_settling ? std::exp(-1.0 / settle) : 0.0;
       for (int n = 0; n < N; ++n) {
         X(n, 0) = 1.0;
         for (int e = 0; e < k; ++e) {
           if (n < events_[e]) continue;
           if (step[e]) X(n, e + 1) = 1.0;
-          if (drifts_[e]) X(n, 1 + k + e) = 1 - std::pow(a, n - events_[e] + 1);
+          if (settles_after_[e]) X(n, 1 + k + e) = 1 - std::pow(a, n - events_[e] + 1);
         }
       }
       const Eigen::VectorXd beta = fit_frames(means_, X, train);
@@ -307,7 +307,7 @@ class FfcStep final : public Candidate {
   const std::vector<float>* residual_ = nullptr;
   FrameMeans means_;
   std::vector<int> events_;
-  std::vector<char> drifts_;  // per event: a drift restarts after it
+  std::vector<char> settles_after_;  // per event: a settling step follows it
   double settle_frames_ = 0;  // frames over which the settling steps come in (0: not chosen yet)
 };
 
