@@ -115,6 +115,12 @@ class FfcStep final : public Candidate {
     // whose training frames hold only the start of a settling cannot tell a curve from a line.
     settle_frames_ = 0;
     if (std::find(settles_after_.begin(), settles_after_.end(), 1) != settles_after_.end()) offsets(all, &settle_frames_);
+    // A shift that does not settle but goes on as a line until the next event is a drift
+    // between shutter events: fpa_drift's, not this effect's.
+    if (settle_frames_ >= kLinearSettle) {
+      std::fill(settles_after_.begin(), settles_after_.end(), 0);
+      settle_frames_ = 0;
+    }
   }
   std::unique_ptr<FittedEffect> fit(const std::vector<char>& train) const override {
     if (events_.empty()) return nullptr;
@@ -190,7 +196,7 @@ class FfcStep final : public Candidate {
   // Per frame: a constant, a step at each event, and for the events in settles_after_ a second step
   // that settles in over the frames after it, 1 - a^(n - e + 1) with a = exp(-1 / settle): a
   // shift seen through a core's per-frame filter, or re-settling after the correction; a long
-  // settle is a linear drift. The settle is settle_frames_ or else the best of a grid. Fitted on
+  // settle is a straight line. The settle is settle_frames_ or else the best of a grid. Fitted on
   // the training frames' means. Where the first three settles after an event hold fewer than 3
   // training frames, the immediate step cannot be told from the settling one: that fold fits the
   // settling step alone (the shift starts from the level before the event).
@@ -202,7 +208,7 @@ class FfcStep final : public Candidate {
     double best_sse = std::numeric_limits<double>::infinity();
     const std::vector<double> settles = !any_settling ? std::vector<double>{0}
                                         : settle_frames_ > 0 ? std::vector<double>{settle_frames_}
-                                                             : std::vector<double>{1, 2, 4, 8, 16, 32, 64, 256};
+                                                             : std::vector<double>{1, 2, 4, 8, 16, 32, 64, kLinearSettle};
     for (double settle : settles) {
       std::vector<char> step(k, 1);
       for (int e = 0; e < k && any_settling; ++e) {
@@ -214,12 +220,13 @@ class FfcStep final : public Candidate {
       }
       Eigen::MatrixXd X = Eigen::MatrixXd::Zero(N, 1 + 2 * k);
       const double a = any_settling ? std::exp(-1.0 / settle) : 0.0;
+      const double full = 1 - std::pow(a, N);  // scales a long settle's line to reach 1 in N frames
       for (int n = 0; n < N; ++n) {
         X(n, 0) = 1.0;
         for (int e = 0; e < k; ++e) {
           if (n < events_[e]) continue;
           if (step[e]) X(n, e + 1) = 1.0;
-          if (settles_after_[e]) X(n, 1 + k + e) = 1 - std::pow(a, n - events_[e] + 1);
+          if (settles_after_[e]) X(n, 1 + k + e) = (1 - std::pow(a, n - events_[e] + 1)) / full;
         }
       }
       const Eigen::VectorXd beta = fit_frames(means_, X, train);
@@ -264,7 +271,9 @@ class FfcStep final : public Candidate {
     int last = -1000;
     for (int n = 1; n < N; ++n) {
       bool event = d.flagged_event[n];
-      if (!event) {
+      // A jump needs a line before it: in the first frames a start-up transient (a slow path
+      // starting cold) cannot be told from an event.
+      if (!event && n >= 3) {
         double jump = mean[n] - mean[n - 1], line_scatter = 0;
         const int first = std::max({0, n - kWindow, last});
         if (n - first >= 3) {
@@ -307,6 +316,7 @@ class FfcStep final : public Candidate {
   const std::vector<float>* residual_ = nullptr;
   FrameMeans means_;
   std::vector<int> events_;
+  static constexpr double kLinearSettle = 1e6;  // frames: a settle this long is a straight line
   std::vector<char> settles_after_;  // per event: a settling step follows it
   double settle_frames_ = 0;  // frames over which the settling steps come in (0: not chosen yet)
 };
