@@ -77,3 +77,13 @@ TEST_CASE("frames.csv timing the baseline cannot use is refused, naming frame an
   CHECK(contains(r.err, "frame 7"));
   CHECK(contains(r.err, "exposure_s"));
 }
+
+TEST_CASE("simulate refuses a timing jitter outside 0..0.1", "[diagnose][timing]") {
+  TempDir tmp;
+  for (const char* jitter : {"0.5", "-0.01"}) {
+    const CliResult r = run_bolo({"simulate", (tmp / "j").string(), "--frames", "2", "--timing-jitter", jitter});
+    CHECK(r.code != 0);
+    CHECK(contains(r.err, "--timing-jitter: must be 0..0.1"));
+    CHECK(!fs::exists(tmp / "j"));
+  }
+}
