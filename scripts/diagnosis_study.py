@@ -66,6 +66,14 @@ def concealed_cases():
         ("rolling_readout", "rows read 1.4 us apart (0.1 ms top to bottom), only at moving edges",
          ["rolling_readout:line_time_s=1.4e-6"]),
     ]
+    # Issue 40: exposure and readout that wander from frame to frame, logged exactly in frames.csv.
+    jitter = ["--timing-jitter", "0.005"]
+    cases += [
+        ("ffc_step", "unflagged events under 0.5 % timing jitter", ["ffc_step:frames=60/140,step=1,flagged=0"], jitter),
+        ("crosstalk", "a=0.5 under 0.5 % timing jitter", [amp_effect("crosstalk", 0.5)], jitter),
+        ("column_fpn", "a=0.5 under 0.5 % timing jitter", [amp_effect("column_fpn", 0.5)], jitter),
+        ("temporal_filter", "alpha 0.05 under 0.5 % timing jitter", ["temporal_filter:alpha=0.05"], jitter),
+    ]
     return cases
 
 def run(name, effects, seed, preset=None, extra=()):
@@ -125,6 +133,12 @@ def main():
             times.append(dt)
             rows["null"].append({"seed": 100 + s, "preset": preset, "findings": [f["effect"] for f in d["findings"]],
                                  "unexplained": len(d["unexplained"])})
+    # Exposure and readout jittered by 0.5 % from frame to frame (issue 40), logged in frames.csv.
+    for s in (range(1, 3) if QUICK else range(1, 7)):
+        d, truth, dt = run(f"null-jitter-{s}", [], 300 + s, None, ["--timing-jitter", "0.005"])
+        times.append(dt)
+        rows["null"].append({"seed": 300 + s, "preset": "generic, 0.5 % timing jitter",
+                             "findings": [f["effect"] for f in d["findings"]], "unexplained": len(d["unexplained"])})
     # Motion within the exposure (4 sub-steps, street scene, drive): the baseline's masked case.
     for s in (range(1, 3) if QUICK else range(1, 9)):
         d, truth, dt = run(f"null-drive-{s}", [], 200 + s, None,
@@ -137,9 +151,9 @@ def main():
 
 def run_concealed(rows, seeds, times):
     rows["concealed"] = []
-    for ci, (eid, how, effects) in enumerate(concealed_cases()):
+    for ci, (eid, how, effects, *extra) in enumerate(concealed_cases()):
         for s in seeds:
-            d, truth, dt = run(f"conc-{ci}-{eid}-{s}", effects, s)
+            d, truth, dt = run(f"conc-{ci}-{eid}-{s}", effects, s, None, extra[0] if extra else ())
             times.append(dt)
             found = [f["effect"] for f in d["findings"]]
             f = next((f for f in d["findings"] if f["effect"] == eid), None)
@@ -177,6 +191,34 @@ def run_real(rows):
                            stdout=subprocess.DEVNULL)
             with open(os.path.join(out, "diagnosis.json")) as f: d = json.load(f)
             rows["real"].append({"name": name, "seconds": time.time() - t0, "diagnosis": d})
+        # Issue 40: the shutter event of lepton35-trailcam-ffc with its flag cleared, with the real
+        # time stamps (a 1.8 s gap at the event) and with uniform ones.
+        source = os.path.join(real, "lepton35-trailcam-ffc")
+        if os.path.isdir(source):
+            for uniform in (False, True):
+                name = "lepton35-trailcam-ffc, flag cleared" + (", uniform time stamps" if uniform else "")
+                rec = os.path.join(WORK, "lepton35-noflag" + ("-uniform" if uniform else ""))
+                strip_shutter_flags(source, rec, uniform)
+                out = rec + ".d"
+                t0 = time.time()
+                subprocess.run([BOLO, "diagnose", rec, "--out", out, "--overwrite"], check=True, stdout=subprocess.DEVNULL)
+                with open(os.path.join(out, "diagnosis.json")) as f: d = json.load(f)
+                rows["real"].append({"name": name, "seconds": time.time() - t0, "diagnosis": d})
+
+def strip_shutter_flags(source, rec, uniform):
+    """A copy of a recording with every ffc flag cleared (and t_s on the nominal period if `uniform`)."""
+    os.makedirs(rec, exist_ok=True)
+    for f in ("frames.npy", "recording.json"):
+        if not os.path.exists(os.path.join(rec, f)): os.symlink(os.path.join(source, f), os.path.join(rec, f))
+    with open(os.path.join(source, "recording.json")) as f: fps = json.load(f)["fps"]
+    with open(os.path.join(source, "frames.csv")) as f: lines = f.read().splitlines()
+    out = [lines[0]]
+    for n, line in enumerate(lines[1:]):
+        cells = line.split(",")
+        if uniform: cells[1] = f"{n / fps:.6f}"
+        if cells[4]: cells[4] = "0"
+        out.append(",".join(cells))
+    with open(os.path.join(rec, "frames.csv"), "w") as f: f.write("\n".join(out) + "\n")
 
 def svg_curves(rows, path):
     effects = EFFECTS
@@ -199,10 +241,32 @@ def svg_curves(rows, path):
     out.append("</svg>")
     with open(path, "w") as f: f.write("\n".join(out) + "\n")
 
+def summary(rows):
+    """The page's opening lines: what the tables below say, in a few numbers."""
+    n = rows["null"]
+    fp = sum(1 for r in n if r["findings"])
+    jit = [r for r in n if "jitter" in r["preset"]]
+    conc = rows["concealed"]
+    det = sum(r["detected"] for r in conc)
+    clean = sum(1 for r in conc if r["detected"] and all(x == r["effect"] or x in " ".join(r["effects"]) for x in r["found"]))
+    lines = [f"**Summary.** Null recordings: {fp} of {len(n)} with a finding"
+             + (f" ({sum(1 for r in jit if r['findings'])} of {len(jit)} with exposure and readout jittered by 0.5 % "
+                "from frame to frame, which the baseline follows frame by frame)" if jit else "") + ". "
+             f"Concealed cases: the hidden effect named in {det} of {len(conc)} runs, {clean} of them with no finding "
+             "outside the injected effects."]
+    for r in rows["real"]:
+        if "flag cleared" not in r["name"]: continue
+        f = next((f for f in r["diagnosis"]["findings"] if f["effect"] == "ffc_step"), None)
+        lines.append(f"{r['name']}: " + (f"`ffc_step` at frames {f['params']['frames']}, held-out RMS "
+                                         f"{f['heldout_rms_before']:.3g} -> {f['heldout_rms_after']:.3g}" if f else "no `ffc_step`") + ".")
+    if rows.get("note"): lines.append(rows["note"])
+    return " ".join(lines)
+
 def write_docs(rows):
     svg_curves(rows, os.path.join(DOCS, "diagnosis-injection-recovery.svg"))
     L = []
     L.append("# Diagnosis study: concealed effects, null data, real recordings\n")
+    L.append(summary(rows) + "\n")
     L.append("Regenerate with `scripts/diagnosis-study.sh` (builds `bolo`, runs every case below with `bolo simulate` "
              "and `bolo diagnose`, rewrites this page and `docs/diagnosis-injection-recovery.svg`). Truth comes from "
              "`truth/effects.json`, which only this study reads; `bolo diagnose` never does.\n")
@@ -216,6 +280,7 @@ def write_docs(rows):
     fp = sum(1 for r in n if r["findings"])
     L.append("## Null data (baseline only)\n")
     L.append(f"{len(n)} recordings (seeds x presets: generic 30 fps, lepton3 8.7 Hz, generic with 1/f noise of 1 count; "
+             f"generic with exposure and readout jittered by 0.5 % from frame to frame; "
              f"street scene driven with 4 sub-steps per exposure): **{fp} with any finding, "
              f"false-positive rate {fp / max(1, len(n)):.1%}**.\n")
     if fp:

@@ -72,6 +72,9 @@ sim::SimulatorConfig resolve(const SimulateOptions& o, const sim::SensorPreset& 
       fail("--alternate-exposure: ", alternate, " s does not fit exposure + readout (", i.exposure_s + i.readout_s, " s)");
     c.exposure_schedule = {alternate, o.alternate_every};
   }
+  if (!std::isfinite(o.timing_jitter) || o.timing_jitter < 0 || o.timing_jitter > 0.1)
+    fail("--timing-jitter: must be 0..0.1 (a relative spread), got ", o.timing_jitter);
+  c.timing_jitter = o.timing_jitter;
   i.bits = o.bits.value_or(preset.bits);
   if (i.bits < 8 || i.bits > 16) fail("--bits: must be 8..16, got ", i.bits);
   i.reference_level = preset.level_300k * std::ldexp(1.0, static_cast<int>(i.bits) - 14);
@@ -129,6 +132,7 @@ void apply_simulate_config(const std::string& file, const CLI::App& app, Simulat
     else if (e.option == "readout") o.readout_s = number();
     else if (e.option == "alternate-exposure") o.alternate_exposure_s = number();
     else if (e.option == "alternate-every") o.alternate_every = static_cast<std::uint32_t>(std::min(count(), 1e6));
+    else if (e.option == "timing-jitter") o.timing_jitter = number();
     else if (e.option == "noise") o.noise = number();
     else if (e.option == "noise-1f") o.noise_1f = number();
     else if (e.option == "bits") o.bits = static_cast<std::uint32_t>(count());
@@ -169,6 +173,7 @@ int run_simulate(const SimulateOptions& o, std::ostream& out) {
   if (config.exposure_schedule.every_frames > 0)
     source << ", exposure alternating with " << config.exposure_schedule.alternate_exposure_s << " s every "
            << config.exposure_schedule.every_frames << " frames";
+  if (config.timing_jitter > 0) source << ", exposure and readout jittered by " << config.timing_jitter << " (relative)";
   if (!o.distortion.empty()) {
     source << ", lens distortion";
     for (std::size_t k = 0; k < o.distortion.size(); ++k) source << (k ? "," : " ") << o.distortion[k];
@@ -248,6 +253,10 @@ Command add_simulate_command(CLI::App& parent) {
                   "takes up the difference (a camera changing its integration time at a fixed frame rate)");
   app->add_option("--alternate-every", o->alternate_every, "Frames between exposure switches (with --alternate-exposure)")
       ->check(not_negative());
+  app->add_option("--timing-jitter", o->timing_jitter,
+                  "Each frame's exposure and readout scaled by 1 + J z, z ~ N(0,1) cut at +-3, as frames.csv records "
+                  "them; the frame interval follows (0..0.1)")
+      ->capture_default_str();
   app->add_option("--noise", o->noise, "White temporal noise, standard deviation in counts (default: the preset's)");
   app->add_option("--noise-1f", o->noise_1f, "1/f temporal noise, standard deviation in counts")->capture_default_str();
   app->add_option("--bits", o->bits, "Sensor bit depth 8..16 (default: the preset's)")->check(not_negative());

@@ -77,6 +77,7 @@ struct SimulateOptions {
   std::optional<double> readout_s;     // default: the rest of the frame period
   std::optional<double> alternate_exposure_s;  // with alternate_every: the exposure switches to it
   std::uint32_t alternate_every = 0;   // frames between exposure switches (0: none)
+  double timing_jitter = 0.0;          // relative spread of each frame's exposure and readout
   std::optional<double> noise;         // counts, standard deviation; default: the preset's
   double noise_1f = 0.0;
   std::optional<std::uint32_t> bits;   // default: the preset's

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "bolo/diagnose/baseline.hpp"
+#include "bolo/sim/two_frame_sensor.hpp"
 #include <Eigen/Dense>
 
 #include "stats.hpp"
@@ -13,27 +14,53 @@
 namespace bolo::diag {
 namespace {
 
-// The two-frame model with unit DC gain: s_i = c_i s_{i-1} + (1 - c_i) u_i, settled on u_0.
-void two_frame(const DiagnoseData& d, double tau_c, std::vector<float>& sim) {
+// Whether the frames' exposures differ: only then is tau_h more than a factor of the gain.
+bool varies(const std::vector<double>& values) {
+  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+  return *hi > *lo * (1 + 1e-9);
+}
+bool exposure_varies(const DiagnoseData& d) { return varies(d.exposure_s); }
+
+// Eq. 6 with each frame's own coefficients (frames.csv's exposure and readout):
+//   s_n = carry_n s_{n-1} + heat_n / heat_typ (1 - carry_typ) u_n,
+// scaled to unit DC gain at the recording's median timing (typ), so the fitted gain stays the
+// response of a typical frame. A frame whose timing departs from the median reads its own level.
+// The first frame is settled on its input, a flagged shutter frame on a uniform shutter at the
+// scene's mean level (the shutter is at the camera's temperature), each at its own timing.
+// With `nominal_timing`, every frame has the median exposure and readout.
+void two_frame(const DiagnoseData& d, double tau_c, double tau_h, std::vector<float>& sim, bool nominal_timing = false) {
   const std::size_t P = d.shape.pixels();
+  const double exposure_median = median_of(d.exposure_s), readout_median = median_of(d.readout_s);
+  auto exposure = [&](int n) { return nominal_timing ? exposure_median : d.exposure_s[n]; };
+  auto readout = [&](int n) { return nominal_timing ? readout_median : d.readout_s[n]; };
+  const sim::FrameCoefficients typical = sim::frame_coefficients(exposure_median, readout_median, tau_h, tau_c);
+  const double scale = (1 - typical.carry) / typical.heat;
+  // The reading of a pixel settled on a unit input at frame n's timing, and the carry into it.
+  auto settled = [&](int n) {
+    const sim::FrameCoefficients own = sim::frame_coefficients(exposure(n), readout(n), tau_h, tau_c);
+    return own.carry < 1 - 1e-12 ? scale * own.heat / (1 - own.carry) : scale * own.heat;
+  };
   sim.resize(d.shape.size());
-  std::copy_n(d.input.begin(), P, sim.begin());
+  {
+    const float g = static_cast<float>(settled(0));
+    const float* u = d.frame(d.input, 0);
+    for (std::size_t p = 0; p < P; ++p) sim[p] = g * u[p];
+  }
   for (int n = 1; n < d.shape.n; ++n) {
-    const float c = static_cast<float>(std::exp(-d.readout_s[n - 1] / tau_c));
-    const float k = 1.0f - c;
+    const sim::FrameCoefficients k = sim::frame_coefficients(exposure(n), readout(n - 1), tau_h, tau_c);
+    const float c = static_cast<float>(k.carry);
+    const float w = static_cast<float>(scale * k.heat);
     const float* prev = d.frame(sim, n - 1);
     const float* u = d.frame(d.input, n);
     float* s = d.frame(sim, n);
     if (d.flagged_event[n]) {
-      // The shutter closed before this frame: the pixels settled on it, at about the scene's
-      // mean level (the shutter is at the camera's temperature).
       double mean = 0;
       for (std::size_t p = 0; p < P; ++p) mean += u[p];
-      const float shutter = static_cast<float>(mean / double(P));
-      for (std::size_t p = 0; p < P; ++p) s[p] = c * shutter + k * u[p];
+      const float shutter = static_cast<float>(mean / double(P) * (settled(n) - scale * k.heat));
+      for (std::size_t p = 0; p < P; ++p) s[p] = shutter + w * u[p];
       continue;
     }
-    for (std::size_t p = 0; p < P; ++p) s[p] = c * prev[p] + k * u[p];
+    for (std::size_t p = 0; p < P; ++p) s[p] = c * prev[p] + w * u[p];
   }
 }
 
@@ -57,14 +84,42 @@ LinearFit fit_gain_offset(const DiagnoseData& d, const std::vector<float>& sim, 
   return f;
 }
 
+// The minimum of cost(log tau) on [lo, hi]: a coarse grid, then golden section inside the best bracket.
+template <typename Cost>
+double log_search(Cost cost, double lo, double hi) {
+  const int grid = 16;
+  int best = 0;
+  std::vector<double> costs(grid + 1);
+  for (int g = 0; g <= grid; ++g) {
+    costs[g] = cost(lo + (hi - lo) * g / grid);
+    if (costs[g] < costs[best]) best = g;
+  }
+  double a = lo + (hi - lo) * std::max(0, best - 1) / grid, b = lo + (hi - lo) * std::min(grid, best + 1) / grid;
+  const double phi = 0.5 * (std::sqrt(5.0) - 1);
+  double x1 = b - phi * (b - a), x2 = a + phi * (b - a), f1 = cost(x1), f2 = cost(x2);
+  for (int it = 0; it < 14; ++it) {
+    if (f1 < f2) { b = x2; x2 = x1; f2 = f1; x1 = b - phi * (b - a); f1 = cost(x1); }
+    else { a = x1; x1 = x2; f1 = f2; x2 = a + phi * (b - a); f2 = cost(x2); }
+  }
+  return 0.5 * (a + b);
+}
+
 // `motion`: pixel-frames to leave out of the fit (mask_scene_motion), or null for none.
 BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* motion = nullptr) {
   if (motion) d.valid = *motion; else d.reset_valid();
   const std::size_t P = d.shape.pixels();
   std::vector<float> sim;
   std::vector<std::uint8_t> use(P, 1);
+  // tau_h only shapes how a frame's exposure sets its level: with one exposure throughout it is
+  // a factor of the gain, held at tau_c; otherwise it is searched for (below).
+  const bool fit_tau_h = exposure_varies(d);
+  double tau_c = 0.012, tau_h = 0.012;
   auto cost = [&](double log_tau) {
-    two_frame(d, std::exp(log_tau), sim);
+    two_frame(d, std::exp(log_tau), fit_tau_h ? tau_h : std::exp(log_tau), sim);
+    return fit_gain_offset(d, sim, use).sse;
+  };
+  auto cost_tau_h = [&](double log_tau_h) {
+    two_frame(d, tau_c, std::exp(log_tau_h), sim);
     return fit_gain_offset(d, sim, use).sse;
   };
   // Pixels far off the model (stuck, dead) would pull gain and tau: a first fit at a typical
@@ -98,26 +153,21 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   if (int(repeats.size()) * 2 < d.shape.n)
     for (int n : repeats) std::fill_n(d.valid.begin() + std::size_t(n) * P, P, 0);
   auto restore_valid = [&] { if (motion) d.valid = *motion; else d.reset_valid(); };
-  // Coarse log grid, then golden section inside the best bracket.
-  const double lo = std::log(2e-4), hi = std::log(0.3);
-  const int grid = 16;
-  int best = 0;
-  std::vector<double> costs(grid + 1);
-  for (int g = 0; g <= grid; ++g) {
-    costs[g] = cost(lo + (hi - lo) * g / grid);
-    if (costs[g] < costs[best]) best = g;
-  }
-  double a = lo + (hi - lo) * std::max(0, best - 1) / grid, b = lo + (hi - lo) * std::min(grid, best + 1) / grid;
-  const double phi = 0.5 * (std::sqrt(5.0) - 1);
-  double x1 = b - phi * (b - a), x2 = a + phi * (b - a), f1 = cost(x1), f2 = cost(x2);
-  for (int it = 0; it < 14; ++it) {
-    if (f1 < f2) { b = x2; x2 = x1; f2 = f1; x1 = b - phi * (b - a); f1 = cost(x1); }
-    else { a = x1; x1 = x2; f1 = f2; x2 = a + phi * (b - a); f2 = cost(x2); }
-  }
   BaselineFit fit;
   fit.model = "two-frame";
-  fit.tau_c_s = std::exp(0.5 * (a + b));
-  two_frame(d, fit.tau_c_s, sim);
+  // tau_c and tau_h act through different frames (changes of the input, changes of the exposure):
+  // one search each way, then tau_c again with tau_h in place. The refits that follow (masks,
+  // findings) keep the first fit's tau_h and search tau_c alone.
+  const bool search_tau_h = fit_tau_h && !(d.tau_h_s > 0);
+  if (fit_tau_h && !search_tau_h) tau_h = d.tau_h_s;
+  tau_c = std::exp(log_search(cost, std::log(2e-4), std::log(0.3)));
+  if (search_tau_h) {
+    tau_h = std::exp(log_search(cost_tau_h, std::log(2e-4), std::log(1.0)));
+    tau_c = std::exp(log_search(cost, std::log(2e-4), std::log(0.3)));
+    d.tau_h_s = tau_h;
+  }
+  fit.tau_c_s = tau_c;
+  two_frame(d, tau_c, fit_tau_h ? tau_h : tau_c, sim);
   const LinearFit lin = fit_gain_offset(d, sim, use);
   fit.gain = lin.gain;
   fit.offset = lin.offset;
@@ -127,22 +177,31 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   for (int n = 1; n + 1 < d.shape.n; ++n)
     for (std::size_t p = 0; p < P; ++p)
       rate[std::size_t(n) * P + p] = 0.5f * (sim[std::size_t(n + 1) * P + p] - sim[std::size_t(n - 1) * P + p]);
+  // A sensor whose offset moves with its exposure (a dark signal integrated over t_e): an offset
+  // in proportion to the frame's departure from the median exposure, when the exposures differ.
+  std::vector<double> exposure_change(d.shape.n, 0.0);
+  const double typical_exposure = median_of(d.exposure_s);
+  for (int n = 0; n < d.shape.n; ++n) exposure_change[n] = d.exposure_s[n] / typical_exposure - 1;
   {
-    Eigen::Matrix3d xtx = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d xty = Eigen::Vector3d::Zero();
+    const int k = fit_tau_h ? 4 : 3;
+    Eigen::MatrixXd xtx = Eigen::MatrixXd::Zero(k, k);
+    Eigen::VectorXd xty = Eigen::VectorXd::Zero(k), x(k);
     for (std::size_t i = 0; i < sim.size(); ++i) {
       if (!d.valid[i] || !use[i % P]) continue;
-      const Eigen::Vector3d x(sim[i], 1.0, rate[i]);
-      xtx += x * x.transpose();
+      x[0] = sim[i], x[1] = 1.0, x[2] = rate[i];
+      if (fit_tau_h) x[3] = exposure_change[i / P];
+      xtx.selfadjointView<Eigen::Lower>().rankUpdate(x);
       xty += x * double(d.recorded[i]);
     }
-    const Eigen::Vector3d beta = xtx.ldlt().solve(xty);
+    xtx = xtx.selfadjointView<Eigen::Lower>();
+    const Eigen::VectorXd beta = xtx.ldlt().solve(xty);
     // A pixel reads within its own exposure: a shift beyond half a frame is no timing but the
     // regressor standing in for something else (or a gain near zero); the plain fit then stands.
     if (beta.allFinite() && beta[0] != 0 && std::fabs(beta[2] / beta[0]) <= 0.5) {
       fit.gain = beta[0];
       fit.offset = beta[1];
       fit.timing_frames = beta[2] / beta[0];
+      if (fit_tau_h) fit.exposure_offset = beta[3];
     }
   }
   const double period = 1.0 / d.fps;
@@ -151,11 +210,29 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   // y = G s with s of unit DC gain: the heating fraction k = G (1 - c) if the sensor gain is 1.
   const double k = fit.gain * (1 - carry);
   const double te = median_of(d.exposure_s);
-  fit.tau_h_s = (k > 0 && k < 1) ? -te / std::log(1 - k) : fit.tau_c_s;
-  fit.assumption = "scene.npy drives the two-frame model; tau_h from the DC gain assuming unit sensor gain";
+  fit.tau_h_fitted = fit_tau_h;
+  fit.tau_h_s = fit_tau_h ? tau_h : (k > 0 && k < 1) ? -te / std::log(1 - k) : fit.tau_c_s;
+  fit.assumption = std::string("scene.npy drives the two-frame model with each frame's exposure and readout (frames.csv; ") +
+                   std::to_string(d.timing_filled) + " frame(s) with missing timing filled in); " +
+                   (fit_tau_h ? "tau_h fitted to the level changes of frames with other exposures, and an offset "
+                                "in proportion to the exposure's departure from the median"
+                              : "one exposure throughout: tau_h from the DC gain assuming unit sensor gain");
   restore_valid();
   d.baseline.resize(d.shape.size());
-  for (std::size_t i = 0; i < sim.size(); ++i) d.baseline[i] = float(fit.gain * (sim[i] + fit.timing_frames * rate[i]) + fit.offset);
+  for (std::size_t i = 0; i < sim.size(); ++i)
+    d.baseline[i] = float(fit.gain * (sim[i] + fit.timing_frames * rate[i]) + fit.offset +
+                          fit.exposure_offset * exposure_change[i / P]);
+  d.baseline_nominal.clear();
+  if (varies(d.exposure_s) || varies(d.readout_s)) {
+    two_frame(d, tau_c, fit_tau_h ? tau_h : tau_c, sim, true);
+    d.baseline_nominal.resize(d.shape.size());
+    for (int n = 0; n < d.shape.n; ++n)
+      for (std::size_t p = 0; p < P; ++p) {
+        const std::size_t i = std::size_t(n) * P + p;
+        const double slope = n > 0 && n + 1 < d.shape.n ? 0.5 * (sim[i + P] - sim[i - P]) : 0.0;
+        d.baseline_nominal[i] = float(fit.gain * (sim[i] + fit.timing_frames * slope) + fit.offset);
+      }
+  }
   return fit;
 }
 
@@ -211,6 +288,7 @@ BaselineFit fit_static_background(DiagnoseData& d) {
     std::copy(background.begin(), background.end(), d.frame(d.input, n));
     std::copy(background.begin(), background.end(), d.frame(d.baseline, n));
   }
+  d.baseline_nominal.clear();
   BaselineFit fit;
   fit.model = "static-background";
   fit.assumption =
@@ -362,7 +440,8 @@ nlohmann::json BaselineFit::to_json() const {
     params = {{"tau_h_s", tau_h_s}, {"tau_c_s", tau_c_s}, {"gain", gain}, {"offset", offset},
               {"tau_identifiable", tau_identifiable},
               {"timing_shift_frames", timing_frames}, {"moving_fraction", moving_fraction},
-              {"large_miss_mask", large_miss_mask}};
+              {"large_miss_mask", large_miss_mask}, {"tau_h_fitted", tau_h_fitted}};
+    if (tau_h_fitted) params["exposure_offset"] = exposure_offset;
   } else {
     params = {{"moving_fraction", moving_fraction}};
   }
@@ -443,11 +522,13 @@ double noise_floor(const DiagnoseData& d, bool without_line_patterns) {
     if (d.flagged_event[n]) continue;
     const float *y = d.frame(d.recorded, n), *y0 = d.frame(d.recorded, n - 1);
     const float *b = d.frame(d.baseline, n), *b0 = d.frame(d.baseline, n - 1);
+    const float *s = d.frame(d.still_reference(), n), *s0 = d.frame(d.still_reference(), n - 1);
     const std::uint8_t *v = d.valid_frame(n), *v0 = d.valid_frame(n - 1);
     still.clear();
     for (std::size_t p = 0; p < P; ++p) {
-      used[p] = v[p] && v0[p] && holds_still(b[p], b0[p]);
-      frame_diff[p] = y[p] - y0[p];
+      used[p] = v[p] && v0[p] && holds_still(s[p], s0[p]);
+      // Less the baseline's own change (a frame with another exposure reads another level).
+      frame_diff[p] = (y[p] - y0[p]) - (b[p] - b0[p]);
       kept[p] = 1.0;
       if (used[p]) still.push_back(frame_diff[p]);
     }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -70,52 +71,70 @@ Eigen::VectorXd fit_frames(const FrameMeans& m, const Eigen::MatrixXd& X, const 
   return xtx.ldlt().solve(xtr);
 }
 
-// Offset jumps at shutter events: flagged frames, and unflagged jumps of the frame mean far
-// above its frame-to-frame scatter.
+// Offset jumps at shutter events, and the shift that settles in after one (a core's per-frame
+// filter, or its re-settling after the flat-field correction; a long settle is a drift restarting
+// at the event). Events are the flagged frames and frames whose mean residual leaves the line the
+// frames before it follow by far more than the frame-to-frame scatter: found with or without
+// frames.csv's flag, with or without a time gap at the event.
 class FfcStep final : public Candidate {
  public:
   const char* id() const override { return "ffc_step"; }
-  int parameter_count() const override { return std::max<int>(1, int(events_.size())); }
+  int parameter_count() const override {
+    const int settling = int(std::count(settles_after_.begin(), settles_after_.end(), 1));
+    return std::max<int>(1, int(events_.size())) + (settling > 0 ? settling + 1 : 0);
+  }
   void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
     data_ = &d;
     residual_ = &r;
     means_ = frame_means(d, r);
-    events_.clear();
-    const int N = d.shape.n;
-    std::vector<double> mean(N), diff;
-    for (int n = 0; n < N; ++n) mean[n] = means_.count[n] > 0 ? means_.sum[n] / means_.count[n] : 0.0;
-    for (int n = 1; n < N; ++n) diff.push_back(mean[n] - mean[n - 1]);
-    std::vector<double> abs_diff;
-    for (double v : diff) abs_diff.push_back(std::fabs(v));
-    const double scatter = 1.4826 * median_of(abs_diff);
-    for (int n = 1; n < N; ++n) {
-      const bool flagged = d.flagged_event[n] || (n + 1 < N && d.flagged_event[n + 1] && false);
-      if (flagged || std::fabs(diff[n - 1]) > 8 * scatter + 1e-9) events_.push_back(n);
+    events_ = find_events(d, means_);
+    settles_after_.assign(events_.size(), 0);
+    settle_frames_ = 0;
+    if (events_.empty()) return;
+    // An event's settling step is part of the model when it pays for its parameter on the frame
+    // means of the whole recording (BIC on their residual sum of squares); the held-out scoring
+    // then judges the whole model. One at a time, the strongest first.
+    const std::vector<char> all(d.shape.n, 1);
+    const double log_n = std::log(double(d.shape.n));
+    double sse = mean_sse(offsets(all, nullptr));
+    for (std::size_t round = 0; round < events_.size(); ++round) {
+      int best = -1;
+      double best_sse = sse;
+      for (std::size_t e = 0; e < events_.size(); ++e) {
+        if (settles_after_[e]) continue;
+        settles_after_[e] = 1;
+        const double with = mean_sse(offsets(all, nullptr));
+        settles_after_[e] = 0;
+        if (with < best_sse) { best_sse = with; best = int(e); }
+      }
+      if (best < 0 || !(double(d.shape.n) * std::log(sse / std::max(1e-300, best_sse)) > log_n + 10)) break;
+      settles_after_[best] = 1;
+      sse = best_sse;
     }
-    // Neighbouring detections are one event (a transient spreads a jump over two frames).
-    std::vector<int> merged;
-    for (int e : events_)
-      if (merged.empty() || e - merged.back() > 5) merged.push_back(e);
-    events_ = merged;
-    if (events_.size() > 12) events_.resize(12);
+    // The settle is the shape of the shift, chosen here on all frames as the events are: a fold
+    // whose training frames hold only the start of a settling cannot tell a curve from a line.
+    settle_frames_ = 0;
+    if (std::find(settles_after_.begin(), settles_after_.end(), 1) != settles_after_.end()) offsets(all, &settle_frames_);
+    // A shift that does not settle but goes on as a line until the next event is a drift
+    // between shutter events: fpa_drift's, not this effect's.
+    if (settle_frames_ >= kLinearSettle) {
+      std::fill(settles_after_.begin(), settles_after_.end(), 0);
+      settle_frames_ = 0;
+    }
   }
   std::unique_ptr<FittedEffect> fit(const std::vector<char>& train) const override {
     if (events_.empty()) return nullptr;
-    const int N = data_->shape.n, k = int(events_.size());
-    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(N, k + 1);
-    for (int n = 0; n < N; ++n) {
-      X(n, 0) = 1.0;
-      for (int e = 0; e < k; ++e) X(n, e + 1) = n >= events_[e] ? 1.0 : 0.0;
-    }
-    const Eigen::VectorXd beta = fit_frames(means_, X, train);
-    std::vector<double> offset(N);
-    for (int n = 0; n < N; ++n) offset[n] = X.row(n).dot(beta);
-    nlohmann::json steps = nlohmann::json::array();
+    const int k = int(events_.size());
+    double settle_frames = 0;
+    Eigen::VectorXd beta;
+    std::vector<double> offset = offsets(train, &settle_frames, &beta);
+    nlohmann::json steps = nlohmann::json::array(), settling = nlohmann::json::array();
     std::string frames;
     double biggest = 0;
     Where where;
     for (int e = 0; e < k; ++e) {
       steps.push_back(beta[e + 1]);
+      settling.push_back(beta[k + 1 + e]);
       frames += (e ? "/" : "") + std::to_string(events_[e]);
       biggest = std::max(biggest, std::fabs(beta[e + 1]));
       where.frames.push_back({events_[e], events_[e]});
@@ -124,9 +143,18 @@ class FfcStep final : public Candidate {
     where.col1 = data_->shape.width - 1;
     int flagged = 0;
     for (int e : events_) flagged += data_->flagged_event[e];
+    std::string settling_after;
+    for (int e = 0; e < k; ++e)
+      if (settles_after_[e]) settling_after += (settling_after.empty() ? "" : "/") + std::to_string(events_[e]);
     where.summary = "global offset steps at frames " + frames + " (" + std::to_string(flagged) + " of " +
-                    std::to_string(k) + " flagged in frames.csv)";
+                    std::to_string(k) + " flagged in frames.csv)" +
+                    (settling_after.empty() ? "" : "; after " + settling_after + " the offset goes on moving, settling over ~" +
+                                                 number(settle_frames) + " frames");
     nlohmann::json params = {{"frames", events_}, {"steps", steps}, {"flagged", flagged}};
+    if (!settling_after.empty()) {
+      params["settling_steps"] = settling;  // per event; 0 where none follows
+      params["settle_frames"] = settle_frames;
+    }
     const std::string sim = "ffc_step:frames=" + frames + ",step=" + number(biggest) +
                             ",flagged=" + (flagged == k ? "1" : "0");
     auto fitted = std::make_unique<FrameOffsetFit>(std::move(offset), params, sim, where);
@@ -165,10 +193,132 @@ class FfcStep final : public Candidate {
   }
 
  private:
+  // Per frame: a constant, a step at each event, and for the events in settles_after_ a second step
+  // that settles in over the frames after it, 1 - a^(n - e + 1) with a = exp(-1 / settle): a
+  // shift seen through a core's per-frame filter, or re-settling after the correction; a long
+  // settle is a straight line. The settle is settle_frames_ or else the best of a grid. Fitted on
+  // the training frames' means. Where the first three settles after an event hold fewer than 3
+  // training frames, the immediate step cannot be told from the settling one: that fold fits the
+  // settling step alone (the shift starts from the level before the event).
+  std::vector<double> offsets(const std::vector<char>& train, double* settle_frames, Eigen::VectorXd* coefficients = nullptr) const {
+    const DiagnoseData& d = *data_;
+    const int N = d.shape.n, k = int(events_.size());
+    const bool any_settling = std::find(settles_after_.begin(), settles_after_.end(), 1) != settles_after_.end();
+    std::vector<double> best;
+    double best_sse = std::numeric_limits<double>::infinity();
+    const std::vector<double> settles = !any_settling ? std::vector<double>{0}
+                                        : settle_frames_ > 0 ? std::vector<double>{settle_frames_}
+                                                             : std::vector<double>{1, 2, 4, 8, 16, 32, 64, kLinearSettle};
+    for (double settle : settles) {
+      std::vector<char> step(k, 1);
+      for (int e = 0; e < k && any_settling; ++e) {
+        if (!settles_after_[e]) continue;
+        int seen = 0;
+        for (int n = events_[e]; n < N && n - events_[e] < 3 * settle && (e + 1 == k || n < events_[e + 1]); ++n)
+          seen += train[n] && means_.count[n] > 0;
+        step[e] = seen >= 3;
+      }
+      Eigen::MatrixXd X = Eigen::MatrixXd::Zero(N, 1 + 2 * k);
+      const double a = any_settling ? std::exp(-1.0 / settle) : 0.0;
+      const double full = 1 - std::pow(a, N);  // scales a long settle's line to reach 1 in N frames
+      for (int n = 0; n < N; ++n) {
+        X(n, 0) = 1.0;
+        for (int e = 0; e < k; ++e) {
+          if (n < events_[e]) continue;
+          if (step[e]) X(n, e + 1) = 1.0;
+          if (settles_after_[e]) X(n, 1 + k + e) = (1 - std::pow(a, n - events_[e] + 1)) / full;
+        }
+      }
+      const Eigen::VectorXd beta = fit_frames(means_, X, train);
+      std::vector<double> offset(N);
+      double sse = 0;
+      for (int n = 0; n < N; ++n) {
+        offset[n] = X.row(n).dot(beta);
+        if (train[n] && means_.count[n] > 0) {
+          const double e = means_.sum[n] / means_.count[n] - offset[n];
+          sse += means_.count[n] * e * e;
+        }
+      }
+      if (sse < best_sse) {
+        best_sse = sse;
+        best = std::move(offset);
+        if (settle_frames) *settle_frames = settle;
+        if (coefficients) *coefficients = beta;
+      }
+    }
+    return best;
+  }
+  double mean_sse(const std::vector<double>& offset) const {
+    double sse = 0;
+    for (std::size_t n = 0; n < offset.size(); ++n) {
+      if (means_.count[n] == 0) continue;
+      const double e = means_.sum[n] / means_.count[n] - offset[n];
+      sse += e * e;
+    }
+    return sse;
+  }
+  // Flagged frames, and jumps: a frame whose mean leaves the line fitted to the (up to 8) frames
+  // before it by more than 8 times the frame-to-frame scatter of the means and 8 times that
+  // line's own scatter (so the frames of a drift that follows an event do not count again).
+  static std::vector<int> find_events(const DiagnoseData& d, const FrameMeans& m) {
+    const int N = d.shape.n;
+    std::vector<double> mean(N), abs_diff;
+    for (int n = 0; n < N; ++n) mean[n] = m.count[n] > 0 ? m.sum[n] / m.count[n] : 0.0;
+    for (int n = 1; n < N; ++n) abs_diff.push_back(std::fabs(mean[n] - mean[n - 1]));
+    const double scatter = 1.4826 * median_of(abs_diff);
+    constexpr int kWindow = 8;
+    std::vector<int> events;
+    int last = -1000;
+    for (int n = 1; n < N; ++n) {
+      bool event = d.flagged_event[n];
+      // A jump needs a line before it: in the first frames a start-up transient (a slow path
+      // starting cold) cannot be told from an event.
+      if (!event && n >= 3) {
+        double jump = mean[n] - mean[n - 1], line_scatter = 0;
+        const int first = std::max({0, n - kWindow, last});
+        if (n - first >= 3) {
+          // Least-squares line over time through frames first..n-1, extrapolated to frame n.
+          double st = 0, sm = 0, stt = 0, stm = 0, c = 0;
+          for (int j = first; j < n; ++j) {
+            const double t = d.t_s[j] - d.t_s[n];
+            st += t; sm += mean[j]; stt += t * t; stm += t * mean[j]; c += 1;
+          }
+          const double den = stt - st * st / c;
+          const double slope = den > 0 ? (stm - st * sm / c) / den : 0.0, at_n = sm / c - slope * st / c;
+          // The drift a line allows stops at the time of one typical frame: across a time gap
+          // (the camera busy with its shutter) the line is not carried further.
+          const double gap = d.t_s[n] - d.t_s[n - 1], typical = 1.0 / d.fps;
+          const double extrapolated = at_n - slope * std::max(0.0, gap - typical);
+          jump = mean[n] - extrapolated;
+          double ss = 0;
+          for (int j = first; j < n; ++j) {
+            const double e = mean[j] - (at_n + slope * (d.t_s[j] - d.t_s[n]));
+            ss += e * e;
+          }
+          line_scatter = c > 2 ? std::sqrt(ss / (c - 2)) : 0.0;
+        }
+        event = std::fabs(jump) > 8 * scatter + 1e-9 && std::fabs(jump) > 8 * line_scatter;
+      }
+      // Neighbouring detections are one event (a transient spreads a jump over two frames).
+      if (event && n - last > 5) {
+        events.push_back(n);
+        last = n;
+      } else if (event && d.flagged_event[n] && !events.empty() && !d.flagged_event[events.back()]) {
+        events.back() = n;  // a flag names the event's frame better than a jump before it
+        last = n;
+      }
+    }
+    if (events.size() > 12) events.resize(12);
+    return events;
+  }
+
   const DiagnoseData* data_ = nullptr;
   const std::vector<float>* residual_ = nullptr;
   FrameMeans means_;
   std::vector<int> events_;
+  static constexpr double kLinearSettle = 1e6;  // frames: a settle this long is a straight line
+  std::vector<char> settles_after_;  // per event: a settling step follows it
+  double settle_frames_ = 0;  // frames over which the settling steps come in (0: not chosen yet)
 };
 
 // y += k (T_fpa - T at the last shutter event); without FPA temperatures, a slow drift since

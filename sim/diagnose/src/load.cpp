@@ -1,11 +1,56 @@
 // Reads a whole recording into float arrays; a diagnosis needs random access over time.
 
+#include <algorithm>
 #include <cmath>
 
 #include "bolo/diagnose/baseline.hpp"
 #include "bolo/recording/recording.hpp"
 
 namespace bolo::diag {
+namespace {
+
+double median_of_known(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+// Each frame's t_s, exposure and the readout after it, as the baseline's Eq. 6 needs them. What
+// frames.csv leaves empty: t_s on the nominal period; an exposure, the median of the known ones
+// (half the period if none is known); a readout, the interval to the next frame less the
+// exposure when both time stamps are known, else the median of the known readouts, else the
+// rest of the period.
+void fill_frame_timing(const std::vector<rec::FrameRow>& rows, double period, const std::string& file, DiagnoseData& d) {
+  std::vector<double> exposures, readouts;
+  for (const auto& r : rows) {
+    if (r.exposure_s) exposures.push_back(*r.exposure_s);
+    if (r.readout_s) readouts.push_back(*r.readout_s);
+  }
+  const double typical_exposure = exposures.empty() ? 0.5 * period : median_of_known(exposures);
+  const std::size_t N = rows.size();
+  d.timing_filled = 0;
+  for (std::size_t n = 0; n < N; ++n) {
+    const auto& r = rows[n];
+    if (r.exposure_s && !(*r.exposure_s > 0))
+      throw rec::Error(file + ": frame " + std::to_string(n) + ": field exposure_s: 0 (a frame needs a positive exposure)");
+    d.t_s.push_back(r.t_s.value_or(n > 0 && rows[n - 1].t_s ? *rows[n - 1].t_s + period : double(n) * period));
+    d.exposure_s.push_back(r.exposure_s.value_or(typical_exposure));
+    double readout = 0;
+    if (r.readout_s) {
+      readout = *r.readout_s;
+    } else if (n + 1 < N && r.t_s && rows[n + 1].t_s && *rows[n + 1].t_s - *r.t_s > d.exposure_s.back()) {
+      readout = *rows[n + 1].t_s - *r.t_s - d.exposure_s.back();
+    } else if (!readouts.empty()) {
+      readout = median_of_known(readouts);
+    } else {
+      readout = std::max(0.0, period - d.exposure_s.back());
+    }
+    d.readout_s.push_back(readout);
+    d.timing_filled += !r.exposure_s || !r.readout_s;
+  }
+}
+
+}  // namespace
 
 DiagnoseData load_for_diagnosis(const std::filesystem::path& path) {
   rec::Recording rec(path);
@@ -63,11 +108,8 @@ DiagnoseData load_for_diagnosis(const std::filesystem::path& path) {
   if (!(period > 0))
     throw rec::Error(path.string() + "/frames.csv: field t_s: no time stamps and recording.json has no fps");
   d.fps = 1.0 / period;
-  for (std::size_t n = 0; n < rows.size(); ++n) {
-    const auto& r = rows[n];
-    d.t_s.push_back(r.t_s.value_or(double(n) * period));
-    d.exposure_s.push_back(r.exposure_s.value_or(0.5 * period));
-    d.readout_s.push_back(r.readout_s.value_or(period - d.exposure_s.back()));
+  fill_frame_timing(rows, period, path.string() + "/frames.csv", d);
+  for (const auto& r : rows) {
     d.flagged_event.push_back(r.ffc.value_or(false) ? 1 : 0);
     d.fpa_temp_c.push_back(r.fpa_temp_c);
   }

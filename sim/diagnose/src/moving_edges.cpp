@@ -34,7 +34,7 @@ bool moving_edge_residual(const DiagnoseData& d, const std::vector<float>& r, do
   std::vector<Moments> per_frame(N);
   int row0 = H, row1 = -1, col0 = W, col1 = -1;
   for (int n = 1; n < N; ++n) {
-    const float *b = d.frame(d.baseline, n), *b0 = d.frame(d.baseline, n - 1), *rn = d.frame(r, n);
+    const float *b = d.frame(d.still_reference(), n), *b0 = d.frame(d.still_reference(), n - 1), *rn = d.frame(r, n);
     if (d.flagged_event[n] || d.flagged_event[n - 1]) continue;
     // Readable pixel-frames, including those the baseline fit masked as misses at moving edges:
     // they are the largest part of such a residual, and no fit saw them.

@@ -33,7 +33,7 @@ bool noisy_pixels(const DiagnoseData& d, const std::vector<float>& r, Unexplaine
   // property of the pixel's noise, and what a transient effect leaves at moving edges is not.
   auto still = [&](int n, std::size_t p) {
     if (n == 0 || !d.valid_frame(n)[p] || !d.valid_frame(n - 1)[p]) return false;
-    const float b = d.frame(d.baseline, n)[p], b0 = d.frame(d.baseline, n - 1)[p];
+    const float b = d.frame(d.still_reference(), n)[p], b0 = d.frame(d.still_reference(), n - 1)[p];
     return holds_still(b, b0);
   };
   std::vector<PixelSpread> spread(P);

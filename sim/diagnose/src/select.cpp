@@ -99,8 +99,8 @@ double still_pixel_variance(const DiagnoseData& d, const std::vector<float>& r) 
   std::vector<double> sum(P, 0.0), squares(P, 0.0), count(P, 0.0);
   std::vector<char> still(P, 1);
   for (int n = 0; n < N; ++n) {
-    const float *b = d.frame(d.baseline, n), *f = d.frame(r, n);
-    const float* b0 = n > 0 ? d.frame(d.baseline, n - 1) : b;
+    const float *b = d.frame(d.still_reference(), n), *f = d.frame(r, n);
+    const float* b0 = n > 0 ? d.frame(d.still_reference(), n - 1) : b;
     const std::uint8_t* v = d.valid_frame(n);
     for (std::size_t p = 0; p < P; ++p) {
       if (!still[p]) continue;

@@ -1,5 +1,7 @@
 #include "bolo/sim/bolometer_array.hpp"
 
+#include "bolo/sim/two_frame_sensor.hpp"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -45,8 +47,8 @@ void BolometerArray::settle(std::span<const float> input, double exposure_s, dou
   if (input.size() != residual_.size())
     throw std::invalid_argument("BolometerArray::settle: input size differs");
   for (std::size_t p = 0; p < residual_.size(); ++p) {
-    const double heat = 1.0 - std::exp(-exposure_s / tau_h_[tau_h_.size() == 1 ? 0 : p]);
-    const double carry = std::exp(-readout_s / tau_c_[tau_c_.size() == 1 ? 0 : p]);
+    const auto [heat, carry] = frame_coefficients(exposure_s, readout_s, tau_h_[tau_h_.size() == 1 ? 0 : p],
+                                                  tau_c_[tau_c_.size() == 1 ? 0 : p]);
     // Without cooling (t_r = 0) there is no steady state; start from nothing instead.
     residual_[p] = carry < 1.0 - 1e-12 ? input[p] * heat / (1.0 - carry) * carry : 0.0;
   }

@@ -46,6 +46,7 @@ Simulator::Simulator(SimulatorConfig config, InputSampler input)
   require(i.bits >= 8 && i.bits <= 16, "bits: 8..16");
   require(config_.substeps >= 1 && config_.substeps <= 64, "substeps: 1..64");
   require(config_.noise_counts >= 0 && config_.noise_1f_counts >= 0, "noise: must be >= 0");
+  require(config_.timing_jitter >= 0 && config_.timing_jitter <= 0.1, "timing jitter: 0..0.1 (a relative spread)");
   const ExposureSchedule& schedule = config_.exposure_schedule;
   if (schedule.every_frames > 0)
     require(schedule.alternate_exposure_s > 0 && schedule.alternate_exposure_s <= i.exposure_s + i.readout_s,
@@ -71,8 +72,19 @@ Simulator::Simulator(SimulatorConfig config, InputSampler input)
 Simulator::Timing Simulator::timing(std::uint64_t index) const {
   const SimulationInfo& i = config_.info;
   const ExposureSchedule& schedule = config_.exposure_schedule;
-  if (schedule.every_frames == 0 || (index / schedule.every_frames) % 2 == 0) return {i.exposure_s, i.readout_s};
-  return {schedule.alternate_exposure_s, i.readout_s + (i.exposure_s - schedule.alternate_exposure_s)};
+  Timing t{i.exposure_s, i.readout_s};
+  if (schedule.every_frames > 0 && (index / schedule.every_frames) % 2 == 1)
+    t = {schedule.alternate_exposure_s, i.readout_s + (i.exposure_s - schedule.alternate_exposure_s)};
+  if (config_.timing_jitter > 0) {
+    // Drawn from the frame's index alone (its own stream, not the noise's): any frame's timing
+    // can be asked for in any order and adding jitter changes no other random draw.
+    std::mt19937_64 rng(i.seed * 0x9E3779B97F4A7C15ull + index * 0xD1B54A32D192ED03ull + 0x7417);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    const double ze = std::clamp(normal(rng), -3.0, 3.0), zr = std::clamp(normal(rng), -3.0, 3.0);
+    t.exposure_s *= 1.0 + config_.timing_jitter * ze;
+    t.readout_s *= 1.0 + config_.timing_jitter * zr;
+  }
+  return t;
 }
 
 void Simulator::sample_input(double t0, double exposure_s) {
@@ -104,10 +116,12 @@ void Simulator::next(SimulatedFrame& out) {
   FrameState f;
   f.index = index_;
   f.period_s = 1.0 / i.fps;
-  f.t_s = static_cast<double>(index_) * f.period_s;
+  const Timing timing_now = timing(index_);
+  // The interval after this frame takes up its timing's departure from the nominal one.
+  f.t_s = config_.timing_jitter > 0 ? clock_s_ : static_cast<double>(index_) * f.period_s;
+  clock_s_ = f.t_s + f.period_s + (timing_now.exposure_s + timing_now.readout_s) - (i.exposure_s + i.readout_s);
   for (const auto& e : effects_) e->begin_frame(f);
 
-  const Timing timing_now = timing(index_);
   sample_input(f.t_s, timing_now.exposure_s);
   // scene.npy is the scene over the nominal exposure, every row at the same time: what a model
   // without a rolling readout assumes. The pixels' own input (mean_input) has each row's delay.
@@ -189,6 +203,7 @@ nlohmann::json Simulator::truth() const {
                              {"tau_h_s", i.tau_h_s}, {"tau_c_s", i.tau_c_s}, {"exposure_s", i.exposure_s},
                              {"readout_s", i.readout_s}, {"substeps", config_.substeps}, {"bits", i.bits},
                              {"reference_level", i.reference_level}, {"seed", i.seed}};
+  if (config_.timing_jitter > 0) baseline["timing_jitter"] = config_.timing_jitter;
   if (config_.exposure_schedule.every_frames > 0)
     baseline["exposure_schedule"] = {{"alternate_exposure_s", config_.exposure_schedule.alternate_exposure_s},
                                      {"every_frames", config_.exposure_schedule.every_frames}};

@@ -22,12 +22,18 @@ struct DiagnoseData {
   std::vector<float> recorded;  // frames.npy as float, N*P
   std::vector<float> input;     // scene.npy, or the static background estimate for every frame
   std::vector<float> baseline;  // the fitted baseline model's prediction, N*P
+  // The same model run with the median timing in every frame, kept only when the frames' timing
+  // differs: where it holds still the scene does (a change of exposure moves every pixel).
+  std::vector<float> baseline_nominal;
   std::vector<std::uint8_t> valid;  // 1 where a pixel-frame may enter fits (not a moving object)
   // 1 where the reading is not clipped at the recording's extreme code: a clipped pixel-frame
   // says only "at least this much", so no fit may use it. valid never holds more than this.
   std::vector<std::uint8_t> unclipped;
   std::size_t clipped_count = 0;
+  // Per frame, frames.csv's values where it has them (load.cpp fills the gaps and counts the
+  // frames it filled in timing_filled).
   std::vector<double> t_s, exposure_s, readout_s;
+  int timing_filled = 0;
   std::vector<std::uint8_t> flagged_event;  // frames.csv ffc == 1
   std::vector<std::optional<double>> fpa_temp_c;
   bool has_scene = false;
@@ -36,6 +42,7 @@ struct DiagnoseData {
   std::vector<std::int8_t> input_flow_dy, input_flow_dx;
   double fps = 0;
   double tau_c_s = 0;    // the baseline's fitted cooling time constant (0: none)
+  double tau_h_s = 0;    // the heating time constant fitted where the exposures differ (0: none yet)
   double gain = 1;       // the baseline's gain: recording units per input unit
   double level_mid = 0;  // a typical level of the baseline (for nonlinearity and tau_temperature)
   std::string units;
@@ -45,6 +52,8 @@ struct DiagnoseData {
   const float* frame(const std::vector<float>& v, int n) const {
     return v.data() + std::size_t(n) * shape.pixels();
   }
+  // What "the baseline holds still at a pixel" is judged on: the baseline at the median timing.
+  const std::vector<float>& still_reference() const { return baseline_nominal.empty() ? baseline : baseline_nominal; }
   const std::uint8_t* valid_frame(int n) const { return valid.data() + std::size_t(n) * shape.pixels(); }
   void reset_valid() { valid = unclipped.size() == shape.size() ? unclipped : std::vector<std::uint8_t>(shape.size(), 1); }
 };

@@ -30,6 +30,10 @@ struct ExposureSchedule {
 struct SimulatorConfig {
   SimulationInfo info;           // size, bits, fps, exposure/readout, tau, 300 K level, seed
   ExposureSchedule exposure_schedule;
+  // Each frame's exposure and readout scaled by independent factors 1 + timing_jitter * z,
+  // z ~ N(0, 1) cut at +-3 (a camera whose timing wanders), written exactly to frames.csv; the
+  // frame interval takes up the change, so t_s follows. 0: the nominal timing.
+  double timing_jitter = 0.0;
   std::uint32_t substeps = 4;    // scene samples per exposure (motion within a frame)
   double noise_counts = 2.0;     // white temporal noise, standard deviation in counts
   double noise_1f_counts = 0.0;  // 1/f temporal noise per pixel, standard deviation in counts
@@ -50,7 +54,7 @@ class Simulator {
   // Throws std::invalid_argument naming the option or effect that is wrong.
   Simulator(SimulatorConfig config, InputSampler input);
   void next(SimulatedFrame& frame);
-  // Frame `index`'s exposure and the readout after it (the schedule applied).
+  // Frame `index`'s exposure and the readout after it (the schedule and the jitter applied).
   struct Timing {
     double exposure_s, readout_s;
   };
@@ -76,6 +80,7 @@ class Simulator {
   std::vector<double> noise_state_;          // 1/f: octave AR(1) states per pixel
   std::mt19937_64 noise_rng_;
   std::uint64_t index_ = 0;
+  double clock_s_ = 0.0;  // start of the next frame's exposure
 };
 
 }  // namespace bolo::sim

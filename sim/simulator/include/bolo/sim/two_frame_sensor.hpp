@@ -12,6 +12,15 @@
 
 namespace bolo::sim {
 
+// Eq. 6's coefficients for one frame: `heat`, the share of its steady-state input a pixel reaches
+// in an exposure of t_e, 1 - exp(-t_e / tau_h); `carry`, the share of the previous reading left
+// after the readout t_r that followed it, exp(-t_r / tau_c). The one definition the simulator and
+// the diagnosis baseline share.
+struct FrameCoefficients {
+  double heat = 0.0, carry = 0.0;
+};
+FrameCoefficients frame_coefficients(double exposure_s, double previous_readout_s, double tau_h_s, double tau_c_s);
+
 struct SensorTiming {
   double exposure_s = 0.0;  // t_e of this frame
   double readout_s = 0.0;   // t_r that follows it
