@@ -1,9 +1,7 @@
 // bolo diagnose REC --out DIR: where the recording departs from its baseline simulation, which
 // catalogue effect explains it on held-out frames, the fitted model and what is left
-// (sim/diagnose; ../shared/docs/diagnosis.md). DIR is written in a temporary sibling and
-// renamed into place, so a failed run leaves nothing.
-
-#include <unistd.h>
+// (sim/diagnose; ../shared/docs/diagnosis.md). DIR is written through a rec::AtomicFolder, so a
+// failed run leaves nothing.
 
 #include <chrono>
 #include <fstream>
@@ -14,6 +12,7 @@
 #include "bolo/diagnose/report.hpp"
 #include "bolo/errors.hpp"
 #include "bolo/progress.hpp"
+#include "bolo/recording/atomic_folder.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/registry.hpp"
 
@@ -21,16 +20,6 @@ namespace bolo::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Removes the temporary folder unless the result was moved into place.
-struct TempFolder {
-  fs::path path;
-  bool keep = false;
-  ~TempFolder() {
-    std::error_code ec;
-    if (!keep && !path.empty()) fs::remove_all(path, ec);
-  }
-};
 
 void write_text(const fs::path& file, const std::string& text) {
   std::ofstream out(file, std::ios::binary);
@@ -47,12 +36,7 @@ int run_diagnose(const DiagnoseOptions& o, std::ostream& out) {
   if (o.folds < 2 || o.folds > 20) fail("--folds: must be 2..20, got ", o.folds);
   if (!(o.min_delta_bic >= 0)) fail("--min-delta-bic: must be >= 0, got ", o.min_delta_bic);
   const fs::path dir = o.output.has_filename() ? o.output : o.output.parent_path();
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !o.overwrite)
-    fail(dir.string(), ": already exists (give --overwrite to replace it)");
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) fail(dir.string(), ": exists and is not a folder");
-  const fs::path parent = dir.parent_path().empty() ? fs::path(".") : dir.parent_path();
-  if (!fs::is_directory(parent, ec)) fail(parent.string(), ": no such folder (the parent of --out)");
+  rec::AtomicFolder folder(dir, o.overwrite);  // the destination checked before the work
 
   const auto start = std::chrono::steady_clock::now();
   diag::DiagnoseData data = diag::load_for_diagnosis(o.input);  // throws naming the file/frame/field
@@ -68,28 +52,10 @@ int run_diagnose(const DiagnoseOptions& o, std::ostream& out) {
   });
   progress.finish();
 
-  TempFolder tmp{parent / ("." + dir.filename().string() + ".tmp-" + std::to_string(::getpid()))};
-  fs::remove_all(tmp.path, ec);
-  if (!fs::create_directory(tmp.path, ec)) fail(tmp.path.string(), ": cannot create the temporary folder");
-  write_text(tmp.path / "diagnosis.json", diag::to_json(result).dump(2) + "\n");
-  write_text(tmp.path / "report.html", diag::render_report(result, data, views, tmp.path));
-  write_text(tmp.path / "simulate.cfg", diag::simulator_config(result, data));
-  if (fs::exists(dir, ec)) {
-    const fs::path aside = parent / ("." + dir.filename().string() + ".old-" + std::to_string(::getpid()));
-    fs::rename(dir, aside, ec);
-    if (ec) fail(dir.string(), ": cannot move the old result aside: ", ec.message());
-    fs::rename(tmp.path, dir, ec);
-    if (ec) {
-      std::error_code ignored;
-      fs::rename(aside, dir, ignored);
-      fail(dir.string(), ": cannot rename the result into place: ", ec.message());
-    }
-    fs::remove_all(aside, ec);
-  } else {
-    fs::rename(tmp.path, dir, ec);
-    if (ec) fail(dir.string(), ": cannot rename the result into place: ", ec.message());
-  }
-  tmp.keep = true;
+  write_text(folder.path() / "diagnosis.json", diag::to_json(result).dump(2) + "\n");
+  write_text(folder.path() / "report.html", diag::render_report(result, data, views, folder.path()));
+  write_text(folder.path() / "simulate.cfg", diag::simulator_config(result, data));
+  folder.commit();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out << "diagnose: " << o.input.string() << ": baseline " << result.baseline.model << ", held-out RMS "
       << result.heldout_rms << " -> " << result.final_heldout_rms << " (noise floor " << result.noise_floor_rms

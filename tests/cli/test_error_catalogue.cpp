@@ -388,7 +388,7 @@ TEST_CASE("catalogue: simulate OUT that exists, is not a recording, or has no pa
             (tmp / "docs").string() + ": exists and is not a recording folder (no recording.json); refusing to replace it"));
   CHECK(contains(refused(sim(tmp / "no" / "sim", false)),
             (tmp / "no" / "sim").string() + ": the parent folder " + (tmp / "no").string() + " does not exist"));
-  CHECK(contains(refused(sim(tmp / "docs" / ".", true)), "recording folder '" + (tmp / "docs" / ".").string() + "': not a valid destination name"));
+  CHECK(contains(refused(sim(tmp / "docs" / ".", true)), "output folder '" + (tmp / "docs" / ".").string() + "': not a valid destination name"));
   CHECK(read_text(tmp / "file") == "keep");
   CHECK(read_text(tmp / "docs" / "keep.txt") == "keep");
   CHECK(entries(tmp.path()) == std::set<std::string>{"done", "file", "docs"});

@@ -56,7 +56,7 @@ TEST_CASE("diagnose refuses bad input with one line and leaves nothing", "[diagn
   refused({"diagnose", rec.string()}, "--out");
   refused({"diagnose", rec.string(), "--out", (tmp / "d").string(), "--folds", "1"}, "--folds");
   refused({"diagnose", rec.string(), "--out", rec.string()}, "already exists");
-  refused({"diagnose", rec.string(), "--out", (tmp / "no" / "such" / "d").string()}, "no such folder");
+  refused({"diagnose", rec.string(), "--out", (tmp / "no" / "such" / "d").string()}, "does not exist");
 }
 
 TEST_CASE("read_diagnosis_json names the field that is wrong", "[diagnose][json]") {

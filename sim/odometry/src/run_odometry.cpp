@@ -90,15 +90,6 @@ TauSource tau_source(bool ir, bool estimated, bool from_shutter, const std::vect
 }
 
 // Removes the temporary output folder unless committed.
-struct TempDir {
-  fs::path path;
-  bool keep = false;
-  ~TempDir() {
-    std::error_code ec;
-    if (!keep) fs::remove_all(path, ec);
-  }
-};
-
 void write_text(const fs::path& file, const std::string& text) {
   std::ofstream out(file, std::ios::binary);
   out << text;
@@ -119,9 +110,8 @@ const char* to_string(TauSource source) {
 }
 
 OdometrySummary run_odometry(const OdometryOptions& options) {
-  const fs::path out_dir = options.output;
-  if (fs::exists(out_dir) && !options.overwrite)
-    throw Error(out_dir.string() + ": already exists (use --overwrite)");
+  const fs::path out_dir = options.output.has_filename() ? options.output : options.output.parent_path();
+  rec::AtomicFolder folder(out_dir, options.overwrite);  // the destination checked before the work
   rec::Recording recording(options.recording);
   const std::uint32_t w = recording.width(), h = recording.height();
   vo::VoConfig config;
@@ -206,12 +196,6 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   cc.tau = {to_ns(options.tau_init_s), to_ns(options.tau_init_s)};
   fw::TwoFrameCorrector corrector(cc, corrector_storage, corrected);
 
-  std::string partial_name = out_dir.filename().string();  // built by appending: GCC 12's -Wrestrict
-  partial_name.insert(0, 1, '.');                           // misfires on "." + string here
-  partial_name += ".partial";
-  TempDir tmp{out_dir.parent_path() / partial_name};
-  fs::remove_all(tmp.path);
-  fs::create_directories(tmp.path);
 
   std::vector<std::uint16_t> raw(std::size_t{w} * h), previous_raw(raw.size());
   std::vector<std::uint16_t> distorted(remap.identity() ? 0 : raw.size());
@@ -303,9 +287,9 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   std::string tum = "# bolo odometry: " + std::string(vo::to_string(options.photometric)) +
                     " (t tx ty tz qx qy qz qw, camera-to-world)\n";
   for (const StampedPose& p : trajectory) tum += tum_line(p);
-  write_text(tmp.path / "trajectory.tum", tum);
-  write_text(tmp.path / "stats.csv", stats.str());
-  write_text(tmp.path / "points.ply", ply_text(points));
+  write_text(folder.path() / "trajectory.tum", tum);
+  write_text(folder.path() / "stats.csv", stats.str());
+  write_text(folder.path() / "points.ply", ply_text(points));
 
   // The plot: the estimate aligned (Sim(3)) onto the ground truth when there is one.
   const std::vector<std::size_t> frame_segment = tracking_segments(states);
@@ -316,7 +300,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   if (fs::exists(truth_file)) truth = read_tum(truth_file);
   const std::vector<PlotSeries> series = trajectory_series(
       trajectory, pose_segment, truth, period, "estimate (" + std::string(vo::to_string(options.photometric)) + ")");
-  write_text(tmp.path / "trajectory.svg", trajectory_svg("bolo odometry: " + recording.dir().filename().string() +
+  write_text(folder.path() / "trajectory.svg", trajectory_svg("bolo odometry: " + recording.dir().filename().string() +
                                                              ", top view (x, y)", series));
   summary.tau_source = tau_source(ir, options.estimate_tau, !summary.shutter_taus.empty(), timing);
   nlohmann::json shutter_json = nlohmann::json::array();
@@ -359,10 +343,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"tau_source", to_string(summary.tau_source)},
                       {"vo_seconds", summary.seconds},
                       {"arena_bytes", summary.arena_bytes}};
-  write_text(tmp.path / "summary.json", j.dump(2) + "\n");
-  if (fs::exists(out_dir)) fs::remove_all(out_dir);
-  fs::rename(tmp.path, out_dir);
-  tmp.keep = true;
+  write_text(folder.path() / "summary.json", j.dump(2) + "\n");
+  folder.commit();
   return summary;
 }
 

@@ -16,11 +16,6 @@ fs::path normalized(fs::path dir) {
   return dir;
 }
 
-bool exists_no_follow(const fs::path& path) {
-  std::error_code ec;
-  return fs::exists(fs::symlink_status(path, ec));
-}
-
 // Something `overwrite` may replace: a recording folder or an empty folder, never anything else.
 void check_replaceable(const fs::path& dir) {
   std::error_code ec;
@@ -30,35 +25,13 @@ void check_replaceable(const fs::path& dir) {
     fail(dir, "exists and is not a recording folder (no recording.json); refusing to replace it");
 }
 
-// Checks the destination before any work, then creates the temporary folder.
-fs::path prepare(const fs::path& dir, const RecordingInfo& info, bool overwrite) {
-  if (dir.empty() || dir.filename() == "." || dir.filename() == "..")
-    throw Error("recording folder '" + dir.string() + "': not a valid destination name");
-  if (exists_no_follow(dir)) {
-    if (!overwrite) fail(dir, "already exists (use --overwrite to replace it)");
-    check_replaceable(dir);
-  }
-  const fs::path parent = dir.parent_path().empty() ? fs::path(".") : dir.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(parent, ec))
-    fail(dir, "the parent folder " + parent.string() + " does not exist");
+// The temporary folder of a recording, after its metadata is checked; only a recording or an
+// empty folder may be replaced.
+AtomicFolder open_folder(const fs::path& dir, const RecordingInfo& info, bool overwrite) {
   detail::validate_info(dir / "recording.json", info);
-
-  const fs::path tmp = detail::temp_sibling(dir, "tmp");
-  if (!fs::create_directory(tmp, ec) || ec)
-    fail(tmp, "cannot create the temporary folder: " + (ec ? ec.message() : "it already exists"));
-  return tmp;
+  return AtomicFolder(dir, overwrite, check_replaceable);
 }
 
-NpyStackWriter open_stack(const fs::path& tmp, DType dtype, std::uint32_t height, std::uint32_t width) {
-  try {
-    return NpyStackWriter(tmp / "frames.npy", dtype, height, width);
-  } catch (...) {
-    std::error_code ec;
-    fs::remove_all(tmp, ec);
-    throw;
-  }
-}
 
 bool reserved(const fs::path& relative) {
   return relative == "recording.json" || relative == "frames.npy" || relative == "frames.csv" ||
@@ -69,16 +42,12 @@ bool reserved(const fs::path& relative) {
 
 RecordingWriter::RecordingWriter(fs::path dir, RecordingInfo info, Options options)
     : dir_(normalized(std::move(dir))),
-      tmp_(prepare(dir_, info, options.overwrite)),
+      folder_(open_folder(dir_, info, options.overwrite)),
       info_(std::move(info)),
       options_(options),
-      frames_(open_stack(tmp_, options.frames_dtype, info_.height, info_.width)) {}
+      frames_(folder_.path() / "frames.npy", options.frames_dtype, info_.height, info_.width) {}
 
-RecordingWriter::~RecordingWriter() {
-  if (committed_) return;
-  std::error_code ec;
-  fs::remove_all(tmp_, ec);
-}
+RecordingWriter::~RecordingWriter() = default;
 
 namespace {
 
@@ -107,13 +76,13 @@ FrameRow checked_row(const fs::path& dir, const RecordingInfo& info, const std::
 }  // namespace
 
 void RecordingWriter::append(std::span<const std::uint16_t> frame, const FrameRow& row) {
-  const FrameRow stored = checked_row(dir_, info_, rows_, frame.size(), row, committed_);
+  const FrameRow stored = checked_row(dir_, info_, rows_, frame.size(), row, folder_.committed());
   frames_.append(frame);
   rows_.push_back(stored);
 }
 
 void RecordingWriter::append(std::span<const float> frame, const FrameRow& row) {
-  const FrameRow stored = checked_row(dir_, info_, rows_, frame.size(), row, committed_);
+  const FrameRow stored = checked_row(dir_, info_, rows_, frame.size(), row, folder_.committed());
   if (options_.frames_dtype != DType::f4)
     fail(dir_ / "frames.npy", "float frames need Options::frames_dtype = DType::f4");
   frames_.append(frame);
@@ -121,7 +90,7 @@ void RecordingWriter::append(std::span<const float> frame, const FrameRow& row) 
 }
 
 void RecordingWriter::append_scene(std::span<const float> scene) {
-  if (committed_) fail(dir_, "append_scene after commit()");
+  if (folder_.committed()) fail(dir_, "append_scene after commit()");
   const std::uint64_t expected = std::uint64_t{info_.width} * info_.height;
   const std::uint64_t n = scene_ ? scene_->frames() : 0;
   if (scene.size() != expected)
@@ -130,7 +99,7 @@ void RecordingWriter::append_scene(std::span<const float> scene) {
   if (!scene_) {
     for (const auto& [existing, unused] : extra_files_)
       if (existing == "scene.npy") fail(dir_ / "scene.npy", "already added as an extra file");
-    scene_.emplace(tmp_ / "scene.npy", DType::f4, info_.height, info_.width);
+    scene_.emplace(folder_.path() / "scene.npy", DType::f4, info_.height, info_.width);
   }
   scene_->append(scene);
 }
@@ -155,7 +124,7 @@ void RecordingWriter::add_file(const fs::path& relative, std::string contents) {
 }
 
 void RecordingWriter::commit() {
-  if (committed_) fail(dir_, "commit() called twice");
+  if (folder_.committed()) fail(dir_, "commit() called twice");
   frames_.finish();
   if (scene_) {
     if (scene_->frames() != rows_.size())
@@ -163,38 +132,18 @@ void RecordingWriter::commit() {
                                    std::to_string(rows_.size()) + " frames");
     scene_->finish();
   }
-  write_frames_csv(tmp_ / "frames.csv", rows_);
-  write_recording_json(tmp_ / "recording.json", info_);
-  if (camera_) write_file_atomically(tmp_ / "camera.json", camera_->dump(2) + "\n");
+  write_frames_csv(folder_.path() / "frames.csv", rows_);
+  write_recording_json(folder_.path() / "recording.json", info_);
+  if (camera_) write_file_atomically(folder_.path() / "camera.json", camera_->dump(2) + "\n");
   for (const auto& [relative, contents] : extra_files_) {
-    const fs::path file = tmp_ / relative;
+    const fs::path file = folder_.path() / relative;
     std::error_code ec;
     fs::create_directories(file.parent_path(), ec);
     if (ec) fail(file.parent_path(), "cannot create folder: " + ec.message());
     write_file_atomically(file, contents);
   }
 
-  std::error_code ec;
-  if (exists_no_follow(dir_)) {
-    if (!options_.overwrite) fail(dir_, "appeared while writing (use --overwrite to replace it)");
-    check_replaceable(dir_);
-    const fs::path aside = detail::temp_sibling(dir_, "old");
-    fs::rename(dir_, aside, ec);
-    if (ec) fail(dir_, "cannot move the existing recording aside: " + ec.message());
-    fs::rename(tmp_, dir_, ec);
-    if (ec) {
-      std::error_code ignored;
-      fs::rename(aside, dir_, ignored);
-      fail(dir_, "cannot rename the new recording into place: " + ec.message());
-    }
-    committed_ = true;
-    fs::remove_all(aside, ec);
-    if (ec) fail(aside, "the new recording is in place but the old one could not be removed: " + ec.message());
-    return;
-  }
-  fs::rename(tmp_, dir_, ec);
-  if (ec) fail(dir_, "cannot rename the new recording into place: " + ec.message());
-  committed_ = true;
+  folder_.commit();
 }
 
 }  // namespace bolo::rec

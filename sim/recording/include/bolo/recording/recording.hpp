@@ -15,6 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bolo/recording/atomic_folder.hpp"
+
 namespace bolo::rec {
 
 class Error : public std::runtime_error {
@@ -138,9 +140,9 @@ class Recording {
   std::optional<nlohmann::json> camera_;
 };
 
-// Writes a recording into a temporary sibling folder and renames it into place on commit(), so
-// a reader never sees a half-written recording. Destroyed without commit(): the temporary
-// folder is removed. An existing destination is an error unless `overwrite`.
+// Writes a recording through an AtomicFolder, renamed into place on commit(), so a reader never
+// sees a half-written recording. An existing destination is an error unless `overwrite`, and
+// only a recording (or an empty folder) is replaced.
 class RecordingWriter {
  public:
   struct Options {
@@ -165,7 +167,8 @@ class RecordingWriter {
   std::uint64_t frames() const { return rows_.size(); }
 
  private:
-  std::filesystem::path dir_, tmp_;
+  std::filesystem::path dir_;
+  AtomicFolder folder_;
   RecordingInfo info_;
   Options options_;
   NpyStackWriter frames_;
@@ -173,7 +176,6 @@ class RecordingWriter {
   std::vector<FrameRow> rows_;
   std::optional<nlohmann::json> camera_;
   std::vector<std::pair<std::filesystem::path, std::string>> extra_files_;
-  bool committed_ = false;
 };
 
 #if BOLO_RECORDING_HAS_PNG  // libpng found at configure time (board builds may go without)
