@@ -1,7 +1,7 @@
 // The bad-pixel stage's intake of a line (see detail::IngestLine): copy or NUC into the ring and
 // flag. The C++ loops are the definition, compiled as clones for the x86-64 levels; on x86-64 with
 // GCC an AVX-512 version, tested against them (tests/firmware/test_ingest.cpp), is picked at run
-// time.
+// time; on ARM with NEON a NEON version, tested the same way, is chosen at build time.
 
 #include <bit>
 #include <cstddef>
@@ -18,6 +18,9 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
 #pragma GCC diagnostic pop
+#endif
+#if BOLO_NEON_KERNELS
+#include "neon_nuc.hpp"
 #endif
 
 namespace bolo::fw::detail {
@@ -133,6 +136,99 @@ std::uint64_t ingest_rows_portable(const IngestLine& first, std::size_t rows,
   }
   return any;
 }
+
+#if BOLO_NEON_KERNELS
+// ---- NEON: blocks of 32 pixels (one flag word), 8 pixels per step ----
+// The NUC as in nuc_line's NEON version (neon_nuc.hpp): a line in 16-bit lanes, done again in
+// 32-bit lanes when a pixel or gain is outside that case's range. Stuck flags are lane masks,
+// narrowed to bytes, weighted by their bit (1, 2, ..., 128) and summed pairwise into the word.
+// The last width % 32 pixels: the portable block.
+
+inline std::uint32_t neon_flag_word(const uint16x8_t (&masks)[4]) {
+  static constexpr std::uint8_t kWeights[8] = {1, 2, 4, 8, 16, 32, 64, 128};
+  const uint8x8_t weights = vld1_u8(kWeights);
+  const uint8x8_t b0 = vand_u8(vmovn_u16(masks[0]), weights);
+  const uint8x8_t b1 = vand_u8(vmovn_u16(masks[1]), weights);
+  const uint8x8_t b2 = vand_u8(vmovn_u16(masks[2]), weights);
+  const uint8x8_t b3 = vand_u8(vmovn_u16(masks[3]), weights);
+  // bytes: pixel pairs, then quads, then the four bytes of the word
+  const uint8x8_t quads = vpadd_u8(vpadd_u8(b0, b1), vpadd_u8(b2, b3));
+  return vget_lane_u32(vreinterpret_u32_u8(vpadd_u8(quads, quads)), 0);
+}
+
+// One line; false when kNarrow met a pixel or gain outside its range (the line is then redone).
+// noinline: one symbol per configuration, so scripts/board-cost.sh finds each loop.
+template <bool kNuc, bool kStuck, bool kMask, bool kNarrow>
+__attribute__((noinline)) bool ingest_neon_pass(const IngestLine& j, bool& any) {
+  const Pixel* __restrict in = j.in;
+  const std::uint16_t* __restrict gain = j.gain_q14;
+  const std::int16_t* __restrict offset = j.offset;
+  Pixel* __restrict ring = j.ring;
+  const uint16x8_t low = vdupq_n_u16(j.stuck_low);
+  const uint16x8_t high = vdupq_n_u16(j.stuck_high);
+  uint16x8_t in_range = vdupq_n_u16(0);
+  std::uint32_t flagged = 0;
+  std::size_t base = 0;
+  for (; base + 32 <= j.width; base += 32) {
+    uint16x8_t masks[4];
+    for (std::size_t s = 0; s < 4; ++s) {
+      const std::size_t at = base + 8 * s;
+      uint16x8_t v = vld1q_u16(in + at);
+      if constexpr (kNuc) {
+        const uint16x8_t g = vld1q_u16(gain + at);
+        const int16x8_t o = vld1q_s16(offset + at);
+        v = kNarrow ? neon::nuc_narrow(v, g, o, in_range) : neon::nuc_wide(v, g, o);
+      }
+      vst1q_u16(ring + at, v);
+      if constexpr (kStuck) masks[s] = vorrq_u16(vceqq_u16(v, low), vceqq_u16(v, high));
+    }
+    std::uint32_t bits = 0;
+    if constexpr (kStuck) bits = neon_flag_word(masks);
+    if constexpr (kMask) bits |= load_flag_word(j.mask_bits + base / 8);
+    std::memcpy(j.flag_bits + base / 8, &bits, sizeof bits);
+    flagged |= bits;
+  }
+  if (kNuc && kNarrow && neon::narrow_out_of_range(in_range)) return false;
+  if (base < j.width) {
+    const std::size_t n = j.width - base;
+    const std::uint32_t bits = ingest_block<kNuc, kStuck, kMask>(
+        in + base, kNuc ? gain + base : nullptr, kNuc ? offset + base : nullptr,
+        kMask ? j.mask_bits + base / 8 : nullptr, j.stuck_low, j.stuck_high, ring + base, n);
+    std::memcpy(j.flag_bits + base / 8, &bits, sizeof bits);
+    flagged |= bits;
+  }
+  any = flagged != 0;
+  return true;
+}
+
+template <bool kNuc, bool kStuck, bool kMask>
+inline __attribute__((always_inline)) bool ingest_neon_line(const IngestLine& j) {
+  bool any = false;
+  if (!ingest_neon_pass<kNuc, kStuck, kMask, true>(j, any)) [[unlikely]]
+    ingest_neon_pass<kNuc, kStuck, kMask, false>(j, any);
+  return any;
+}
+
+template <bool kNuc>
+inline __attribute__((always_inline)) bool ingest_neon_any(const IngestLine& j) {
+  if (j.detect_stuck)
+    return j.mask_bits != nullptr ? ingest_neon_line<kNuc, true, true>(j)
+                                  : ingest_neon_line<kNuc, true, false>(j);
+  return j.mask_bits != nullptr ? ingest_neon_line<kNuc, false, true>(j)
+                                : ingest_neon_line<kNuc, false, false>(j);
+}
+
+bool ingest_neon(const IngestLine& job) {
+  return job.gain_q14 != nullptr ? ingest_neon_any<true>(job) : ingest_neon_any<false>(job);
+}
+
+std::uint64_t ingest_rows_neon(const IngestLine& first, std::size_t rows, std::size_t in_stride) {
+  std::uint64_t any = 0;
+  for (std::size_t i = 0; i < rows; ++i)
+    any |= std::uint64_t{ingest_neon(run_line(first, i, in_stride))} << i;
+  return any;
+}
+#endif  // BOLO_NEON_KERNELS
 
 #if BOLO_X86_KERNELS
 #define BOLO_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq,avx2")))
@@ -338,12 +434,18 @@ IngestFn select_ingest() {
 #if BOLO_X86_KERNELS
   if (kernel_path_available(KernelPath::avx512)) return ingest_avx512;
 #endif
+#if BOLO_NEON_KERNELS
+  return ingest_neon;
+#endif
   return ingest_portable;
 }
 
 IngestRowsFn select_ingest_rows() {
 #if BOLO_X86_KERNELS
   if (kernel_path_available(KernelPath::avx512)) return ingest_rows_avx512;
+#endif
+#if BOLO_NEON_KERNELS
+  return ingest_rows_neon;
 #endif
   return ingest_rows_portable;
 }
@@ -356,6 +458,9 @@ IngestFn ingest_kernel(KernelPath path) {
     case KernelPath::portable: return ingest_portable;
 #if BOLO_X86_KERNELS
     case KernelPath::avx512: return ingest_avx512;
+#endif
+#if BOLO_NEON_KERNELS
+    case KernelPath::neon: return ingest_neon;
 #endif
     default: break;
   }
@@ -377,6 +482,9 @@ IngestRowsFn ingest_rows_kernel(KernelPath path) {
     case KernelPath::portable: return ingest_rows_portable;
 #if BOLO_X86_KERNELS
     case KernelPath::avx512: return ingest_rows_avx512;
+#endif
+#if BOLO_NEON_KERNELS
+    case KernelPath::neon: return ingest_rows_neon;
 #endif
     default: break;
   }
