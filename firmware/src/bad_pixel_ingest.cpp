@@ -142,10 +142,25 @@ std::uint64_t ingest_rows_portable(const IngestLine& first, std::size_t rows,
 // The NUC as in nuc_line's NEON version (neon_nuc.hpp): a line in 16-bit lanes, done again in
 // 32-bit lanes when a pixel or gain is outside that case's range. Stuck flags are lane masks,
 // narrowed to bytes, weighted by their bit (1, 2, ..., 128) and summed pairwise into the word.
-// The last width % 32 pixels: the portable block.
+// Two words per iteration, so that an in-order core has the second word's loads and arithmetic
+// to issue while the first word's flags are packed. The last width % 32 pixels: the portable
+// block.
 
 inline std::uint32_t neon_flag_word(const uint16x8_t (&masks)[4]) {
-  static constexpr std::uint8_t kWeights[8] = {1, 2, 4, 8, 16, 32, 64, 128};
+  static constexpr std::uint8_t kWeights[16] = {1, 2, 4, 8, 16, 32, 64, 128,
+                                                1, 2, 4, 8, 16, 32, 64, 128};
+#if defined(__aarch64__)
+  // uzp1 keeps the low byte of each 16-bit mask: pixels 0..15 and 16..31 as bytes.
+  const uint8x16_t weights = vld1q_u8(kWeights);
+  const uint8x16_t b01 = vandq_u8(
+      vuzp1q_u8(vreinterpretq_u8_u16(masks[0]), vreinterpretq_u8_u16(masks[1])), weights);
+  const uint8x16_t b23 = vandq_u8(
+      vuzp1q_u8(vreinterpretq_u8_u16(masks[2]), vreinterpretq_u8_u16(masks[3])), weights);
+  uint8x16_t sums = vpaddq_u8(b01, b23);  // pixel pairs
+  sums = vpaddq_u8(sums, sums);            // quads
+  sums = vpaddq_u8(sums, sums);            // the four bytes of the word
+  return vgetq_lane_u32(vreinterpretq_u32_u8(sums), 0);
+#else
   const uint8x8_t weights = vld1_u8(kWeights);
   const uint8x8_t b0 = vand_u8(vmovn_u16(masks[0]), weights);
   const uint8x8_t b1 = vand_u8(vmovn_u16(masks[1]), weights);
@@ -154,46 +169,58 @@ inline std::uint32_t neon_flag_word(const uint16x8_t (&masks)[4]) {
   // bytes: pixel pairs, then quads, then the four bytes of the word
   const uint8x8_t quads = vpadd_u8(vpadd_u8(b0, b1), vpadd_u8(b2, b3));
   return vget_lane_u32(vreinterpret_u32_u8(vpadd_u8(quads, quads)), 0);
+#endif
+}
+
+// The word of pixels base ... base + 31: values into the ring, its flags stored and returned.
+template <bool kNuc, bool kStuck, bool kMask, bool kNarrow>
+inline __attribute__((always_inline)) std::uint32_t ingest_neon_word(
+    const IngestLine& j, std::size_t base, uint16x8_t low, uint16x8_t high,
+    uint16x8_t& in_range) {
+  uint16x8_t masks[4];
+  for (std::size_t s = 0; s < 4; ++s) {
+    const std::size_t at = base + 8 * s;
+    uint16x8_t v = vld1q_u16(j.in + at);
+    if constexpr (kNuc) {
+      const uint16x8_t g = vld1q_u16(j.gain_q14 + at);
+      const int16x8_t o = vld1q_s16(j.offset + at);
+      v = kNarrow ? neon::nuc_narrow(v, g, o, in_range) : neon::nuc_wide(v, g, o);
+    }
+    vst1q_u16(j.ring + at, v);
+    if constexpr (kStuck) masks[s] = vorrq_u16(vceqq_u16(v, low), vceqq_u16(v, high));
+  }
+  std::uint32_t bits = 0;
+  if constexpr (kStuck) bits = neon_flag_word(masks);
+  if constexpr (kMask) bits |= load_flag_word(j.mask_bits + base / 8);
+  std::memcpy(j.flag_bits + base / 8, &bits, sizeof bits);
+  return bits;
 }
 
 // One line; false when kNarrow met a pixel or gain outside its range (the line is then redone).
 // noinline: one symbol per configuration, so scripts/board-cost.sh finds each loop.
 template <bool kNuc, bool kStuck, bool kMask, bool kNarrow>
-__attribute__((noinline)) bool ingest_neon_pass(const IngestLine& j, bool& any) {
-  const Pixel* __restrict in = j.in;
-  const std::uint16_t* __restrict gain = j.gain_q14;
-  const std::int16_t* __restrict offset = j.offset;
-  Pixel* __restrict ring = j.ring;
+__attribute__((noinline)) bool ingest_neon_pass(const IngestLine& job, bool& any) {
+  // A local copy: the flag stores (bytes) could alias the caller's job, forcing reloads.
+  const IngestLine j = job;
   const uint16x8_t low = vdupq_n_u16(j.stuck_low);
   const uint16x8_t high = vdupq_n_u16(j.stuck_high);
   uint16x8_t in_range = vdupq_n_u16(0);
   std::uint32_t flagged = 0;
   std::size_t base = 0;
-  for (; base + 32 <= j.width; base += 32) {
-    uint16x8_t masks[4];
-    for (std::size_t s = 0; s < 4; ++s) {
-      const std::size_t at = base + 8 * s;
-      uint16x8_t v = vld1q_u16(in + at);
-      if constexpr (kNuc) {
-        const uint16x8_t g = vld1q_u16(gain + at);
-        const int16x8_t o = vld1q_s16(offset + at);
-        v = kNarrow ? neon::nuc_narrow(v, g, o, in_range) : neon::nuc_wide(v, g, o);
-      }
-      vst1q_u16(ring + at, v);
-      if constexpr (kStuck) masks[s] = vorrq_u16(vceqq_u16(v, low), vceqq_u16(v, high));
-    }
-    std::uint32_t bits = 0;
-    if constexpr (kStuck) bits = neon_flag_word(masks);
-    if constexpr (kMask) bits |= load_flag_word(j.mask_bits + base / 8);
-    std::memcpy(j.flag_bits + base / 8, &bits, sizeof bits);
-    flagged |= bits;
+  for (; base + 64 <= j.width; base += 64) {
+    flagged |= ingest_neon_word<kNuc, kStuck, kMask, kNarrow>(j, base, low, high, in_range);
+    flagged |= ingest_neon_word<kNuc, kStuck, kMask, kNarrow>(j, base + 32, low, high, in_range);
+  }
+  if (base + 32 <= j.width) {
+    flagged |= ingest_neon_word<kNuc, kStuck, kMask, kNarrow>(j, base, low, high, in_range);
+    base += 32;
   }
   if (kNuc && kNarrow && neon::narrow_out_of_range(in_range)) return false;
   if (base < j.width) {
     const std::size_t n = j.width - base;
     const std::uint32_t bits = ingest_block<kNuc, kStuck, kMask>(
-        in + base, kNuc ? gain + base : nullptr, kNuc ? offset + base : nullptr,
-        kMask ? j.mask_bits + base / 8 : nullptr, j.stuck_low, j.stuck_high, ring + base, n);
+        j.in + base, kNuc ? j.gain_q14 + base : nullptr, kNuc ? j.offset + base : nullptr,
+        kMask ? j.mask_bits + base / 8 : nullptr, j.stuck_low, j.stuck_high, j.ring + base, n);
     std::memcpy(j.flag_bits + base / 8, &bits, sizeof bits);
     flagged |= bits;
   }
