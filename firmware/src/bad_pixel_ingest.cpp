@@ -457,25 +457,22 @@ BOLO_AVX512 bool ingest_avx512(const IngestLine& job) {
 }
 #endif  // BOLO_X86_KERNELS
 
-IngestFn select_ingest() {
 #if BOLO_X86_KERNELS
-  if (kernel_path_available(KernelPath::avx512)) return ingest_avx512;
-#endif
-#if BOLO_NEON_KERNELS
-  return ingest_neon;
-#endif
-  return ingest_portable;
+IngestFn select_ingest() {
+  return kernel_path_available(KernelPath::avx512) ? ingest_avx512 : ingest_portable;
 }
 
 IngestRowsFn select_ingest_rows() {
-#if BOLO_X86_KERNELS
-  if (kernel_path_available(KernelPath::avx512)) return ingest_rows_avx512;
-#endif
-#if BOLO_NEON_KERNELS
-  return ingest_rows_neon;
-#endif
-  return ingest_rows_portable;
+  return kernel_path_available(KernelPath::avx512) ? ingest_rows_avx512 : ingest_rows_portable;
 }
+#elif BOLO_NEON_KERNELS
+// Chosen at build time: constants, no guarded statics (a board program needs no C++ runtime).
+constexpr IngestFn kBuildIngest = ingest_neon;
+constexpr IngestRowsFn kBuildIngestRows = ingest_rows_neon;
+#else
+constexpr IngestFn kBuildIngest = ingest_portable;
+constexpr IngestRowsFn kBuildIngestRows = ingest_rows_portable;
+#endif
 
 }  // namespace
 
@@ -495,8 +492,12 @@ IngestFn ingest_kernel(KernelPath path) {
 }
 
 bool ingest_line(const IngestLine& job) {
+#if BOLO_X86_KERNELS
   static const IngestFn chosen = select_ingest();  // once; no allocation
   return chosen(job);
+#else
+  return kBuildIngest(job);
+#endif
 }
 
 }  // namespace bolo::fw::detail
@@ -519,8 +520,12 @@ IngestRowsFn ingest_rows_kernel(KernelPath path) {
 }
 
 std::uint64_t ingest_rows(const IngestLine& first, std::size_t rows, std::size_t in_stride) {
+#if BOLO_X86_KERNELS
   static const IngestRowsFn chosen = select_ingest_rows();  // once; no allocation
   return chosen(first, rows, in_stride);
+#else
+  return kBuildIngestRows(first, rows, in_stride);
+#endif
 }
 
 void pack_mask_bits(const std::uint8_t* mask, std::size_t width, std::uint8_t* bits) {
