@@ -497,10 +497,10 @@ inline __attribute__((always_inline)) int32x4_t neon_values(uint16x4_t cur, uint
 }
 
 // Steps per test: more steps spread the test's dependency chain (OR, narrow, move to a core
-// register, branch), which an in-order core waits for; aarch64 has the registers to keep 16
-// value vectors, armv7's 16 Q registers keep 8.
+// register, branch), which an in-order core waits for; on aarch64 six (eight spill registers
+// in the loop), on armv7 with its 16 Q registers four.
 #if defined(__aarch64__)
-constexpr std::size_t kNeonBlockSteps = 8;
+constexpr std::size_t kNeonBlockSteps = 6;
 #else
 constexpr std::size_t kNeonBlockSteps = 4;
 #endif
@@ -535,8 +535,8 @@ __attribute__((noinline)) void correct_neon_loop(const Pixel* __restrict current
   std::uint32_t n_high = 0;
   std::size_t x = 0;
   for (; x + 8 * kNeonBlockSteps <= width; x += 8 * kNeonBlockSteps) {
-    int32x4_t values[2 * kNeonBlockSteps];
-    uint32x4_t bits = vdupq_n_u32(0);
+    constexpr std::size_t kValues = 2 * kNeonBlockSteps;
+    int32x4_t values[kValues];
     for (std::size_t s = 0; s < kNeonBlockSteps; ++s) {
       const std::size_t at = x + 8 * s;
       const uint16x8_t cur = vld1q_u16(current + at);
@@ -544,13 +544,24 @@ __attribute__((noinline)) void correct_neon_loop(const Pixel* __restrict current
       if constexpr (kStore) vst1q_u16(previous + at, cur);
       const int32x4_t lo = neon_values<kWide>(vget_low_u16(cur), vget_low_u16(prev), d);
       const int32x4_t hi = neon_values<kWide>(vget_high_u16(cur), vget_high_u16(prev), d);
-      bits = vorrq_u32(bits, vreinterpretq_u32_s32(vorrq_s32(lo, hi)));
       vst1q_u16(out + at, vcombine_u16(vqmovun_s32(lo), vqmovun_s32(hi)));
       values[2 * s] = lo;
       values[2 * s + 1] = hi;
     }
-    if (neon_any_above16(bits)) [[unlikely]]
-      neon_count(values, 2 * kNeonBlockSteps, n_low, n_high);
+    // The block's values OR-ed as a tree: a chain of kValues dependent ORs would stall an
+    // in-order core at every block's end.
+    uint32x4_t bits[kValues / 2];
+    for (std::size_t i = 0; i < kValues / 2; ++i)
+      bits[i] = vreinterpretq_u32_s32(vorrq_s32(values[2 * i], values[2 * i + 1]));
+    for (std::size_t n = kValues / 2; n > 1; n = (n + 1) / 2)  // fold the upper half down
+      for (std::size_t i = 0; i < n / 2; ++i) bits[i] = vorrq_u32(bits[i], bits[n - 1 - i]);
+    if (neon_any_above16(bits[0])) [[unlikely]] {
+      // A copy made only here: handing `values` itself to the call would keep it in memory,
+      // stored on every block.
+      int32x4_t kept[kValues];
+      for (std::size_t i = 0; i < kValues; ++i) kept[i] = values[i];
+      neon_count(kept, kValues, n_low, n_high);
+    }
   }
   low += n_low;
   high += n_high;

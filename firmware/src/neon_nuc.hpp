@@ -31,11 +31,11 @@ inline uint16x8_t nuc_wide(uint16x8_t in, uint16x8_t gain, int16x8_t offset) {
                       vqmovun_s32(vaddw_s16(hi, vget_high_s16(offset))));
 }
 
-// `in_range` gathers bit 15 of 2 in | gain (see above).
+// `range` is set to 2 in | gain, whose bit 15 marks a lane outside the narrow case (see above).
 inline uint16x8_t nuc_narrow(uint16x8_t in, uint16x8_t gain, int16x8_t offset,
-                             uint16x8_t& in_range) {
+                             uint16x8_t& range) {
   const uint16x8_t in2 = vqaddq_u16(in, in);
-  in_range = vorrq_u16(in_range, vorrq_u16(in2, gain));
+  range = vorrq_u16(in2, gain);
   const int16x8_t scaled = vqrdmulhq_s16(vreinterpretq_s16_u16(in2), vreinterpretq_s16_u16(gain));
 #if defined(__aarch64__)
   return vsqaddq_u16(vreinterpretq_u16_s16(scaled), offset);
@@ -45,7 +45,7 @@ inline uint16x8_t nuc_narrow(uint16x8_t in, uint16x8_t gain, int16x8_t offset,
 #endif
 }
 
-// Whether some lane of what nuc_narrow gathered has bit 15 set.
+// Whether some lane of nuc_narrow's range (OR-ed over a line) has bit 15 set.
 inline bool narrow_out_of_range(uint16x8_t in_range) {
   const uint8x8_t high_bytes = vshrn_n_u16(in_range, 8);
   return (vget_lane_u64(vreinterpret_u64_u8(high_bytes), 0) & 0x8080808080808080u) != 0;

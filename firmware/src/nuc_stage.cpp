@@ -21,20 +21,32 @@ void nuc_line_portable(const Pixel* __restrict in, const std::uint16_t* __restri
 
 #if BOLO_NEON_KERNELS
 // 8 pixels a step in 16-bit lanes (neon::nuc_narrow); a line with a pixel or gain outside that
-// case's range is done again in 32-bit lanes. The last width % 8 pixels: the portable loop.
+// case's range is done again in 32-bit lanes. Four steps per iteration, loads first, so that an
+// in-order core has independent work while each step's multiply completes. The last width % 32
+// pixels: the portable loop.
 // noinline: one symbol per pass, so scripts/board-cost.sh finds each loop.
 template <bool kNarrow>
 __attribute__((noinline)) bool nuc_line_neon_pass(const Pixel* __restrict in,
                                                   const std::uint16_t* __restrict gain,
                                                   const std::int16_t* __restrict offset,
                                                   Pixel* __restrict out, std::size_t width) {
+  constexpr std::size_t kSteps = 4;
   uint16x8_t in_range = vdupq_n_u16(0);
   std::size_t x = 0;
-  for (; x + 8 <= width; x += 8) {
-    const uint16x8_t v = vld1q_u16(in + x);
-    const uint16x8_t g = vld1q_u16(gain + x);
-    const int16x8_t o = vld1q_s16(offset + x);
-    vst1q_u16(out + x, kNarrow ? neon::nuc_narrow(v, g, o, in_range) : neon::nuc_wide(v, g, o));
+  for (; x + 8 * kSteps <= width; x += 8 * kSteps) {
+    uint16x8_t v[kSteps], g[kSteps], range[kSteps];
+    int16x8_t o[kSteps];
+    for (std::size_t s = 0; s < kSteps; ++s) {
+      v[s] = vld1q_u16(in + x + 8 * s);
+      g[s] = vld1q_u16(gain + x + 8 * s);
+      o[s] = vld1q_s16(offset + x + 8 * s);
+    }
+    for (std::size_t s = 0; s < kSteps; ++s)
+      vst1q_u16(out + x + 8 * s, kNarrow ? neon::nuc_narrow(v[s], g[s], o[s], range[s])
+                                         : neon::nuc_wide(v[s], g[s], o[s]));
+    if constexpr (kNarrow)
+      in_range = vorrq_u16(in_range, vorrq_u16(vorrq_u16(range[0], range[1]),
+                                               vorrq_u16(range[2], range[3])));
   }
   if (kNarrow && neon::narrow_out_of_range(in_range)) return false;
   nuc_line_portable(in + x, gain + x, offset + x, out + x, width - x);

@@ -32,7 +32,6 @@ TARGETS = {
         "build": "build-aarch64", "qemu": ["qemu-aarch64", "-L", "/usr/aarch64-linux-gnu"],
         "cpus": [{"label": "A53", "triple": "aarch64", "cpu": "cortex-a53", "clock_ghz": 1.2},
                  {"label": "A72", "triple": "aarch64", "cpu": "cortex-a72", "clock_ghz": 1.5}],
-        "corrector_pixels": 64,
     },
     "armhf": {
         "build": "build-armhf", "qemu": ["qemu-arm", "-L", "/usr/arm-linux-gnueabihf"],
@@ -41,15 +40,15 @@ TARGETS = {
         # The compiler's Thumb-2 loops are read in ARM state (mca_loops.thumb_as_arm).
         "cpus": [{"label": "A7 (A9 model)", "triple": "armv7a-linux-gnueabihf", "cpu": "cortex-a9",
                   "mattr": "+neon", "clock_ghz": 1.2, "thumb_as_arm": True}],
-        "corrector_pixels": 32,
     },
 }
 SOURCES = ["correct_line", "bad_pixel_ingest", "nuc_stage"]
-# (name, source, function, pixels per iteration or None for the target's corrector block)
+# (name, source, function): the frame store's corrector, the intake with NUC, stuck detection
+# and mask (bolo-bench's pipeline), nuc_line; each in its usual (16-bit NUC, no G >= 2^30) case
 LOOPS = [
-    ("corrector", "correct_line", "correct_neon_loop<true, false>", None),
-    ("ingest", "bad_pixel_ingest", "ingest_neon_pass<true, true, true, true>", 64),
-    ("nuc_line", "nuc_stage", "nuc_line_neon_pass<true>", 8),
+    ("corrector", "correct_line", "correct_neon_loop<true, false>"),
+    ("ingest", "bad_pixel_ingest", "ingest_neon_pass<true, true, true, true>"),
+    ("nuc_line", "nuc_stage", "nuc_line_neon_pass<true>"),
 ]
 # Cycles per instruction assumed for the VO's scalar float code (not modelled here): an in-order
 # dual-issue A53 about 1.0-1.5, an out-of-order A72 about 0.6-0.9.
@@ -88,9 +87,8 @@ def mca(targets, work, llvm_mca, keep):
     loops, cpus = [], []
     for target in targets:
         asm = compile_to_asm(target, work)
-        for name, source, function, pixels in LOOPS:
-            loops.append({"target": target, "name": name, "asm": asm[source], "function": function,
-                          "pixels": pixels or TARGETS[target]["corrector_pixels"]})
+        for name, source, function in LOOPS:
+            loops.append({"target": target, "name": name, "asm": asm[source], "function": function})
         for cpu in TARGETS[target]["cpus"]:
             cpus.append(dict(cpu, **{"for": target}))
     config = os.path.join(work, "mca.json")
@@ -198,7 +196,7 @@ def print_table(result, targets):
         c["label"] for t in targets for c in TARGETS[t]["cpus"]) + " | instr/px |")
     print("|---|---|" + "---|" * sum(len(TARGETS[t]["cpus"]) for t in targets) + "---|")
     by = {(r["target"], r["loop"], r["cpu"]): r for r in result["loops"]}
-    for name, _, function, _ in LOOPS:
+    for name, _, function in LOOPS:
         for target in targets:
             cells = []
             for t in targets:

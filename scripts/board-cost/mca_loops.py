@@ -4,10 +4,11 @@
 For each loop: the function (found by its demangled name in the compiler's -S output), its
 largest innermost loop (see innermost_loop),
 fed to llvm-mca with a CPU's scheduling model. Cycles per iteration = llvm-mca's total cycles /
-iterations; divided by the pixels one iteration handles (stated per loop).
+iterations; divided by the pixels one iteration handles, read from the loop itself: the largest
+step of a pointer that the loop adds to itself (bytes; two per uint16 pixel).
 
   mca_loops.py CONFIG.json  ->  JSON on stdout
-CONFIG: {"llvm_mca": "llvm-mca", "loops": [{"name", "asm", "function", "pixels"}],
+CONFIG: {"llvm_mca": "llvm-mca", "loops": [{"name", "asm", "function"}],
          "cpus": [{"label", "triple", "cpu", "mattr"}], "keep": DIR or null}
 """
 import json
@@ -68,6 +69,17 @@ def innermost_loop(body):
     bodies = [[t for t in (instruction(l) for l in body[a:b + 1]) if t is not None] for a, b in inner]
     bodies = [b for b in bodies if not any(re.match(r"(bl|blx|ret|bx\s+lr)\b|pop\s.*pc", t) for t in b)]
     return max(bodies, key=len) if bodies else None
+
+
+def pixels_per_iteration(loop_text):
+    """Half the largest immediate a register adds to itself in the loop (its pixel pointers'
+    step in bytes), or None."""
+    steps = []
+    for t in loop_text:
+        m = re.match(r"adds?(?:\.w)?\s+(\w+),\s*(\w+),\s*#?(\d+)$", t)
+        if m and m.group(1) == m.group(2):
+            steps.append(int(m.group(3)))
+    return max(steps) // 2 if steps else None
 
 
 def thumb_as_arm(loop_text):
@@ -135,6 +147,10 @@ def main():
         body = innermost_loop(lines[first:last + 1])
         if body is None:
             raise SystemExit(f"mca_loops: {loop['function']}: no loop found")
+        pixels = pixels_per_iteration(body)
+        if pixels is None:
+            raise SystemExit(f"mca_loops: {loop['function']}: no pointer step in its loop")
+        loop = dict(loop, pixels=pixels)
         for cpu in config["cpus"]:
             if cpu.get("for") and cpu["for"] != loop.get("target"):
                 continue
