@@ -8,10 +8,10 @@
    by a TCG plugin (insn_count_plugin.c; --method log: from qemu's translation-block log,
    count_tb_log.py, the same count, much slower): bolo-board-count run for two frame counts, the
    difference divided by the frames between them.
-3. From these: the pipeline's share of one core for 640x512 at 60 Hz, and the VO's real-time
-   factor at 320x256 / 60 Hz estimated as clock / (instructions per frame x CPI x 60), with the
-   CPI the hot loops' llvm-mca cycles per instruction would not give for scalar float code, so
-   stated as a range (see CPI_RANGE).
+3. The VO's cycles per instruction on each aarch64 CPU model: its executed blocks over the
+   counted run (qemu's log), each timed by llvm-mca, weighted by how often it ran (tb_profile.py).
+4. From these: the pipeline's share of one core for 640x512 at 60 Hz, and the VO's real-time
+   factor at 320x256 / 60 Hz = clock / (instructions per frame x CPI x 60).
 """
 import argparse
 import json
@@ -25,7 +25,9 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 import count_tb_log  # noqa: E402
+import tb_profile  # noqa: E402
 
 TARGETS = {
     "aarch64": {
@@ -50,9 +52,6 @@ LOOPS = [
     ("ingest", "bad_pixel_ingest", "ingest_neon_pass<true, true, true, true>"),
     ("nuc_line", "nuc_stage", "nuc_line_neon_pass<true>"),
 ]
-# Cycles per instruction assumed for the VO's scalar float code (not modelled here): an in-order
-# dual-issue A53 about 1.0-1.5, an out-of-order A72 about 0.6-0.9.
-CPI_RANGE = {"A53": (1.0, 1.5), "A72": (0.6, 0.9)}
 
 
 def compile_to_asm(target, out_dir):
@@ -121,6 +120,29 @@ def count_instructions(command, work, method):
     return executed
 
 
+def block_log(target, args, work):
+    """{pc: [runs, instructions]} of one bolo-board-count run under qemu (tb_profile.read_log)."""
+    t = TARGETS[target]
+    program = os.path.join(ROOT, t["build"], "bench", "bolo-board-count")
+    fifo = os.path.join(work, "profile.fifo")
+    if os.path.exists(fifo):
+        os.remove(fifo)
+    os.mkfifo(fifo)
+    qemu = subprocess.Popen(t["qemu"][:1] + ["-d", "in_asm,exec,nochain", "-D", fifo] +
+                            t["qemu"][1:] + [program] + args, stdout=subprocess.DEVNULL)
+    with open(fifo, "rb") as log:
+        blocks = tb_profile.read_log(log)
+    if qemu.wait() != 0:
+        raise RuntimeError(f"bolo-board-count {' '.join(args)} failed")
+    return blocks
+
+
+def run_cpi(target, blocks):
+    """CPI of `blocks` on each CPU model of the target (tb_profile.cpi)."""
+    return {c["label"]: tb_profile.cpi(blocks, c["triple"], c["cpu"], 0.95)
+            for c in TARGETS[target]["cpus"]}
+
+
 def per_unit(target, args_for, frames, units, work, method):
     """Instructions per unit between two runs of bolo-board-count with frames[0] and frames[1]."""
     t = TARGETS[target]
@@ -134,6 +156,8 @@ def main():
     parser.add_argument("--targets", default="aarch64,armhf")
     parser.add_argument("--vo-frames", required=True, help="file from bolo-vo-bench --write-frames")
     parser.add_argument("--vo-range", default="20,40", help="VO frames counted: FIRST,LAST")
+    parser.add_argument("--vo-profile-frames", type=int, default=24,
+                        help="VO frames run for the CPI profile (all of them are profiled)")
     parser.add_argument("--llvm-mca", default="llvm-mca")
     parser.add_argument("--json", action="store_true", help="JSON instead of the tables")
     parser.add_argument("--keep", help="directory for the loops and llvm-mca reports")
@@ -162,6 +186,14 @@ def main():
             counts["vo_frames_counted"] = f"{vo_first}..{vo_last - 1}"
             counts["method"] = args.method
             result["instructions"][target] = counts
+            if target == "aarch64":  # LLVM has no A7 model
+                # the pipeline's frames 1..4 whole (blocks of 5 frames' run beyond 1 frame's)
+                pipeline = tb_profile.difference(
+                    block_log(target, ["pipeline", "320x256", "5"], work),
+                    block_log(target, ["pipeline", "320x256", "1"], work))
+                result["pipeline_cpi"] = run_cpi(target, pipeline)
+                result["vo_cpi"] = run_cpi(target, block_log(
+                    target, ["vo", args.vo_frames, str(args.vo_profile_frames)], work))
     by = {(r["target"], r["loop"], r["cpu"]): r for r in result["loops"]}
     for target in targets:
         for cpu in TARGETS[target]["cpus"]:
@@ -174,13 +206,18 @@ def main():
                      "pipeline_cycles_per_pixel": pipeline and round(pipeline, 2),
                      "pipeline_640x512_60hz_core_share_percent": pipeline and round(
                          100 * pipeline * 640 * 512 * 60 / (cpu["clock_ghz"] * 1e9), 1)}
-            short = label.split()[0]
-            if short in CPI_RANGE:
+            if label in result.get("pipeline_cpi", {}):
+                whole = (result["instructions"][target]["pipeline_per_pixel_320x256"] *
+                         result["pipeline_cpi"][label]["cpi"])
+                entry["pipeline_whole_run_cycles_per_pixel"] = round(whole, 2)
+                entry["pipeline_whole_run_640x512_60hz_core_share_percent"] = round(
+                    100 * whole * 640 * 512 * 60 / (cpu["clock_ghz"] * 1e9), 1)
+            if label in result.get("vo_cpi", {}):
                 per_frame = result["instructions"][target]["vo_per_frame_320x256"]
-                lo, hi = CPI_RANGE[short]
-                entry["vo_cpi_assumed"] = [lo, hi]
-                entry["vo_realtime_factor_320x256_60hz"] = [
-                    round(cpu["clock_ghz"] * 1e9 / (per_frame * c * 60), 2) for c in (hi, lo)]
+                model_cpi = result["vo_cpi"][label]["cpi"]
+                entry["vo_cpi"] = model_cpi
+                entry["vo_realtime_factor_320x256_60hz"] = round(
+                    cpu["clock_ghz"] * 1e9 / (per_frame * model_cpi * 60), 2)
             result["summary"][label] = entry
     if args.json:
         json.dump(result, sys.stdout, indent=1)
@@ -214,19 +251,28 @@ def print_table(result, targets):
         print(f"| {target} | {c['pipeline_per_pixel_320x256']:.2f} | "
               f"{c['corrector_per_pixel_320x256']:.2f} | "
               f"{c['vo_per_frame_320x256'] / 1e6:.1f} M ({c['vo_frames_counted']}) |")
-    print("\nSummary (pipeline = intake + corrector loops, llvm-mca):\n")
-    print("| CPU model | clock | corrector cycles/px | pipeline cycles/px | "
-          "640x512 at 60 Hz: share of one core | VO 320x256 real-time factor (CPI assumed) |")
-    print("|---|---|---|---|---|---|")
+    print("\nSummary. Loops: the intake and corrector loops under llvm-mca. Whole run: the "
+          "instructions qemu counts per pixel x the CPI of the blocks they ran in (llvm-mca).\n")
+    print("| CPU model | clock | corrector cycles/px (loop) | pipeline cycles/px (loops) | "
+          "pipeline cycles/px (whole run) | 640x512 at 60 Hz: share of one core (loops / whole run) | "
+          "VO 320x256 at 60 Hz: real-time factor (CPI) |")
+    print("|---|---|---|---|---|---|---|")
     for label, e in result["summary"].items():
-        vo = (f"{e['vo_realtime_factor_320x256_60hz'][0]:.2f}-{e['vo_realtime_factor_320x256_60hz'][1]:.2f}x "
-              f"(CPI {e['vo_cpi_assumed'][0]}-{e['vo_cpi_assumed'][1]})"
-              if "vo_cpi_assumed" in e else "")
+        vo = (f"{e['vo_realtime_factor_320x256_60hz']:.2f}x (CPI {e['vo_cpi']:.2f})"
+              if "vo_cpi" in e else "-")
         def cell(v, fmt):
             return "-" if v is None else fmt.format(v)
+        share = cell(e['pipeline_640x512_60hz_core_share_percent'], '{:.1f} %')
+        if "pipeline_whole_run_640x512_60hz_core_share_percent" in e:
+            share += f" / {e['pipeline_whole_run_640x512_60hz_core_share_percent']:.1f} %"
         print(f"| {label} | {e['clock_ghz']} GHz | {cell(e['corrector_cycles_per_pixel'], '{:.2f}')} | "
               f"{cell(e['pipeline_cycles_per_pixel'], '{:.2f}')} | "
-              f"{cell(e['pipeline_640x512_60hz_core_share_percent'], '{:.1f} %')} | {vo} |")
+              f"{cell(e.get('pipeline_whole_run_cycles_per_pixel'), '{:.2f}')} | {share} | {vo} |")
+    for what in ("pipeline_cpi", "vo_cpi"):
+        for label, p in result.get(what, {}).items():
+            print(f"\n{what.split('_')[0]} CPI on the {label} model: {p['cpi']:.2f}, from the "
+                  f"{p['blocks']} executed blocks that cover {100 * p['covered']:.0f} % of the "
+                  f"run's instructions, each timed by llvm-mca.")
 
 
 if __name__ == "__main__":
