@@ -563,6 +563,16 @@ __attribute__((noinline)) void correct_neon_loop(const Pixel* __restrict current
       neon_count(kept, kValues, n_low, n_high);
     }
   }
+  for (; x + 8 <= width; x += 8) {  // the steps left over from blocks, tested one by one
+    const uint16x8_t cur = vld1q_u16(current + x);
+    const uint16x8_t prev = vld1q_u16(previous + x);
+    if constexpr (kStore) vst1q_u16(previous + x, cur);
+    const int32x4_t kept[2] = {neon_values<kWide>(vget_low_u16(cur), vget_low_u16(prev), d),
+                               neon_values<kWide>(vget_high_u16(cur), vget_high_u16(prev), d)};
+    vst1q_u16(out + x, vcombine_u16(vqmovun_s32(kept[0]), vqmovun_s32(kept[1])));
+    if (neon_any_above16(vreinterpretq_u32_s32(vorrq_s32(kept[0], kept[1])))) [[unlikely]]
+      neon_count(kept, 2, n_low, n_high);
+  }
   low += n_low;
   high += n_high;
   correct_portable<kStore>(current + x, previous + x, c, out + x, width - x, low, high);
