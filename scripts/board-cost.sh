@@ -4,6 +4,8 @@
 # instructions executed per pixel and per VO frame under qemu-user, and from them the pipeline's
 # share of one core at 640x512 / 60 Hz and the VO's real-time factor (docs/benchmarks.md).
 #   scripts/board-cost.sh [--json] [--method plugin|log] [--targets aarch64,armhf]
+# Tables on stdout (or JSON with --json); the JSON also in build/board-cost/board-cost.json, the
+# loops and llvm-mca's reports in build/board-cost/loops/.
 # Builds what it needs: build-aarch64 / build-armhf (bolo-board-count) and the host build's
 # bolo-vo-bench (renders the VO's 320x256 frames).
 set -euo pipefail
@@ -43,4 +45,4 @@ mkdir -p build/board-cost
 # 40 frames of bolo-vo-bench's street drive; the VO's frames 20..39 are counted (past its start)
 build/bench/bolo-vo-bench --write-frames "$frames" --sizes 320x256 --frames 40
 python3 scripts/board-cost/board_cost.py --targets "$targets" --vo-frames "$frames" --vo-range 20,40 \
-  --keep build/board-cost/loops "${args[@]}"
+  --keep build/board-cost/loops --save-json build/board-cost/board-cost.json "${args[@]}"

@@ -160,6 +160,7 @@ def main():
                         help="VO frames run for the CPI profile (all of them are profiled)")
     parser.add_argument("--llvm-mca", default="llvm-mca")
     parser.add_argument("--json", action="store_true", help="JSON instead of the tables")
+    parser.add_argument("--save-json", help="also write the JSON to this file")
     parser.add_argument("--keep", help="directory for the loops and llvm-mca reports")
     parser.add_argument("--method", choices=("plugin", "log"), default="plugin",
                         help="instruction counting: TCG plugin (default) or qemu's execution log")
@@ -219,6 +220,9 @@ def main():
                 entry["vo_realtime_factor_320x256_60hz"] = round(
                     cpu["clock_ghz"] * 1e9 / (per_frame * model_cpi * 60), 2)
             result["summary"][label] = entry
+    if args.save_json:
+        with open(args.save_json, "w") as f:
+            json.dump(result, f, indent=1)
     if args.json:
         json.dump(result, sys.stdout, indent=1)
         print()
