@@ -11,6 +11,8 @@
 // with the number of keyframes (each runs the window bundle adjustment).
 //
 //   bolo-vo-bench [--frames N] [--mode none|affine|ir] [--sizes WxH,...] [--max-keyframes N] [--carry-coring K] [--smoothing N]
+//   bolo-vo-bench --write-frames FILE [--frames N] [--sizes WxH]   the first size's frames to FILE
+//                                                                   (bolo-board-count vo reads it)
 
 #include <algorithm>
 #include <chrono>
@@ -38,6 +40,7 @@
 #define BOLO_VO_BENCH_COUNTS_ALLOCATIONS 0
 #endif
 #include "size_list.hpp"
+#include "vo_frames_file.hpp"
 
 namespace {
 
@@ -114,7 +117,7 @@ Frames render(std::uint32_t w, std::uint32_t h, int count, double fps) {
 
 constexpr const char* kUsage =
     "usage: bolo-vo-bench [--frames N] [--mode none|affine|ir] [--sizes WxH[,WxH...]] [--max-keyframes N]\n"
-    "                     [--carry-coring K] [--smoothing N]\n"
+    "                     [--carry-coring K] [--smoothing N] [--write-frames FILE]\n"
     "\n"
     "Times the VO core (firmware/vo) on one core over street/drive frames rendered through the\n"
     "two-frame bolometer model (60 Hz, tau 12 ms): CPU ms per frame and per posed frame, the\n"
@@ -127,6 +130,8 @@ constexpr const char* kUsage =
     "  --max-keyframes N  sliding-window size, 2..8 (default 8, the VO's default)\n"
     "  --carry-coring K   ir: the carry-over correction's coring, 0..100 (default 1, the VO's default)\n"
     "  --smoothing N      binomial low-pass passes on each tracking image, 0..3 (default 1, the VO's default)\n"
+    "  --write-frames F   write the first size's rendered frames and camera to F and stop (no timing):\n"
+    "                     the input of bolo-board-count vo on a board or under qemu-user\n"
     "  --help             this text\n";
 
 int main(int argc, char** argv) {
@@ -136,6 +141,7 @@ int main(int argc, char** argv) {
   float carry_coring = vo::VoConfig{}.carry_coring;
   std::uint32_t smoothing = vo::VoConfig{}.smoothing;
   std::vector<bench::Size> sizes = {{160, 120}, {320, 256}, {640, 512}};
+  const char* write_frames = nullptr;
   for (int i = 1; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
     if (!std::strcmp(argv[i], "--help")) {
@@ -143,6 +149,8 @@ int main(int argc, char** argv) {
       return 0;
     } else if (!std::strcmp(argv[i], "--frames") && has_value) {
       if (!bench::parse_number_arg(argv[++i], frames, 10, std::numeric_limits<int>::max(), "bolo-vo-bench", "--frames", "at least 10")) return 2;
+    } else if (!std::strcmp(argv[i], "--write-frames") && has_value) {
+      write_frames = argv[++i];
     } else if (!std::strcmp(argv[i], "--mode") && has_value) {
       mode_name = argv[++i];
     } else if (!std::strcmp(argv[i], "--sizes") && has_value) {
@@ -174,7 +182,16 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  const double fps = 60;
+  const double fps = bench::kVoBenchFps;
+  if (write_frames != nullptr) {
+    Frames f = render(sizes.front().width, sizes.front().height, frames, fps);
+    bench::VoFrames out{sizes.front().width, sizes.front().height, f.camera, std::move(f.raw)};
+    if (!bench::write_vo_frames(write_frames, out)) {
+      std::fprintf(stderr, "bolo-vo-bench: cannot write %s\n", write_frames);
+      return 1;
+    }
+    return 0;
+  }
   std::printf("bolo-vo-bench: VO (%s, %u keyframes, carry coring %g, smoothing %u) on street/drive, %d frames at 60 Hz, tau 12 ms, one core (thread CPU time)\n",
               mode_name.c_str(), max_keyframes, static_cast<double>(carry_coring), smoothing, frames);
   std::printf("%-9s %9s %9s %10s %9s %12s %12s %12s\n", "size", "ms/frame", "fps", "x realtime", "ms/posed", "arena KiB", "peak RSS KiB", "heap allocs");

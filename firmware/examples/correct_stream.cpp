@@ -4,27 +4,47 @@
 //
 //   correct_stream WIDTH HEIGHT TAU_H_US TAU_C_US EXPOSURE_US READOUT_US [PERIOD_US] < in.y16 > out.y16
 //
-// Built like the firmware: no exceptions, no RTTI; the only allocations happen before streaming.
+// Built like the firmware: no exceptions, no RTTI, and no heap: the pipeline's arena, the raw
+// frame and the output line are static buffers sized at compile time for frames up to
+// BOLO_MAX_WIDTH x BOLO_MAX_HEIGHT (default 640 x 512); larger frames are refused.
 
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <vector>
 
 #include <unistd.h>
 
 #include "bolo/firmware/pipeline.hpp"
 #include "bolo/hal/raw_stream_source.hpp"
 
+#ifndef BOLO_MAX_WIDTH
+#define BOLO_MAX_WIDTH 640
+#endif
+#ifndef BOLO_MAX_HEIGHT
+#define BOLO_MAX_HEIGHT 512
+#endif
+
 namespace {
 
 using namespace bolo;
 
+constexpr std::uint32_t kMaxWidth = BOLO_MAX_WIDTH;
+constexpr std::uint32_t kMaxHeight = BOLO_MAX_HEIGHT;
+// What the pipeline below (bad pixels + corrector) needs at the largest frame, with room for a
+// smaller frame whose bad-pixel ring takes more lines (checked against arena_pixels at run time).
+constexpr std::size_t kArenaPixels =
+    fw::TwoFrameCorrector::storage_pixels(kMaxWidth, kMaxHeight) +
+    fw::BadPixelStage::storage_pixels(kMaxWidth, kMaxHeight) + 64 * std::size_t{kMaxWidth};
+fw::Pixel g_arena[kArenaPixels];
+std::uint8_t g_frame_bytes[std::size_t{kMaxWidth} * kMaxHeight * 2];
+fw::Pixel g_in_line[kMaxWidth];
+std::uint8_t g_out_bytes[std::size_t{kMaxWidth} * 2];
+
 // Writes each corrected line to a file descriptor as little-endian uint16.
 class FdSink final : public fw::LineSink {
  public:
-  FdSink(int fd, std::uint32_t width) : fd_(fd), bytes_(std::size_t{width} * 2) {}
+  explicit FdSink(int fd) : fd_(fd) {}
   void begin_frame(const fw::FrameHeader&) override {}
   void push_line(std::uint32_t, fw::LineView line) override {
     for (std::size_t x = 0; x < line.size(); ++x) {
@@ -33,7 +53,7 @@ class FdSink final : public fw::LineSink {
     }
     std::size_t done = 0;
     while (done < line.size() * 2 && ok) {
-      const ssize_t n = ::write(fd_, bytes_.data() + done, line.size() * 2 - done);
+      const ssize_t n = ::write(fd_, bytes_ + done, line.size() * 2 - done);
       if (n > 0) done += static_cast<std::size_t>(n);
       else if (errno != EINTR) ok = false;
     }
@@ -43,7 +63,7 @@ class FdSink final : public fw::LineSink {
 
  private:
   int fd_;
-  std::vector<std::uint8_t> bytes_;
+  std::uint8_t* bytes_ = g_out_bytes;  // a line, at most kMaxWidth pixels
 };
 
 bool parse(const char* text, std::uint32_t& out) {
@@ -73,8 +93,9 @@ int main(int argc, char** argv) {
       return 2;
     }
   const std::uint32_t width = v[0], height = v[1];
-  if (width > 8192 || height > 8192) {
-    std::fprintf(stderr, "correct_stream: WIDTH/HEIGHT: at most 8192\n");
+  if (width > kMaxWidth || height > kMaxHeight) {
+    std::fprintf(stderr, "correct_stream: WIDTH/HEIGHT: at most %u x %u (this build's BOLO_MAX_WIDTH/HEIGHT)\n",
+                 kMaxWidth, kMaxHeight);
     return 2;
   }
 
@@ -85,10 +106,15 @@ int main(int argc, char** argv) {
   cfg.use_bad_pixels = true;
   hal::RawStreamConfig raw{width, height, 16, v[6] * 1000u, v[4] * 1000u, v[5] * 1000u};
 
-  std::vector<fw::Pixel> arena(fw::Pipeline::arena_pixels(cfg));
-  FdSink sink(STDOUT_FILENO, width);
-  fw::Pipeline pipeline(cfg, arena, sink);
-  hal::RawStreamSource source(STDIN_FILENO, raw);
+  const std::size_t arena_pixels = fw::Pipeline::arena_pixels(cfg);
+  if (arena_pixels > kArenaPixels) {
+    std::fprintf(stderr, "correct_stream: %u x %u needs %zu arena pixels, this build has %zu\n", width,
+                 height, arena_pixels, kArenaPixels);
+    return 2;
+  }
+  FdSink sink(STDOUT_FILENO);
+  fw::Pipeline pipeline(cfg, std::span(g_arena, arena_pixels), sink);
+  hal::RawStreamSource source(STDIN_FILENO, raw, g_frame_bytes, g_in_line);
 
   while (sink.ok && source.stream_frame(pipeline.input()) == hal::StreamStatus::frame) {
   }

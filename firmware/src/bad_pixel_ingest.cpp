@@ -1,7 +1,7 @@
 // The bad-pixel stage's intake of a line (see detail::IngestLine): copy or NUC into the ring and
 // flag. The C++ loops are the definition, compiled as clones for the x86-64 levels; on x86-64 with
 // GCC an AVX-512 version, tested against them (tests/firmware/test_ingest.cpp), is picked at run
-// time.
+// time; on ARM with NEON a NEON version, tested the same way, is chosen at build time.
 
 #include <bit>
 #include <cstddef>
@@ -18,6 +18,9 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
 #pragma GCC diagnostic pop
+#endif
+#if BOLO_NEON_KERNELS
+#include "neon_nuc.hpp"
 #endif
 
 namespace bolo::fw::detail {
@@ -133,6 +136,173 @@ std::uint64_t ingest_rows_portable(const IngestLine& first, std::size_t rows,
   }
   return any;
 }
+
+#if BOLO_NEON_KERNELS
+// ---- NEON: blocks of 32 pixels (one flag word), 8 pixels per step ----
+// The NUC as in nuc_line's NEON version (neon_nuc.hpp): a line in 16-bit lanes, done again in
+// 32-bit lanes when a pixel or gain is outside that case's range. Stuck flags are lane masks,
+// narrowed to bytes, weighted by their bit (1, 2, ..., 128) and summed pairwise into the word.
+// On aarch64 two words per iteration, packed together, so that an in-order core has more
+// independent work to issue while flags are packed (armv7's 16 Q registers hold one word's
+// inputs). The last width % 32 pixels: the portable block.
+#if defined(__aarch64__)
+constexpr std::size_t kNeonIngestWords = 2;
+#else
+constexpr std::size_t kNeonIngestWords = 1;
+#endif
+
+// The flag words of kWords (1 or 2) words of lane masks, word w in bits 32 w ... 32 w + 31.
+template <std::size_t kWords>
+inline std::uint64_t neon_flag_words(const uint16x8_t (&masks)[4 * kWords]) {
+  static constexpr std::uint8_t kWeights[16] = {1, 2, 4, 8, 16, 32, 64, 128,
+                                                1, 2, 4, 8, 16, 32, 64, 128};
+#if defined(__aarch64__)
+  // uzp1 keeps the low byte of each 16-bit mask: a word's pixels 0..15 and 16..31 as bytes.
+  const uint8x16_t weights = vld1q_u8(kWeights);
+  uint8x16_t pairs[kWords];
+  for (std::size_t w = 0; w < kWords; ++w) {
+    const uint8x16_t b01 = vandq_u8(vuzp1q_u8(vreinterpretq_u8_u16(masks[4 * w]),
+                                              vreinterpretq_u8_u16(masks[4 * w + 1])),
+                                    weights);
+    const uint8x16_t b23 = vandq_u8(vuzp1q_u8(vreinterpretq_u8_u16(masks[4 * w + 2]),
+                                              vreinterpretq_u8_u16(masks[4 * w + 3])),
+                                    weights);
+    pairs[w] = vpaddq_u8(b01, b23);  // sums of pixel pairs
+  }
+  // quads (word 0's in bytes 0..7, word 1's in 8..15), then each word's four bytes
+  const uint8x16_t quads = vpaddq_u8(pairs[0], pairs[kWords - 1]);
+  return vgetq_lane_u64(vreinterpretq_u64_u8(vpaddq_u8(quads, quads)), 0);
+#else
+  const uint8x8_t weights = vld1_u8(kWeights);
+  uint8x8_t quads[kWords];
+  for (std::size_t w = 0; w < kWords; ++w) {
+    uint8x8_t b[4];
+    for (std::size_t k = 0; k < 4; ++k) b[k] = vand_u8(vmovn_u16(masks[4 * w + k]), weights);
+    quads[w] = vpadd_u8(vpadd_u8(b[0], b[1]), vpadd_u8(b[2], b[3]));  // pairs, then quads
+  }
+  return vget_lane_u64(vreinterpret_u64_u8(vpadd_u8(quads[0], quads[kWords - 1])), 0);
+#endif
+}
+
+// The line's pointers, restrict-qualified: without it every ring or flag store could alias the
+// next loads, and an in-order core would wait for each step in turn.
+struct NeonIngestPointers {
+  const Pixel* __restrict in;
+  const std::uint16_t* __restrict gain;
+  const std::int16_t* __restrict offset;
+  const std::uint8_t* __restrict mask_bits;
+  Pixel* __restrict ring;
+  std::uint8_t* __restrict flag_bits;
+};
+
+// Words of 32 pixels from base (kWords: 1 or 2): values into the ring, flags stored; returns
+// whether one was set. Every load first, then the arithmetic and the stores.
+template <bool kNuc, bool kStuck, bool kMask, bool kNarrow, std::size_t kWords>
+inline __attribute__((always_inline)) bool ingest_neon_words(const NeonIngestPointers& p,
+                                                             std::size_t base, uint16x8_t low,
+                                                             uint16x8_t high,
+                                                             uint16x8_t& in_range) {
+  constexpr std::size_t kSteps = 4 * kWords;
+  uint16x8_t v[kSteps], g[kSteps];
+  int16x8_t o[kSteps];
+  for (std::size_t s = 0; s < kSteps; ++s) {
+    v[s] = vld1q_u16(p.in + base + 8 * s);
+    if constexpr (kNuc) {
+      g[s] = vld1q_u16(p.gain + base + 8 * s);
+      o[s] = vld1q_s16(p.offset + base + 8 * s);
+    }
+  }
+  std::uint64_t bits = 0;  // word w in bits 32 w ...
+  if constexpr (kMask) {
+    bits = load_flag_word(p.mask_bits + base / 8);
+    if constexpr (kWords == 2)
+      bits |= std::uint64_t{load_flag_word(p.mask_bits + base / 8 + 4)} << 32;
+  }
+  uint16x8_t masks[kSteps], range[kSteps];
+  for (std::size_t s = 0; s < kSteps; ++s) {
+    if constexpr (kNuc)
+      v[s] = kNarrow ? neon::nuc_narrow(v[s], g[s], o[s], range[s])
+                     : neon::nuc_wide(v[s], g[s], o[s]);
+    vst1q_u16(p.ring + base + 8 * s, v[s]);
+    if constexpr (kStuck) masks[s] = vorrq_u16(vceqq_u16(v[s], low), vceqq_u16(v[s], high));
+  }
+  if constexpr (kNuc && kNarrow) {  // a tree, not a chain of kSteps dependent ORs
+    for (std::size_t half = kSteps / 2; half > 0; half /= 2)
+      for (std::size_t s = 0; s < half; ++s) range[s] = vorrq_u16(range[s], range[s + half]);
+    in_range = vorrq_u16(in_range, range[0]);
+  }
+  if constexpr (kStuck) bits |= neon_flag_words<kWords>(masks);
+  if constexpr (kWords == 2) {
+    std::memcpy(p.flag_bits + base / 8, &bits, sizeof bits);  // little-endian: word 0 first
+    return bits != 0;
+  }
+  const std::uint32_t word = static_cast<std::uint32_t>(bits);
+  std::memcpy(p.flag_bits + base / 8, &word, sizeof word);
+  return word != 0;
+}
+
+// One line; false when kNarrow met a pixel or gain outside its range (the line is then redone).
+// noinline: one symbol per configuration, so scripts/board-cost.sh finds each loop.
+template <bool kNuc, bool kStuck, bool kMask, bool kNarrow>
+__attribute__((noinline)) bool ingest_neon_pass(const IngestLine& j, bool& any) {
+  const NeonIngestPointers p{j.in, j.gain_q14, j.offset, j.mask_bits, j.ring, j.flag_bits};
+  const uint16x8_t low = vdupq_n_u16(j.stuck_low);
+  const uint16x8_t high = vdupq_n_u16(j.stuck_high);
+  const std::size_t width = j.width;
+  uint16x8_t in_range = vdupq_n_u16(0);
+  std::uint32_t flagged = 0;
+  std::size_t base = 0;
+  for (; base + 32 * kNeonIngestWords <= width; base += 32 * kNeonIngestWords)
+    flagged |= ingest_neon_words<kNuc, kStuck, kMask, kNarrow, kNeonIngestWords>(
+                   p, base, low, high, in_range)
+                   ? 1u
+                   : 0u;
+  if (base + 32 <= width) {
+    flagged |=
+        ingest_neon_words<kNuc, kStuck, kMask, kNarrow, 1>(p, base, low, high, in_range) ? 1u : 0u;
+    base += 32;
+  }
+  if (kNuc && kNarrow && neon::narrow_out_of_range(in_range)) return false;
+  if (base < width) {
+    const std::size_t n = width - base;
+    const std::uint32_t bits = ingest_block<kNuc, kStuck, kMask>(
+        p.in + base, kNuc ? p.gain + base : nullptr, kNuc ? p.offset + base : nullptr,
+        kMask ? p.mask_bits + base / 8 : nullptr, j.stuck_low, j.stuck_high, p.ring + base, n);
+    std::memcpy(p.flag_bits + base / 8, &bits, sizeof bits);
+    flagged |= bits;
+  }
+  any = flagged != 0;
+  return true;
+}
+
+template <bool kNuc, bool kStuck, bool kMask>
+inline __attribute__((always_inline)) bool ingest_neon_line(const IngestLine& j) {
+  bool any = false;
+  if (!ingest_neon_pass<kNuc, kStuck, kMask, true>(j, any)) [[unlikely]]
+    ingest_neon_pass<kNuc, kStuck, kMask, false>(j, any);
+  return any;
+}
+
+template <bool kNuc>
+inline __attribute__((always_inline)) bool ingest_neon_any(const IngestLine& j) {
+  if (j.detect_stuck)
+    return j.mask_bits != nullptr ? ingest_neon_line<kNuc, true, true>(j)
+                                  : ingest_neon_line<kNuc, true, false>(j);
+  return j.mask_bits != nullptr ? ingest_neon_line<kNuc, false, true>(j)
+                                : ingest_neon_line<kNuc, false, false>(j);
+}
+
+bool ingest_neon(const IngestLine& job) {
+  return job.gain_q14 != nullptr ? ingest_neon_any<true>(job) : ingest_neon_any<false>(job);
+}
+
+std::uint64_t ingest_rows_neon(const IngestLine& first, std::size_t rows, std::size_t in_stride) {
+  std::uint64_t any = 0;
+  for (std::size_t i = 0; i < rows; ++i)
+    any |= std::uint64_t{ingest_neon(run_line(first, i, in_stride))} << i;
+  return any;
+}
+#endif  // BOLO_NEON_KERNELS
 
 #if BOLO_X86_KERNELS
 #define BOLO_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512dq,avx2")))
@@ -334,19 +504,22 @@ BOLO_AVX512 bool ingest_avx512(const IngestLine& job) {
 }
 #endif  // BOLO_X86_KERNELS
 
-IngestFn select_ingest() {
 #if BOLO_X86_KERNELS
-  if (kernel_path_available(KernelPath::avx512)) return ingest_avx512;
-#endif
-  return ingest_portable;
+IngestFn select_ingest() {
+  return kernel_path_available(KernelPath::avx512) ? ingest_avx512 : ingest_portable;
 }
 
 IngestRowsFn select_ingest_rows() {
-#if BOLO_X86_KERNELS
-  if (kernel_path_available(KernelPath::avx512)) return ingest_rows_avx512;
-#endif
-  return ingest_rows_portable;
+  return kernel_path_available(KernelPath::avx512) ? ingest_rows_avx512 : ingest_rows_portable;
 }
+#elif BOLO_NEON_KERNELS
+// Chosen at build time: constants, no guarded statics (a board program needs no C++ runtime).
+constexpr IngestFn kBuildIngest = ingest_neon;
+constexpr IngestRowsFn kBuildIngestRows = ingest_rows_neon;
+#else
+constexpr IngestFn kBuildIngest = ingest_portable;
+constexpr IngestRowsFn kBuildIngestRows = ingest_rows_portable;
+#endif
 
 }  // namespace
 
@@ -357,14 +530,21 @@ IngestFn ingest_kernel(KernelPath path) {
 #if BOLO_X86_KERNELS
     case KernelPath::avx512: return ingest_avx512;
 #endif
+#if BOLO_NEON_KERNELS
+    case KernelPath::neon: return ingest_neon;
+#endif
     default: break;
   }
   return nullptr;
 }
 
 bool ingest_line(const IngestLine& job) {
+#if BOLO_X86_KERNELS
   static const IngestFn chosen = select_ingest();  // once; no allocation
   return chosen(job);
+#else
+  return kBuildIngest(job);
+#endif
 }
 
 }  // namespace bolo::fw::detail
@@ -378,14 +558,21 @@ IngestRowsFn ingest_rows_kernel(KernelPath path) {
 #if BOLO_X86_KERNELS
     case KernelPath::avx512: return ingest_rows_avx512;
 #endif
+#if BOLO_NEON_KERNELS
+    case KernelPath::neon: return ingest_rows_neon;
+#endif
     default: break;
   }
   return nullptr;
 }
 
 std::uint64_t ingest_rows(const IngestLine& first, std::size_t rows, std::size_t in_stride) {
+#if BOLO_X86_KERNELS
   static const IngestRowsFn chosen = select_ingest_rows();  // once; no allocation
   return chosen(first, rows, in_stride);
+#else
+  return kBuildIngestRows(first, rows, in_stride);
+#endif
 }
 
 void pack_mask_bits(const std::uint8_t* mask, std::size_t width, std::uint8_t* bits) {

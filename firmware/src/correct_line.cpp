@@ -5,6 +5,7 @@
 // clamping. On x86-64 (GCC) hand-written AVX2 and AVX-512 versions are picked at run time; they
 // compute the same integers with 16-bit multiply-adds (see "16-bit multiply-adds" below) and
 // tests/firmware/test_kernels.cpp checks every one against the portable loop, output and counts.
+// On ARM with NEON a NEON version is chosen at build time (see "NEON" below), tested the same way.
 
 #include <cstddef>
 #include <cstdint>
@@ -22,6 +23,9 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
 #pragma GCC diagnostic pop
+#endif
+#if BOLO_NEON_KERNELS
+#include <arm_neon.h>
 #endif
 
 namespace bolo::fw {
@@ -441,10 +445,159 @@ bool cpu_has(detail::KernelPath path) {
              __builtin_cpu_supports("avx2");
     case detail::KernelPath::avx512_vnni:
       return cpu_has(detail::KernelPath::avx512) && __builtin_cpu_supports("avx512vnni");
+    case detail::KernelPath::neon: return false;
   }
   return false;
 }
 #endif  // BOLO_X86_KERNELS
+
+#if BOLO_NEON_KERNELS
+// ---- NEON: widening 16-bit multiply-accumulates in 32-bit lanes, 8 pixels per step ----
+// G and A are cut into 15-bit digits, G = g2*2^30 + g1*2^15 + g0 (g2 < 4), and likewise A.
+// Each P_k = g_k*cur - a_k*prev is accumulated by vmull/vmlsl_u16 modulo 2^32; its true value
+// lies in (-2^31, 2^31), so the lanes read as int32 hold it exactly. For integers,
+//   floor((G*cur - A*prev + 2^23) / 2^24) = 64 P2 + floor((P1 + (P0 >> 15) + 2^8) / 2^9)
+// (nested floor divisions, arithmetic shifts): vsra adds P0 >> 15 to P1 (the sum stays inside
+// int32) and the rounding shift vrshr by 9 adds the 2^8 without overflow. That is exactly the
+// portable loop's `value`; the P2 term is left out when G and A are below 2^30 (g < 64).
+// vqmovun (signed to unsigned saturating narrow) is the clamp. Counts: a value outside
+// [0, 65535] has a bit set above bit 15; the values of a block of steps are OR-ed and tested
+// once, and only a block where that fires counts its kept values lane by lane.
+struct NeonDigits {
+  uint16x4_t low;   // g0, g1, a0, a1
+  uint16x4_t wide;  // 64 g2, 64 a2, 0, 0
+};
+
+inline NeonDigits neon_digits(CorrectorCoefficients c) {
+  constexpr std::uint32_t kDigit = (1u << 15) - 1;
+  const std::uint32_t g = c.gain_q24, a = c.carry_q24;
+  const std::uint16_t low[4] = {static_cast<std::uint16_t>(g & kDigit),
+                                static_cast<std::uint16_t>((g >> 15) & kDigit),
+                                static_cast<std::uint16_t>(a & kDigit),
+                                static_cast<std::uint16_t>((a >> 15) & kDigit)};
+  const std::uint16_t wide[4] = {static_cast<std::uint16_t>((g >> 30) << 6),
+                                 static_cast<std::uint16_t>((a >> 30) << 6), 0, 0};
+  return {vld1_u16(low), vld1_u16(wide)};
+}
+
+template <bool kWide>
+inline __attribute__((always_inline)) int32x4_t neon_values(uint16x4_t cur, uint16x4_t prev,
+                                                            const NeonDigits& d) {
+  uint32x4_t p1 = vmull_lane_u16(cur, d.low, 1);
+  p1 = vmlsl_lane_u16(p1, prev, d.low, 3);
+  uint32x4_t p0 = vmull_lane_u16(cur, d.low, 0);
+  p0 = vmlsl_lane_u16(p0, prev, d.low, 2);
+  int32x4_t v =
+      vrshrq_n_s32(vsraq_n_s32(vreinterpretq_s32_u32(p1), vreinterpretq_s32_u32(p0), 15), 9);
+  if constexpr (kWide) {
+    uint32x4_t w = vmlal_lane_u16(vreinterpretq_u32_s32(v), cur, d.wide, 0);
+    v = vreinterpretq_s32_u32(vmlsl_lane_u16(w, prev, d.wide, 1));
+  }
+  return v;
+}
+
+// Steps per test: more steps spread the test's dependency chain (OR, narrow, move to a core
+// register, branch), which an in-order core waits for; on aarch64 six (eight spill registers
+// in the loop), on armv7 with its 16 Q registers four.
+#if defined(__aarch64__)
+constexpr std::size_t kNeonBlockSteps = 6;
+#else
+constexpr std::size_t kNeonBlockSteps = 4;
+#endif
+
+inline bool neon_any_above16(uint32x4_t bits) {
+  return vget_lane_u64(vreinterpret_u64_u16(vshrn_n_u32(bits, 16)), 0) != 0;
+}
+
+// The counts of a block's kept values. Out of line: the (rare) counting stays out of the loop,
+// which scripts/board-cost.sh reads as one straight block.
+__attribute__((noinline, cold)) void neon_count(const int32x4_t* values, std::size_t count,
+                                                std::uint32_t& n_low, std::uint32_t& n_high) {
+  for (std::size_t i = 0; i < count; ++i) {
+    std::int32_t lanes[4];
+    vst1q_s32(lanes, values[i]);
+    for (std::int32_t value : lanes) {
+      n_low += value < 0 ? 1u : 0u;
+      n_high += value > kMaxOut ? 1u : 0u;
+    }
+  }
+}
+
+// noinline: one symbol per variant, so scripts/board-cost.sh finds each loop the compiler emits.
+template <bool kStore, bool kWide>
+__attribute__((noinline)) void correct_neon_loop(const Pixel* __restrict current,
+                                                 Pixel* __restrict previous,
+                                                 CorrectorCoefficients c, Pixel* __restrict out,
+                                                 std::size_t width, std::uint32_t& low,
+                                                 std::uint32_t& high) {
+  const NeonDigits d = neon_digits(c);
+  std::uint32_t n_low = 0;
+  std::uint32_t n_high = 0;
+  std::size_t x = 0;
+  for (; x + 8 * kNeonBlockSteps <= width; x += 8 * kNeonBlockSteps) {
+    constexpr std::size_t kValues = 2 * kNeonBlockSteps;
+    int32x4_t values[kValues];
+    for (std::size_t s = 0; s < kNeonBlockSteps; ++s) {
+      const std::size_t at = x + 8 * s;
+      const uint16x8_t cur = vld1q_u16(current + at);
+      const uint16x8_t prev = vld1q_u16(previous + at);
+      if constexpr (kStore) vst1q_u16(previous + at, cur);
+      const int32x4_t lo = neon_values<kWide>(vget_low_u16(cur), vget_low_u16(prev), d);
+      const int32x4_t hi = neon_values<kWide>(vget_high_u16(cur), vget_high_u16(prev), d);
+      vst1q_u16(out + at, vcombine_u16(vqmovun_s32(lo), vqmovun_s32(hi)));
+      values[2 * s] = lo;
+      values[2 * s + 1] = hi;
+    }
+    // The block's values OR-ed as a tree: a chain of kValues dependent ORs would stall an
+    // in-order core at every block's end.
+    uint32x4_t bits[kValues / 2];
+    for (std::size_t i = 0; i < kValues / 2; ++i)
+      bits[i] = vreinterpretq_u32_s32(vorrq_s32(values[2 * i], values[2 * i + 1]));
+    for (std::size_t n = kValues / 2; n > 1; n = (n + 1) / 2)  // fold the upper half down
+      for (std::size_t i = 0; i < n / 2; ++i) bits[i] = vorrq_u32(bits[i], bits[n - 1 - i]);
+    if (neon_any_above16(bits[0])) [[unlikely]] {
+      // A copy made only here: handing `values` itself to the call would keep it in memory,
+      // stored on every block.
+      int32x4_t kept[kValues];
+      for (std::size_t i = 0; i < kValues; ++i) kept[i] = values[i];
+      neon_count(kept, kValues, n_low, n_high);
+    }
+  }
+  for (; x + 8 <= width; x += 8) {  // the steps left over from blocks, tested one by one
+    const uint16x8_t cur = vld1q_u16(current + x);
+    const uint16x8_t prev = vld1q_u16(previous + x);
+    if constexpr (kStore) vst1q_u16(previous + x, cur);
+    const int32x4_t kept[2] = {neon_values<kWide>(vget_low_u16(cur), vget_low_u16(prev), d),
+                               neon_values<kWide>(vget_high_u16(cur), vget_high_u16(prev), d)};
+    vst1q_u16(out + x, vcombine_u16(vqmovun_s32(kept[0]), vqmovun_s32(kept[1])));
+    if (neon_any_above16(vreinterpretq_u32_s32(vorrq_s32(kept[0], kept[1])))) [[unlikely]]
+      neon_count(kept, 2, n_low, n_high);
+  }
+  low += n_low;
+  high += n_high;
+  correct_portable<kStore>(current + x, previous + x, c, out + x, width - x, low, high);
+}
+
+template <bool kStore>
+void correct_neon(const Pixel* __restrict current, Pixel* __restrict previous,
+                  CorrectorCoefficients c, Pixel* __restrict out, std::size_t width,
+                  std::uint32_t& low, std::uint32_t& high) {
+  if ((c.gain_q24 | c.carry_q24) >> 30 != 0)
+    correct_neon_loop<kStore, true>(current, previous, c, out, width, low, high);
+  else
+    correct_neon_loop<kStore, false>(current, previous, c, out, width, low, high);
+}
+
+void correct_line_neon(const Pixel* current, const Pixel* previous, CorrectorCoefficients c,
+                       Pixel* out, std::size_t width, std::uint32_t& low, std::uint32_t& high) {
+  // kStore = false never writes through the pointer.
+  correct_neon<false>(current, const_cast<Pixel*>(previous), c, out, width, low, high);
+}
+void correct_update_neon(const Pixel* current, Pixel* previous, CorrectorCoefficients c,
+                         Pixel* out, std::size_t width, std::uint32_t& low, std::uint32_t& high) {
+  correct_neon<true>(current, previous, c, out, width, low, high);
+}
+#endif  // BOLO_NEON_KERNELS
 
 struct Kernels {
   detail::KernelPath path;
@@ -452,15 +605,14 @@ struct Kernels {
   detail::CorrectUpdateFn update;
 };
 
-Kernels select_kernels() {
 #if BOLO_X86_KERNELS
+Kernels select_kernels() {
   if (cpu_has(detail::KernelPath::avx512_vnni))
     return {detail::KernelPath::avx512_vnni, correct_line_avx512_vnni, correct_update_avx512_vnni};
   if (cpu_has(detail::KernelPath::avx512))
     return {detail::KernelPath::avx512, correct_line_avx512, correct_update_avx512};
   if (cpu_has(detail::KernelPath::avx2))
     return {detail::KernelPath::avx2, correct_line_avx2, correct_update_avx2};
-#endif
   return {detail::KernelPath::portable, correct_line_portable, correct_update_portable};
 }
 
@@ -468,6 +620,16 @@ const Kernels& kernels() {
   static const Kernels chosen = select_kernels();  // once; no allocation
   return chosen;
 }
+#else
+// Chosen at build time: a constant, no guarded static (a board program needs no C++ runtime).
+#if BOLO_NEON_KERNELS
+constexpr Kernels kBuildKernels{detail::KernelPath::neon, correct_line_neon, correct_update_neon};
+#else
+constexpr Kernels kBuildKernels{detail::KernelPath::portable, correct_line_portable,
+                                correct_update_portable};
+#endif
+constexpr const Kernels& kernels() { return kBuildKernels; }
+#endif
 
 }  // namespace
 
@@ -502,6 +664,7 @@ const char* to_string(KernelPath path) {
     case KernelPath::avx2: return "avx2";
     case KernelPath::avx512: return "avx512";
     case KernelPath::avx512_vnni: return "avx512_vnni";
+    case KernelPath::neon: return "neon";
   }
   return "unknown";
 }
@@ -509,6 +672,8 @@ const char* to_string(KernelPath path) {
 bool kernel_path_available(KernelPath path) {
 #if BOLO_X86_KERNELS
   return cpu_has(path);
+#elif BOLO_NEON_KERNELS
+  return path == KernelPath::portable || path == KernelPath::neon;
 #else
   return path == KernelPath::portable;
 #endif
@@ -524,9 +689,11 @@ CorrectLineFn correct_line_kernel(KernelPath path) {
     case KernelPath::avx2: return correct_line_avx2;
     case KernelPath::avx512: return correct_line_avx512;
     case KernelPath::avx512_vnni: return correct_line_avx512_vnni;
-#else
-    default: break;
 #endif
+#if BOLO_NEON_KERNELS
+    case KernelPath::neon: return correct_line_neon;
+#endif
+    default: break;
   }
   return nullptr;
 }
@@ -539,9 +706,11 @@ CorrectUpdateFn correct_update_kernel(KernelPath path) {
     case KernelPath::avx2: return correct_update_avx2;
     case KernelPath::avx512: return correct_update_avx512;
     case KernelPath::avx512_vnni: return correct_update_avx512_vnni;
-#else
-    default: break;
 #endif
+#if BOLO_NEON_KERNELS
+    case KernelPath::neon: return correct_update_neon;
+#endif
+    default: break;
   }
   return nullptr;
 }

@@ -4,7 +4,10 @@
 //   loader picks one. Integer code has one answer whatever the vector width.
 // * BOLO_X86_KERNELS: 1 where the hand-written intrinsic kernels are built (picked at run time
 //   with __builtin_cpu_supports, each tested against the portable loop).
-// Elsewhere (ARM, clang, BOLO_NO_MULTIVERSION) only the portable loops are built.
+// * BOLO_NEON_KERNELS: 1 on little-endian ARM compiled with NEON (aarch64; armhf with
+//   -mfpu=neon) unless BOLO_NO_NEON: the NEON intrinsic kernels, chosen at build time, each
+//   tested against the portable loop.
+// Elsewhere (clang on x86, BOLO_NO_MULTIVERSION) only the portable loops are built.
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(BOLO_NO_MULTIVERSION)
 #define BOLO_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
@@ -12,4 +15,11 @@
 #else
 #define BOLO_KERNEL_CLONES
 #define BOLO_X86_KERNELS 0
+#endif
+
+#if defined(__ARM_NEON) && defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__ && \
+    !defined(BOLO_NO_NEON)
+#define BOLO_NEON_KERNELS 1
+#else
+#define BOLO_NEON_KERNELS 0
 #endif

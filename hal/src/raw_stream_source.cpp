@@ -7,11 +7,14 @@
 
 namespace bolo::hal {
 
-RawStreamSource::RawStreamSource(int fd, const RawStreamConfig& config)
-    : fd_(fd),
-      config_(config),
-      bytes_(std::size_t{config.width} * config.height * 2),
-      line_(config.width) {}
+RawStreamSource::RawStreamSource(int fd, const RawStreamConfig& config,
+                                 std::span<std::uint8_t> frame, std::span<fw::Pixel> line)
+    : fd_(fd), config_(config) {
+  if (frame.size() >= frame_bytes(config) && line.size() >= config.width) {
+    bytes_ = frame.first(frame_bytes(config));
+    line_ = line.first(config.width);
+  }
+}
 
 SourceFormat RawStreamSource::format() const {
   SourceFormat f;

@@ -279,3 +279,74 @@ TEST_CASE("nuc_line equals its definition on random and edge data", "[kernels][n
     }
   }
 }
+
+// The NUC paths against the portable loop: random and edge lines, lines in the NEON kernel's
+// 16-bit case (pixels below 2^14, gains below 2^15) with one pixel or gain outside it, every
+// width of a step and its tail, unaligned starts.
+TEST_CASE("every nuc_line path equals the portable loop", "[kernels][nuc]") {
+  const auto portable = fw::detail::nuc_line_kernel(KernelPath::portable);
+  REQUIRE(portable != nullptr);
+  std::vector<KernelPath> paths;
+  for (KernelPath p : fw::detail::kKernelPaths)
+    if (p != KernelPath::portable && fw::detail::nuc_line_kernel(p) != nullptr) paths.push_back(p);
+  if (paths.empty()) std::printf("nuc_line: only the portable path on this build\n");
+  SplitMix64 rng(19);
+  const std::vector<fw::Pixel> outside_in = {0x4000, 0x7FFF, 0x8000, 0xFFFF};
+  const std::vector<std::uint16_t> outside_gain = {0x8000, 0xFFFF};
+  for (std::size_t width : {1, 7, 8, 9, 15, 16, 17, 31, 32, 33, 64, 160, 640, 1317}) {
+    for (std::size_t start : {0, 3}) {
+      const std::size_t n = start + width;
+      std::vector<fw::Pixel> in(n), want(n), got(n);
+      std::vector<std::uint16_t> gain(n);
+      std::vector<std::int16_t> offset(n);
+      for (int round = 0; round < 24; ++round) {
+        const bool narrow = round % 3 != 0;
+        for (std::size_t i = 0; i < n; ++i) {
+          if (narrow) {
+            in[i] = static_cast<fw::Pixel>(rng.below(8) == 0 ? (rng.below(2) ? 0 : 0x3FFF)
+                                                             : rng.below(0x4000));
+            gain[i] = static_cast<std::uint16_t>(rng.below(4) == 0 ? rng.below(0x8000)
+                                                                   : 16384 - 512 + rng.below(1024));
+          } else {
+            in[i] = rng.below(3) == 0
+                        ? kEdgePixels[rng.below(static_cast<std::uint32_t>(kEdgePixels.size()))]
+                        : static_cast<fw::Pixel>(rng.next());
+            gain[i] = static_cast<std::uint16_t>(rng.next());
+          }
+          offset[i] = static_cast<std::int16_t>(rng.below(3) == 0 ? rng.next() & 0xFFFF
+                                                                  : rng.below(201) - 100);
+        }
+        if (narrow && round % 3 == 1)
+          in[start + rng.below(static_cast<std::uint32_t>(width))] =
+              outside_in[rng.below(static_cast<std::uint32_t>(outside_in.size()))];
+        if (narrow && round % 6 == 2)
+          gain[start + rng.below(static_cast<std::uint32_t>(width))] =
+              outside_gain[rng.below(static_cast<std::uint32_t>(outside_gain.size()))];
+        portable(in.data() + start, gain.data() + start, offset.data() + start,
+                 want.data() + start, width);
+        for (KernelPath path : paths) {
+          INFO("path " << fw::detail::to_string(path) << " width " << width << " round " << round);
+          std::fill(got.begin(), got.end(), fw::Pixel{0xA5A5});
+          fw::detail::nuc_line_kernel(path)(in.data() + start, gain.data() + start,
+                                            offset.data() + start, got.data() + start, width);
+          CHECK(std::equal(got.begin() + static_cast<std::ptrdiff_t>(start), got.end(),
+                           want.begin() + static_cast<std::ptrdiff_t>(start)));
+          CHECK(std::all_of(got.begin(), got.begin() + static_cast<std::ptrdiff_t>(start),
+                            [](fw::Pixel p) { return p == 0xA5A5; }));
+        }
+      }
+    }
+  }
+}
+
+#if defined(__ARM_NEON)
+// A build for a NEON target runs the NEON kernels (and so the comparisons above test them).
+TEST_CASE("a NEON build selects the NEON kernels", "[kernels][neon]") {
+  CHECK(fw::detail::selected_kernel_path() == KernelPath::neon);
+  CHECK(fw::detail::correct_line_kernel(KernelPath::neon) != nullptr);
+  CHECK(fw::detail::correct_update_kernel(KernelPath::neon) != nullptr);
+  CHECK(fw::detail::nuc_line_kernel(KernelPath::neon) != nullptr);
+  CHECK(fw::detail::ingest_kernel(KernelPath::neon) != nullptr);
+  CHECK(fw::detail::ingest_rows_kernel(KernelPath::neon) != nullptr);
+}
+#endif

@@ -56,3 +56,35 @@ TEST_CASE("a bad file descriptor is a counted fault, not a crash", "[hal][raw]")
   CHECK(source.stats().corrupt_transfers == 1);
   CHECK(sink.frames() == 0);
 }
+
+TEST_CASE("raw Y16 frames stream from the caller's storage, which must hold a frame and a line",
+          "[hal][raw]") {
+  bolo::test::TempDir tmp;
+  const auto file = tmp / "in.y16";
+  constexpr std::uint32_t W = 4, H = 2;
+  {
+    std::ofstream out(file, std::ios::binary);
+    for (std::uint32_t i = 0; i < 2 * W * H; ++i) {
+      out.put(static_cast<char>(i));
+      out.put(static_cast<char>(0x30));
+    }
+  }
+  const hal::RawStreamConfig cfg{W, H, 16, 0, 0, 0};
+  REQUIRE(hal::RawStreamSource::frame_bytes(cfg) == W * H * 2);
+  std::vector<std::uint8_t> frame(W * H * 2);
+  std::vector<fw::Pixel> line(W);
+  for (const bool enough : {true, false}) {
+    const int fd = ::open(file.c_str(), O_RDONLY);
+    REQUIRE(fd >= 0);
+    hal::RawStreamSource source(fd, cfg, std::span(frame).first(enough ? frame.size() : frame.size() - 1),
+                                line);
+    bolo::test::FrameCollector sink(W, H);
+    int frames = 0;
+    while (source.stream_frame(sink) == hal::StreamStatus::frame) {
+      CHECK(sink.frame()[W * H - 1] == 0x3000 + W * H * (frames + 1) - 1);
+      ++frames;
+    }
+    CHECK(frames == (enough ? 2 : 0));
+    ::close(fd);
+  }
+}

@@ -15,9 +15,12 @@ enum class KernelPath : std::uint8_t {
   avx2,      // x86-64 intrinsics, 16 pixels per step
   avx512,    // x86-64-v4 intrinsics (AVX-512 F/BW/VL/DQ), 32 pixels per step, masked tail
   avx512_vnni,  // the avx512 kernel with AVX512-VNNI multiply-accumulates (corrector only)
+  neon,         // ARM NEON intrinsics (aarch64, armhf with NEON), 8 pixels per step; chosen at
+                // build time, the only path besides portable on such builds
 };
 inline constexpr KernelPath kKernelPaths[] = {KernelPath::portable, KernelPath::avx2,
-                                              KernelPath::avx512, KernelPath::avx512_vnni};
+                                              KernelPath::avx512, KernelPath::avx512_vnni,
+                                              KernelPath::neon};
 const char* to_string(KernelPath path);
 
 // Compiled into this build and supported by the CPU it runs on.
@@ -34,6 +37,11 @@ using CorrectUpdateFn = void (*)(const Pixel* current, Pixel* previous, Correcto
 // nullptr where the path is not available.
 CorrectLineFn correct_line_kernel(KernelPath path);
 CorrectUpdateFn correct_update_kernel(KernelPath path);
+
+// The NUC of one line (what nuc_line computes), per path: portable or NEON; nullptr elsewhere.
+using NucLineFn = void (*)(const Pixel* in, const std::uint16_t* gain_q14,
+                           const std::int16_t* offset, Pixel* out, std::size_t width);
+NucLineFn nuc_line_kernel(KernelPath path);
 
 // The bad-pixel stage's intake of one line: `in` into the ring line (through the NUC when
 // `gain_q14` is set), each pixel flagged if the mask marks it (when `mask_bits` is set) or, with
