@@ -170,21 +170,23 @@ void count_unchanged_frames(State& s) {
   const std::size_t w = s.cfg.width, h = s.cfg.height;
   const float contrast = kStuckContrast * s.intensity;
   std::uint32_t stuck = 0;
+  // Indices from the frame's start: the row above is i - w, never a pointer stepped before a row.
+  const float* y = s.raw.data();
+  const float* p = s.raw_prev.data();
+  std::uint8_t* count = s.unchanged_frames.data();
   for (std::size_t row = 1; row + 1 < h; ++row) {
-    const float* y = s.raw.data() + row * w;
-    const float* p = s.raw_prev.data() + row * w;
-    std::uint8_t* count = s.unchanged_frames.data() + row * w;
-    for (std::size_t x = 1; x + 1 < w; ++x) {
-      const float v = y[x];
-      if (v != p[x]) {  // nearly every pixel under noise
-        if (count[x] != 0) count[x] = 0;
+    for (std::size_t i = row * w + 1; i + 1 < (row + 1) * w; ++i) {
+      const float v = y[i];
+      if (v != p[i]) {  // nearly every pixel under noise
+        if (count[i] != 0) count[i] = 0;
         continue;
       }
-      const bool neighbour_changed = y[x - 1] != p[x - 1] || y[x + 1] != p[x + 1] || y[x - w] != p[x - w] || y[x + w] != p[x + w];
-      const bool apart = std::fabs(v - y[x - 1]) > contrast && std::fabs(v - y[x + 1]) > contrast &&
-                         std::fabs(v - y[x - w]) > contrast && std::fabs(v - y[x + w]) > contrast;
-      if (neighbour_changed && apart && count[x] < 255) ++count[x];
-      stuck += count[x] >= kStuckChecks;
+      const bool neighbour_changed =
+          y[i - 1] != p[i - 1] || y[i + 1] != p[i + 1] || y[i - w] != p[i - w] || y[i + w] != p[i + w];
+      const bool apart = std::fabs(v - y[i - 1]) > contrast && std::fabs(v - y[i + 1]) > contrast &&
+                         std::fabs(v - y[i - w]) > contrast && std::fabs(v - y[i + w]) > contrast;
+      if (neighbour_changed && apart && count[i] < 255) ++count[i];
+      stuck += count[i] >= kStuckChecks;
     }
   }
   s.stuck_pixels = stuck;
