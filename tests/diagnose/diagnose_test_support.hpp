@@ -94,4 +94,24 @@ inline const nlohmann::json* finding(const nlohmann::json& d, const std::string&
   return nullptr;
 }
 
+// Rewrites `from`'s frames.csv into `to`: each data row's cells (padded to the 7 columns of the
+// shared format) pass through `edit` with the row's number; the header is kept.
+template <typename Edit>
+void edit_frames_csv(const fs::path& from, const fs::path& to, Edit&& edit) {
+  std::istringstream in(read_text(from));
+  std::string line, text;
+  std::getline(in, line);
+  text = line + "\n";
+  for (int row = 0; std::getline(in, line); ++row) {
+    std::vector<std::string> cells;
+    std::stringstream cell_stream(line);
+    for (std::string cell; std::getline(cell_stream, cell, ',');) cells.push_back(cell);
+    while (cells.size() < 7) cells.emplace_back();
+    edit(row, cells);
+    for (std::size_t c = 0; c < cells.size(); ++c) text += (c ? "," : "") + cells[c];
+    text += "\n";
+  }
+  std::ofstream(to, std::ios::binary) << text;
+}
+
 }  // namespace bolo::test

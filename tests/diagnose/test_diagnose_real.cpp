@@ -22,25 +22,14 @@ fs::path without_shutter_flags(const fs::path& source, const fs::path& out, bool
   fs::create_symlink(source / "frames.npy", out / "frames.npy");
   fs::copy_file(source / "recording.json", out / "recording.json");
   const double fps = nlohmann::json::parse(read_text(source / "recording.json"))["fps"].get<double>();
-  std::istringstream in(read_text(source / "frames.csv"));
-  std::string line, text;
-  std::getline(in, line);
-  text = line + "\n";
-  for (int n = 0; std::getline(in, line); ++n) {
-    std::vector<std::string> cells;
-    std::stringstream cell_stream(line);
-    for (std::string cell; std::getline(cell_stream, cell, ',');) cells.push_back(cell);
-    while (cells.size() < 7) cells.emplace_back();
+  edit_frames_csv(source / "frames.csv", out / "frames.csv", [&](int row, std::vector<std::string>& cells) {
     if (uniform_times) {
       char t[32];
-      std::snprintf(t, sizeof t, "%.6f", n / fps);
+      std::snprintf(t, sizeof t, "%.6f", row / fps);
       cells[1] = t;
     }
     if (!cells[4].empty()) cells[4] = "0";
-    for (std::size_t c = 0; c < cells.size(); ++c) text += (c ? "," : "") + cells[c];
-    text += "\n";
-  }
-  std::ofstream(out / "frames.csv", std::ios::binary) << text;
+  });
   return out;
 }
 

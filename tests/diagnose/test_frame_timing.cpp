@@ -17,20 +17,9 @@ namespace {
 
 // frames.csv with `column` (0-based) of every data row replaced by `value`.
 void set_frames_csv_column(const fs::path& rec, int column, const std::string& value, int only_row = -1) {
-  std::istringstream in(read_text(rec / "frames.csv"));
-  std::string line, out;
-  std::getline(in, line);
-  out = line + "\n";
-  for (int row = 0; std::getline(in, line); ++row) {
-    std::vector<std::string> cells;
-    std::stringstream cell_stream(line);
-    for (std::string cell; std::getline(cell_stream, cell, ',');) cells.push_back(cell);
-    while (cells.size() < 7) cells.emplace_back();
+  edit_frames_csv(rec / "frames.csv", rec / "frames.csv", [&](int row, std::vector<std::string>& cells) {
     if (only_row < 0 || only_row == row) cells[column] = value;
-    for (std::size_t c = 0; c < cells.size(); ++c) out += (c ? "," : "") + cells[c];
-    out += "\n";
-  }
-  std::ofstream(rec / "frames.csv", std::ios::binary) << out;
+  });
 }
 
 void check_null(const nlohmann::json& d) {
