@@ -9,11 +9,12 @@
 
 #include <catch2/catch.hpp>
 
+#include "support/skip_exit_code.hpp"
+
 namespace bolo::test {
 
-// 77, as the HIL scenarios and Automake use. A run that fails with 77 failed assertions exits 1
-// instead (test_main.cpp), so a failure is never read as a skip.
-inline constexpr int kSkipExitCode = 77;
+// A run that fails with kSkipExitCode failed assertions exits 1 instead (test_main.cpp), so a
+// failure is never read as a skip.
 
 struct SkipLedger {
   bool current_skipped = false;  // the running test case called skip()

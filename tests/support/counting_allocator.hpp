@@ -4,9 +4,11 @@
 // allocation tests prove that code allocates nothing after initialisation. A sanitizer's runtime
 // owns malloc and cannot share the process with a second replacement, so where one is compiled in
 // (whatever flags brought it) nothing is replaced, BOLO_COUNTING_ALLOCATOR_ACTIVE is 0, and the
-// allocation tests exit with kCountingUnavailableExitCode (ctest: skipped).
+// allocation tests exit with kSkipExitCode (ctest: skipped).
 
 #include <atomic>
+
+#include "skip_exit_code.hpp"
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define BOLO_COUNTING_ALLOCATOR_ACTIVE 0
@@ -27,9 +29,5 @@ extern std::atomic<bool> g_counting;
 // A probe allocation stored here escapes, so the compiler cannot elide the new/delete or
 // malloc/free pair a test uses to prove that the counter sees allocations.
 extern void* volatile g_escape;
-
-// The exit code of an allocation test that cannot count (a sanitizer build); the tests' ctest
-// entries take it as SKIP_RETURN_CODE.
-inline constexpr int kCountingUnavailableExitCode = 77;
 
 }  // namespace bolo::test
