@@ -603,6 +603,8 @@ TEST_CASE("odometry: a lens with distortion is resampled onto a pinhole", "[vo][
     cam["k1"] = 0, cam["k2"] = 0;
     std::ofstream(naive / "camera.json") << cam.dump();
   }
+  fs::create_directories(tmp / "run");
+  fs::create_directories(tmp / "naive-run");
   for (const char* mode : {"none", "ir"}) {
     INFO(mode);
     const CliResult r = run_bolo({"odometry", seq.string(), "--out", (tmp / "run" / mode).string(), "--photometric", mode});
