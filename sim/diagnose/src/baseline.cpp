@@ -9,7 +9,7 @@
 #include "bolo/sim/two_frame_sensor.hpp"
 #include <Eigen/Dense>
 
-#include "stats.hpp"
+#include "bolo/effects/stats.hpp"
 
 namespace bolo::diag {
 namespace {

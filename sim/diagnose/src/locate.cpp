@@ -10,7 +10,7 @@
 
 #include "moving_edges.hpp"
 #include "noisy_pixels.hpp"
-#include "stats.hpp"
+#include "bolo/effects/stats.hpp"
 
 namespace bolo::diag {
 namespace {

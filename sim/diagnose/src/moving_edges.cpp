@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <sstream>
 
-#include "stats.hpp"
+#include "bolo/effects/stats.hpp"
 
 namespace bolo::diag {
 

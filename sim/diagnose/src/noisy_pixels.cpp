@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "stats.hpp"
+#include "bolo/effects/stats.hpp"
 
 namespace bolo::diag {
 

@@ -4,9 +4,10 @@
 #include <cmath>
 
 #include "bolo/diagnose/diagnose.hpp"
+#include "bolo/effects/catalogue.hpp"
 #include "locate.hpp"
-#include "scene_flow.hpp"
-#include "stats.hpp"
+#include "bolo/effects/scene_flow.hpp"
+#include "bolo/effects/stats.hpp"
 
 namespace bolo::diag {
 namespace {
@@ -253,7 +254,7 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
     result.heldout_rms = rms_of(s, std::max(1.0, c - k));
   }
   if (views) views->before = r;
-  auto candidates = make_catalogue();
+  auto candidates = effects::make_candidates();
   std::vector<char> used(candidates.size(), 0);
   const int rounds = std::min<int>(options.max_findings, int(candidates.size()));
   std::vector<float> after_r;

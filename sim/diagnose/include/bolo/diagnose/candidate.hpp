@@ -1,5 +1,5 @@
 #pragma once
-// One catalogue effect as a fitting model. A candidate sees the data and the current residual
+// One catalogue effect as a fitting model (diagnose's half of an entry of bolo/effects/catalogue.hpp). A candidate sees the data and the current residual
 // (recorded minus baseline minus the effects already accepted), fits its parameters on a set of
 // training frames, and predicts its contribution to the residual on any frame. Selection
 // (select.cpp) scores it on held-out blocks; nothing in a candidate knows which frames are held out.
@@ -55,7 +55,5 @@ class Candidate {
   // Frees what prepare() built (fitted effects keep their own share alive).
   virtual void release() {}
 };
-
-std::vector<std::unique_ptr<Candidate>> make_catalogue();
 
 }  // namespace bolo::diag

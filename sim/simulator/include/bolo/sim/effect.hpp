@@ -1,6 +1,7 @@
 #pragma once
-// The effect catalogue of ../shared/docs/diagnosis.md as composable simulator modules. Each
-// effect hooks into the chain at its physical place:
+// The simulator's half of the effect catalogue (bolo/effects/catalogue.hpp, sim/effects): each
+// effect of ../shared/docs/diagnosis.md as a composable simulator module. Each effect hooks into
+// the chain at its physical place:
 //   scene -> [input effects] -> bolometer (tau per pixel) -> [reading effects] -> noise ->
 //   [output effects] -> quantisation -> [final effects]
 // and describes itself for truth/ (parameters, per-pixel maps). Effects draw their random maps
@@ -73,11 +74,11 @@ class Effect {
   // Per-pixel maps for truth/ as (name, H*W values), e.g. ("offset_fpn_offset", map).
   virtual std::vector<std::pair<std::string, std::vector<float>>> maps() const { return {}; }
 
-  // Where an effect acts on the chain, in catalogue order (see effect_catalogue.cpp).
+  // Where an effect acts on the chain, in catalogue order (sim/effects/src/catalogue.cpp).
   int order = 0;
 };
 
-// All catalogue ids, in the order they act.
+// All catalogue ids, in the order they act (both defined by the catalogue, sim/effects).
 const std::vector<std::string>& effect_ids();
 // Builds an effect; throws std::invalid_argument naming the effect and the bad or unknown parameter.
 std::unique_ptr<Effect> make_effect(const EffectSpec& spec, const SimulationInfo& info);

@@ -1,6 +1,6 @@
 #include "pooled.hpp"
 
-#include "dynamic_effects.hpp"
+#include "two_frame_derivative.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -1,6 +1,6 @@
 // Block-matching flow of the simulation input (scene_flow.hpp).
 
-#include "scene_flow.hpp"
+#include "bolo/effects/scene_flow.hpp"
 
 #include <algorithm>
 #include <cmath>

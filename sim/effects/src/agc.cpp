@@ -11,12 +11,76 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <sstream>
 
 #include <Eigen/Dense>
 
-#include "dynamic_effects.hpp"
-#include "stats.hpp"
+#include "bolo/effects/stats.hpp"
+#include "entries.hpp"
+#include "params.hpp"
+
+namespace bolo::effects {
+namespace {
+
+struct AgcSchema {
+  static constexpr std::string_view id = "agc";
+  static constexpr Param damping{"damping", "", 0.3, 0.0, 1.0};  // per frame
+  static constexpr Param p_lo{"p_lo", "%", 1.0, 0.0, 50.0};
+  static constexpr Param p_hi{"p_hi", "%", 99.0, 50.0, 100.0};
+};
+
+}  // namespace
+}  // namespace bolo::effects
+
+namespace bolo::sim {
+namespace {
+
+// y = a_n u + b_n mapping the frame's percentiles p_lo..p_hi onto 10 %..90 % of the output range,
+// with a and b following their targets at rate `damping` per frame.
+class AgcEffect final : public Effect {
+  using S = effects::AgcSchema;
+
+ public:
+  AgcEffect(const EffectSpec& spec, const SimulationInfo& info)
+      : full_(std::ldexp(1.0, static_cast<int>(info.bits)) - 1.0) {
+    effects::Params p(spec);
+    damping_ = p.number(S::damping);
+    lo_ = p.number(S::p_lo);
+    hi_ = p.number(S::p_hi);
+    p.finish();
+  }
+  const char* id() const override { return S::id.data(); }
+  void on_output(const FrameState&, std::span<double> y) override {
+    sorted_.assign(y.begin(), y.end());
+    auto pick = [&](double pct) {
+      const auto k = static_cast<std::size_t>(pct / 100.0 * static_cast<double>(sorted_.size() - 1));
+      std::nth_element(sorted_.begin(), sorted_.begin() + static_cast<std::ptrdiff_t>(k), sorted_.end());
+      return sorted_[k];
+    };
+    const double lo = pick(lo_), hi = std::max(pick(hi_), lo + 1.0);
+    const double a_target = 0.8 * full_ / (hi - lo);
+    const double b_target = 0.1 * full_ - a_target * lo;
+    if (!started_) {
+      a_ = a_target;
+      b_ = b_target;
+      started_ = true;
+    } else {
+      a_ += damping_ * (a_target - a_);
+      b_ += damping_ * (b_target - b_);
+    }
+    for (double& v : y) v = a_ * v + b_;
+  }
+  nlohmann::json parameters() const override {
+    return {{S::damping.name, damping_}, {S::p_lo.name, lo_}, {S::p_hi.name, hi_}};
+  }
+
+ private:
+  double full_, damping_, lo_, hi_, a_ = 1, b_ = 0;
+  bool started_ = false;
+  std::vector<double> sorted_;
+};
+
+}  // namespace
+}  // namespace bolo::sim
 
 namespace bolo::diag {
 namespace {
@@ -61,9 +125,11 @@ class AgcFit final : public FittedEffect {
   Where where_;
 };
 
-class Agc final : public Candidate {
+class AgcCandidate final : public Candidate {
+  using S = effects::AgcSchema;
+
  public:
-  const char* id() const override { return "agc"; }
+  const char* id() const override { return S::id.data(); }
   // Damping and the percentile pair (the global gain and offset are nuisance).
   int parameter_count() const override { return 2; }
 
@@ -174,11 +240,12 @@ class Agc final : public Candidate {
     where.summary = "whole-frame gain and offset follow each frame's " + number(st.p_lo) + "-" + number(st.p_hi) +
                     " percentile range (gain varies by " + number(100 * (hi - lo)) + " % between frames " +
                     std::to_string(from) + " and " + std::to_string(to) + "): static pixels change when the rest of the frame does";
-    nlohmann::json params = {{"damping", damping},
-                             {"p_lo", st.p_lo},
-                             {"p_hi", st.p_hi},
+    nlohmann::json params = {{S::damping.name, damping},
+                             {S::p_lo.name, st.p_lo},
+                             {S::p_hi.name, st.p_hi},
                              {"gain_range", hi - lo}};
-    const std::string sim = "agc:damping=" + number(damping) + ",p_lo=" + number(st.p_lo) + ",p_hi=" + number(st.p_hi);
+    const std::string sim =
+        effects::SpecText(S::id).set(S::damping, number(damping)).set(S::p_lo, number(st.p_lo)).set(S::p_hi, number(st.p_hi)).str();
     return std::make_unique<AgcFit>(*data_, best_u, stretches_[best].v, best_beta, params, sim, where);
   }
 
@@ -231,7 +298,13 @@ class Agc final : public Candidate {
 };
 
 }  // namespace
-
-std::unique_ptr<Candidate> make_agc() { return std::make_unique<Agc>(); }
-
 }  // namespace bolo::diag
+
+namespace bolo::effects {
+
+EffectEntry agc() {
+  using S = AgcSchema;
+  return make_entry<sim::AgcEffect, diag::AgcCandidate>(S::id, {S::damping, S::p_lo, S::p_hi});
+}
+
+}  // namespace bolo::effects

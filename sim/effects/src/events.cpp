@@ -1,18 +1,117 @@
-// Effects that move the whole frame at once: ffc_step (offset jumps at shutter events),
-// fpa_drift (offset tracking the focal-plane temperature, or time since the last event), and
-// frame_duplication (frames repeated bit for bit). Their evidence is the per-frame mean residual.
+// Slow and event-driven effects that move the whole frame at once: ffc_step (shutter events with
+// offset steps) and fpa_drift (focal-plane temperature drift that the last shutter event zeroes,
+// a sawtooth between events). Diagnose's evidence for both is the per-frame mean residual.
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
-#include <numeric>
-#include <sstream>
+#include <stdexcept>
 
 #include <Eigen/Dense>
 
-#include "dynamic_effects.hpp"
-#include "stats.hpp"
+#include "bolo/effects/stats.hpp"
+#include "entries.hpp"
+#include "params.hpp"
+
+namespace bolo::effects {
+namespace {
+
+// Give `every` or `frames` (or both).
+struct FfcStepSchema {
+  static constexpr std::string_view id = "ffc_step";
+  static constexpr Param every{"every", "frames", 0, 0, 1e9};  // 0: no periodic events
+  static constexpr Param frames{"frames", "", kNoDefault, 1, 1e12, true};  // first frames after each event
+  static constexpr Param step{"step", "counts", 20.0, 0.0, 1e4};
+  static constexpr Param flagged{"flagged", "", 1, 0, 1};  // 1: frames.csv flags the event
+};
+
+struct FpaDriftSchema {
+  static constexpr std::string_view id = "fpa_drift";
+  static constexpr Param rate{"rate", "degC/s", 0.02, -10.0, 10.0};
+  static constexpr Param k{"k", "counts/degC", 50.0, -1e4, 1e4};
+  static constexpr Param t0_c{"t0_c", "degC", 30.0, -60.0, 120.0};
+};
+
+}  // namespace
+}  // namespace bolo::effects
+
+namespace bolo::sim {
+namespace {
+
+// At each event frame the global offset jumps by a random +-[step/2, step]; frames.csv flags the
+// event when `flagged` is 1 (a concealed event when 0).
+class FfcStepEffect final : public Effect {
+  using S = effects::FfcStepSchema;
+
+ public:
+  FfcStepEffect(const EffectSpec& spec, const SimulationInfo& info) : rng_(effects::effect_rng(info.seed, id())) {
+    effects::Params p(spec);
+    every_ = static_cast<std::uint64_t>(p.number(S::every));
+    for (double f : p.list(S::frames)) frames_.push_back(static_cast<std::uint64_t>(f));
+    step_ = p.number(S::step);
+    flagged_ = p.number(S::flagged) != 0;
+    p.finish();
+    if (every_ == 0 && frames_.empty())
+      throw std::invalid_argument("--effect " + std::string(S::id) + ": give every=N or frames=A/B/...");
+    std::sort(frames_.begin(), frames_.end());
+  }
+  const char* id() const override { return S::id.data(); }
+  void begin_frame(FrameState& f) override {
+    const bool event = (every_ != 0 && f.index > 0 && f.index % every_ == 0) ||
+                       std::binary_search(frames_.begin(), frames_.end(), f.index);
+    if (!event) return;
+    f.shutter_event = true;
+    f.shutter_flagged = flagged_;
+    std::uniform_real_distribution<double> magnitude(0.5 * step_, step_);
+    offset_ += (rng_() & 1 ? 1.0 : -1.0) * magnitude(rng_);
+    events_.push_back(f.index);
+  }
+  void on_reading(const FrameState&, std::span<double> y) override {
+    for (double& v : y) v += offset_;
+  }
+  nlohmann::json parameters() const override {
+    return {{S::every.name, every_}, {S::frames.name, events_}, {S::step.name, step_}, {S::flagged.name, flagged_ ? 1 : 0}};
+  }
+
+ private:
+  std::mt19937_64 rng_;
+  std::uint64_t every_ = 0;
+  std::vector<std::uint64_t> frames_, events_;
+  double step_ = 0, offset_ = 0;
+  bool flagged_ = true;
+};
+
+// T_fpa = t0 + rate * t (deg C, written to frames.csv); y += k (T_fpa - T at the last shutter event).
+class FpaDriftEffect final : public Effect {
+  using S = effects::FpaDriftSchema;
+
+ public:
+  FpaDriftEffect(const EffectSpec& spec, const SimulationInfo&) {
+    effects::Params p(spec);
+    rate_ = p.number(S::rate);
+    k_ = p.number(S::k);
+    t0_ = p.number(S::t0_c);
+    p.finish();
+  }
+  const char* id() const override { return S::id.data(); }
+  void begin_frame(FrameState& f) override {
+    temp_ = t0_ + rate_ * f.t_s;
+    if (!reference_ || f.shutter_event) reference_ = temp_;
+    f.fpa_temp_c = temp_;
+  }
+  void on_reading(const FrameState&, std::span<double> y) override {
+    const double offset = k_ * (temp_ - *reference_);
+    for (double& v : y) v += offset;
+  }
+  nlohmann::json parameters() const override { return {{S::rate.name, rate_}, {S::k.name, k_}, {S::t0_c.name, t0_}}; }
+
+ private:
+  double rate_, k_, t0_, temp_ = 0;
+  std::optional<double> reference_;
+};
+
+}  // namespace
+}  // namespace bolo::sim
 
 namespace bolo::diag {
 namespace {
@@ -76,9 +175,11 @@ Eigen::VectorXd fit_frames(const FrameMeans& m, const Eigen::MatrixXd& X, const 
 // at the event). Events are the flagged frames and frames whose mean residual leaves the line the
 // frames before it follow by far more than the frame-to-frame scatter: found with or without
 // frames.csv's flag, with or without a time gap at the event.
-class FfcStep final : public Candidate {
+class FfcStepCandidate final : public Candidate {
+  using S = effects::FfcStepSchema;
+
  public:
-  const char* id() const override { return "ffc_step"; }
+  const char* id() const override { return S::id.data(); }
   int parameter_count() const override {
     const int settling = int(std::count(settles_after_.begin(), settles_after_.end(), 1));
     return std::max<int>(1, int(events_.size())) + (settling > 0 ? settling + 1 : 0);
@@ -150,13 +251,13 @@ class FfcStep final : public Candidate {
                     std::to_string(k) + " flagged in frames.csv)" +
                     (settling_after.empty() ? "" : "; after " + settling_after + " the offset goes on moving, settling over ~" +
                                                  number(settle_frames) + " frames");
-    nlohmann::json params = {{"frames", events_}, {"steps", steps}, {"flagged", flagged}};
+    nlohmann::json params = {{S::frames.name, events_}, {"steps", steps}, {S::flagged.name, flagged}};
     if (!settling_after.empty()) {
       params["settling_steps"] = settling;  // per event; 0 where none follows
       params["settle_frames"] = settle_frames;
     }
-    const std::string sim = "ffc_step:frames=" + frames + ",step=" + number(biggest) +
-                            ",flagged=" + (flagged == k ? "1" : "0");
+    const std::string sim =
+        effects::SpecText(S::id).set(S::frames, frames).set(S::step, number(biggest)).set(S::flagged, flagged == k ? "1" : "0").str();
     auto fitted = std::make_unique<FrameOffsetFit>(std::move(offset), params, sim, where);
     // An unflagged event also closed the shutter: the first frame after it carries the shutter
     // (taken at the scene's mean level, as for flagged events in the baseline) instead of the
@@ -323,9 +424,11 @@ class FfcStep final : public Candidate {
 
 // y += k (T_fpa - T at the last shutter event); without FPA temperatures, a slow drift since
 // the last event (time as the regressor).
-class FpaDrift final : public Candidate {
+class FpaDriftCandidate final : public Candidate {
+  using S = effects::FpaDriftSchema;
+
  public:
-  const char* id() const override { return "fpa_drift"; }
+  const char* id() const override { return S::id.data(); }
   int parameter_count() const override { return 1; }
   void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
     data_ = &d;
@@ -366,13 +469,17 @@ class FpaDrift final : public Candidate {
     std::string sim;
     if (has_temp_) {
       where.summary = "global offset tracking the FPA temperature (frames.csv fpa_temp_c) since the last shutter event";
-      params = {{"k", beta[1]}, {"rate", rate_}, {"regressor", "fpa_temp_c"}};
-      sim = "fpa_drift:rate=" + number(rate_) + ",k=" + number(beta[1]) + ",t0_c=" + number(*data_->fpa_temp_c[0]);
+      params = {{S::k.name, beta[1]}, {S::rate.name, rate_}, {"regressor", "fpa_temp_c"}};
+      sim = effects::SpecText(S::id)
+                .set(S::rate, number(rate_))
+                .set(S::k, number(beta[1]))
+                .set(S::t0_c, number(*data_->fpa_temp_c[0]))
+                .str();
     } else {
       where.summary = "slow global drift with time since the last shutter event (no FPA temperature in frames.csv)";
       params = {{"rate_counts_per_s", beta[1]}, {"regressor", "time since last event"}};
       // The simulator's drift is k * rate * t: any split of the product reproduces it.
-      sim = "fpa_drift:rate=0.02,k=" + number(beta[1] / 0.02);
+      sim = effects::SpecText(S::id).set(S::rate, number(S::rate.fallback)).set(S::k, number(beta[1] / S::rate.fallback)).str();
     }
     return std::make_unique<FrameOffsetFit>(std::move(offset), params, sim, where);
   }
@@ -385,97 +492,19 @@ class FpaDrift final : public Candidate {
   double rate_ = 0;
 };
 
-// Frames that repeat their predecessor bit for bit. The fit learns the period and phase from
-// the training frames; held out, the repeats it predicts must be there.
-class DuplicateFit final : public FittedEffect {
- public:
-  DuplicateFit(const DiagnoseData& d, const std::vector<float>& r, int period, int phase, std::vector<int> repeats)
-      : d_(d), r_(r), period_(period), phase_(phase), repeats_(std::move(repeats)) {}
-  // The period where the training blocks show one; and every frame the bit-identity test flags,
-  // held-out ones included: that test is a fixed rule read off each frame (as a stuck pixel's
-  // value is), not a parameter fitted to them, and noise never passes it.
-  bool acts_on(int n) const override {
-    return n > 0 && ((period_ > 0 && n % period_ == phase_) || std::binary_search(repeats_.begin(), repeats_.end(), n));
-  }
-  void predict(int n, std::span<float> out) const override {
-    std::fill(out.begin(), out.end(), 0.0f);
-    if (!acts_on(n)) return;
-    // The repeat reads what the previous frame read: residual becomes y_n - y_{n-1}.
-    const float *y = d_.frame(d_.recorded, n), *yp = d_.frame(d_.recorded, n - 1), *r = d_.frame(r_, n);
-    for (std::size_t p = 0; p < out.size(); ++p) out[p] = r[p] - (y[p] - yp[p]);
-  }
-  nlohmann::json params() const override {
-    return {{"every", period_}, {"frames", repeats_}};
-  }
-  std::string simulator_effect() const override {
-    return period_ > 0 ? "frame_duplication:every=" + std::to_string(period_) : "";
-  }
-  Where where() const override {
-    Where w;
-    for (int n : repeats_) w.frames.push_back({n - 1, n});
-    w.row1 = d_.shape.height - 1;
-    w.col1 = d_.shape.width - 1;
-    w.summary = std::to_string(repeats_.size()) + " frame(s) identical to their predecessor" +
-                (period_ > 0 ? ", every " + std::to_string(period_) + " frames" : "");
-    return w;
-  }
-
- private:
-  const DiagnoseData& d_;
-  const std::vector<float>& r_;
-  int period_, phase_;
-  std::vector<int> repeats_;
-};
-
-class FrameDuplication final : public Candidate {
- public:
-  const char* id() const override { return "frame_duplication"; }
-  int parameter_count() const override { return 1; }
-  bool scored_where_it_acts() const override { return true; }
-  void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
-    data_ = &d;
-    residual_ = &r;
-    repeats_.clear();
-    const std::size_t P = d.shape.pixels();
-    for (int n = 1; n < d.shape.n; ++n) {
-      const float *y = d.frame(d.recorded, n), *yp = d.frame(d.recorded, n - 1);
-      std::size_t same = 0;
-      for (std::size_t p = 0; p < P; ++p) same += y[p] == yp[p];
-      // Bit-identical frames (a few stuck pixels aside) cannot come from a sensor with noise.
-      if (same >= P - P / 1000) repeats_.push_back(n);
-    }
-  }
-  std::unique_ptr<FittedEffect> fit(const std::vector<char>& train) const override {
-    std::vector<int> seen;
-    for (int n : repeats_)
-      if (train[n]) seen.push_back(n);
-    if (repeats_.empty()) return nullptr;
-    // The most common gap between repeats, if it explains all of them, is the period.
-    int period = 0, phase = 0;
-    if (seen.size() >= 2) {
-      std::map<int, int> gaps;
-      for (std::size_t i = 1; i < seen.size(); ++i) ++gaps[seen[i] - seen[i - 1]];
-      int g = 0;
-      for (auto [gap, count] : gaps) {
-        bool divides = true;
-        for (auto [other, c] : gaps) divides = divides && other % gap == 0;
-        if (divides) { g = gap; break; }
-      }
-      if (g > 1) { period = g; phase = seen[0] % g; }
-    }
-    return std::make_unique<DuplicateFit>(*data_, *residual_, period, phase, repeats_);
-  }
-
- private:
-  const DiagnoseData* data_ = nullptr;
-  const std::vector<float>* residual_ = nullptr;
-  std::vector<int> repeats_;
-};
-
 }  // namespace
-
-std::unique_ptr<Candidate> make_ffc_step() { return std::make_unique<FfcStep>(); }
-std::unique_ptr<Candidate> make_fpa_drift() { return std::make_unique<FpaDrift>(); }
-std::unique_ptr<Candidate> make_frame_duplication() { return std::make_unique<FrameDuplication>(); }
-
 }  // namespace bolo::diag
+
+namespace bolo::effects {
+
+EffectEntry ffc_step() {
+  using S = FfcStepSchema;
+  return make_entry<sim::FfcStepEffect, diag::FfcStepCandidate>(S::id, {S::every, S::frames, S::step, S::flagged});
+}
+
+EffectEntry fpa_drift() {
+  using S = FpaDriftSchema;
+  return make_entry<sim::FpaDriftEffect, diag::FpaDriftCandidate>(S::id, {S::rate, S::k, S::t0_c});
+}
+
+}  // namespace bolo::effects

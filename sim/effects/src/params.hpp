@@ -1,6 +1,7 @@
 #pragma once
-// Reading an effect's parameters: numbers with ranges and defaults, lists, and a check that no
-// unknown key was given. Every error names the effect and the key.
+// The simulator's reading of an effect's spec against its schema (schema.hpp): numbers with
+// ranges and defaults, lists, and a check that no unknown key was given. Every error names the
+// effect and the key.
 
 #include <cmath>
 #include <cstdint>
@@ -11,37 +12,38 @@
 #include <string>
 #include <vector>
 
+#include "bolo/effects/schema.hpp"
 #include "bolo/sim/effect.hpp"
 
-namespace bolo::sim::effects {
+namespace bolo::effects {
 
 class Params {
  public:
-  explicit Params(const EffectSpec& spec) : spec_(spec) {}
+  explicit Params(const sim::EffectSpec& spec) : spec_(spec) {}
 
-  double number(const std::string& key, double fallback, double lo, double hi) {
+  // The schema's default and range.
+  double number(const Param& p) { return number(p, p.fallback, p.hi); }
+  // A default derived from the simulation (the schema's is NaN).
+  double number(const Param& p, double fallback) { return number(p, fallback, p.hi); }
+  // An upper bound that depends on the simulation (a count of pixels).
+  double number(const Param& p, double fallback, double hi) {
+    const std::string key(p.name);
     used_.insert(key);
     const auto it = spec_.params.find(key);
     if (it == spec_.params.end()) return fallback;
-    return parse(key, it->second, lo, hi);
+    return parse(key, it->second, p.lo, hi);
   }
-  double required(const std::string& key, double lo, double hi) {
-    used_.insert(key);
-    const auto it = spec_.params.find(key);
-    if (it == spec_.params.end()) fail(key, "required");
-    return parse(key, it->second, lo, hi);
-  }
-  std::vector<double> list(const std::string& key, double lo, double hi) {
+  std::vector<double> list(const Param& p) {
+    const std::string key(p.name);
     used_.insert(key);
     std::vector<double> out;
     const auto it = spec_.params.find(key);
     if (it == spec_.params.end()) return out;
     std::stringstream items(it->second);
     std::string item;
-    while (std::getline(items, item, '/')) out.push_back(parse(key, item, lo, hi));
+    while (std::getline(items, item, '/')) out.push_back(parse(key, item, p.lo, p.hi));
     return out;
   }
-  bool has(const std::string& key) const { return spec_.params.count(key) != 0; }
   // Call after reading every key: anything left over is a typo the user should hear about.
   void finish() const {
     for (const auto& [key, value] : spec_.params)
@@ -72,7 +74,7 @@ class Params {
     }
     return v;
   }
-  const EffectSpec& spec_;
+  const sim::EffectSpec& spec_;
   std::set<std::string> used_;
 };
 
@@ -83,4 +85,4 @@ inline std::mt19937_64 effect_rng(std::uint64_t seed, const std::string& id) {
   return std::mt19937_64(h);
 }
 
-}  // namespace bolo::sim::effects
+}  // namespace bolo::effects
