@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # Static analysis of the code that runs on the camera board: firmware/ (with the VO core,
 # firmware/vo), fixed_point/, hal/.
-#   1. clang-tidy with the checks of .clang-tidy (every finding is an error) on the translation
-#      units of those folders, using the compile commands of a configured build; their headers
+#   1. clang-tidy with the checks of .clang-tidy (every finding is an error) on those folders'
+#      sources, using the compile commands of a configured unity build: each unity translation
+#      unit includes several of the folders' .cpp files, so the system and Eigen headers are
+#      parsed and matched once per unit instead of once per file; the .cpp files and the headers
 #      are checked through them (HeaderFilterRegex).
 #   2. cppcheck --enable=warning,performance,portability on the same folders.
 #
 # Usage: scripts/static-analysis.sh [BUILD_DIR]
 #   BUILD_DIR  a configured build with compile_commands.json; default build-static, configured
-#              here if needed (configure only: nothing is compiled).
+#              here if needed (configure only, unity build: nothing is compiled).
 #   JOBS=N     parallel clang-tidy / cppcheck processes (default 2: the machine is shared).
 #   CLANG_TIDY=path, CPPCHECK=path to pick the tools (default clang-tidy-14 or clang-tidy, cppcheck).
 # Exit code: 0 clean, 1 findings, 2 a tool or the build is missing. Prints the run time.
@@ -29,14 +31,27 @@ fi
 
 if [ ! -f "$build/compile_commands.json" ]; then
   echo "== configuring $build (compile commands only)"
-  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_EXPORT_COMPILE_COMMANDS=ON >/dev/null
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_EXPORT_COMPILE_COMMANDS=ON -DCMAKE_UNITY_BUILD=ON >/dev/null
 fi
 build=$(cd "$build" && pwd)
 
-# The board code's translation units, as the compile database names them.
-mapfile -t sources < <(
-  grep -o '"file": *"[^"]*"' "$build/compile_commands.json" | sed 's/^"file": *"//; s/"$//' |
-    grep -E "^$root/(firmware/(src|examples|vo/src)|fixed_point|hal/src)/[^/]+\.cpp$" | sort -u)
+# The board code's translation units, as the compile database names them: its .cpp files, or the
+# unity units whose every included .cpp file is board code.
+board_source="^$root/(firmware/(src|examples|vo/src)|fixed_point|hal/src)/[^/]+\.cpp$"
+sources=()
+files=0
+while read -r file; do
+  if [[ $file == */Unity/unity_*.cxx ]]; then
+    mapfile -t included < <(sed -n 's/^#include "\(.*\)"$/\1/p' "$file")
+    [ ${#included[@]} -gt 0 ] || continue
+    printf '%s\n' "${included[@]}" | grep -qvE "$board_source" && continue
+    files=$((files + ${#included[@]}))
+    sources+=("$file")
+  elif grep -qE "$board_source" <<<"$file"; then
+    files=$((files + 1))
+    sources+=("$file")
+  fi
+done < <(grep -o '"file": *"[^"]*"' "$build/compile_commands.json" | sed 's/^"file": *"//; s/"$//' | sort -u)
 if [ "${#sources[@]}" -eq 0 ]; then
   echo "static-analysis: no firmware/, fixed_point/ or hal/ sources in $build/compile_commands.json" >&2
   exit 2
@@ -46,10 +61,12 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 status=0
 
-echo "== clang-tidy ($("$tidy" --version | grep -o 'version [0-9.]*'), ${#sources[@]} files, $jobs jobs)"
+echo "== clang-tidy ($("$tidy" --version | grep -o 'version [0-9.]*'), $files files in ${#sources[@]} translation units, $jobs jobs)"
+# A unity unit is a list of #include "x.cpp" lines by design: that one check is off for it.
 printf '%s\n' "${sources[@]}" | xargs -P "$jobs" -I{} sh -c '
   log="$3/$(printf %s "$2" | tr / _).log"
-  "$0" -p "$1" --quiet "$2" >"$log" 2>&1 || printf "%s\n" "$2" >>"$3/failed"
+  case "$2" in */Unity/unity_*.cxx) unity=--checks=-bugprone-suspicious-include ;; *) unity= ;; esac
+  "$0" -p "$1" --quiet $unity "$2" >"$log" 2>&1 || printf "%s\n" "$2" >>"$3/failed"
 ' "$tidy" "$build" {} "$tmp"
 if [ -s "$tmp/failed" ]; then
   status=1
@@ -58,7 +75,7 @@ if [ -s "$tmp/failed" ]; then
     grep -v -E '^[0-9]+ warnings? (and [0-9]+ errors? )?generated\.$|^Suppressed [0-9]+ warnings|^Use -header-filter|^Error while processing' \
       "$tmp/$(printf %s "$file" | tr / _).log" || true
   done <"$tmp/failed"
-  echo "clang-tidy: findings in $(wc -l <"$tmp/failed") of ${#sources[@]} files"
+  echo "clang-tidy: findings in $(wc -l <"$tmp/failed") of ${#sources[@]} translation units"
 else
   echo "clang-tidy: clean"
 fi

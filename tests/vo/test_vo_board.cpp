@@ -470,7 +470,7 @@ TEST_CASE("frames whose exposure changes keep the carry-over fit unbiased", "[vo
   CHECK(run.posed >= run.frames - 15);
 }
 
-TEST_CASE("a change of exposure at a wrong tau does not lose the track", "[vo][board]") {
+TEST_CASE("a change of exposure at a wrong tau does not lose the track", "[vo][board][slow-emulated]") {
   // The raw static level of a timing differs from another's by a factor of the true tau, and the
   // scene estimate removes the frames before a change rightly only at the true tau: across a
   // change (and in the initialisation) the ir modes estimate the gain and offset. Before they did,
@@ -489,7 +489,7 @@ TEST_CASE("a change of exposure at a wrong tau does not lose the track", "[vo][b
   }
 }
 
-TEST_CASE("a camera offset across changes of exposure is estimated with the gain", "[vo][board]") {
+TEST_CASE("a camera offset across changes of exposure is estimated with the gain", "[vo][board][slow-emulated]") {
   // The raw counts of a camera start from what a pixel reads at the substrate's temperature, not
   // from 0: between two timings the level then changes by a gain and an offset. With tau given
   // (held at the truth or at twice it) the track holds. The offset at a change starts where the
@@ -503,7 +503,7 @@ TEST_CASE("a camera offset across changes of exposure is estimated with the gain
   }
 }
 
-TEST_CASE("a camera offset across changes of exposure does not bias the tau estimate", "[vo][board]") {
+TEST_CASE("a camera offset across changes of exposure does not bias the tau estimate", "[vo][board][slow-emulated]") {
   // Across a change of timing the offset leaves A - alpha B a constant at every pixel, which the
   // pairs read as part of the step response until the fit gave such a frame a constant of its
   // own: 3000 counts drove tau from 15 and 20 ms to 19.8 and 15.7 ms after 1.5 s (the truth 10);

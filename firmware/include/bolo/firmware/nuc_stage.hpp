@@ -20,11 +20,11 @@ struct NucTables {
 
 // One pixel of the NUC: the definition nuc_line applies to every pixel.
 inline Pixel nuc_pixel(Pixel in, std::uint16_t gain_q14, std::int16_t offset) {
-  constexpr std::int32_t kHalf = 1 << (kNucGainFractionBits - 1);
+  constexpr std::int32_t kNucHalf = 1 << (kNucGainFractionBits - 1);
   // in * gain + half < 2^32: no overflow in 32 bits; values are non-negative so +half then shift
   // rounds to nearest with ties away from zero.
   const std::int32_t scaled =
-      static_cast<std::int32_t>((std::uint32_t{in} * gain_q14 + kHalf) >> kNucGainFractionBits);
+      static_cast<std::int32_t>((std::uint32_t{in} * gain_q14 + kNucHalf) >> kNucGainFractionBits);
   const std::int32_t value = scaled + offset;
   return static_cast<Pixel>(value < 0 ? 0 : (value > 0xFFFF ? 0xFFFF : value));
 }
