@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "bolo/firmware/line_sink.hpp"
+#include "bolo/core/line_sink.hpp"
 
 namespace bolo::test {
 

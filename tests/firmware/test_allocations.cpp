@@ -8,8 +8,8 @@
 #include <new>
 #include <vector>
 
+#include "bolo/core/frame_source.hpp"
 #include "bolo/firmware/pipeline.hpp"
-#include "bolo/hal/frame_source.hpp"
 #include "frame_collector.hpp"
 
 #include "counting_allocator.hpp"  // replaces malloc/new in this binary
