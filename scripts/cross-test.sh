@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds what runs on a camera board (fixed_point, firmware, hal, recording I/O, their tests) for
+# Builds what runs on a camera board (fixed_point, firmware with its core, hal with its recording I/O, their tests) for
 # aarch64 and armhf with Debian's cross compilers, runs the tests under qemu-user, and checks that
 # the golden hashes printed on each target are identical to the host's.
 #   scripts/cross-test.sh [aarch64] [armhf]      (default: both)

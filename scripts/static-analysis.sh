@@ -73,7 +73,7 @@ echo "== cppcheck ($("$cppcheck" --version))"
 #    suppression go.)
 if ! "$cppcheck" --enable=warning,performance,portability --error-exitcode=1 --inline-suppr \
   --std=c++20 --language=c++ --quiet -j "$jobs" \
-  -I firmware/core/include -I firmware/include -I firmware/vo/include -I fixed_point/include -I hal/include -I sim/recording/include \
+  -I firmware/core/include -I firmware/include -I firmware/vo/include -I fixed_point/include -I hal/include -I hal/recording/include \
   --suppress=missingIncludeSystem \
   --suppress=CastIntegerToAddressAtReturn:firmware/include/bolo/firmware/bad_pixel_stage.hpp \
   --suppress=uninitvar:firmware/src/two_frame_corrector.cpp \
