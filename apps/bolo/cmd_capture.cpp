@@ -27,6 +27,7 @@
 #include "bolo/hal/usb_libusb.hpp"
 #endif
 #include "bolo/progress.hpp"
+#include "bolo/recording/frame_row_header.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/registry.hpp"
 
@@ -165,11 +166,6 @@ class FrameGrab final : public fw::LineSink {
   bool ok_ = false;
 };
 
-std::optional<double> celsius(std::int32_t mc) {
-  if (mc == fw::kUnknownTemperature) return std::nullopt;
-  return std::round(mc / 10.0) / 100.0;  // the shared recordings keep 0.01 °C
-}
-
 // The recording format needs increasing t_s; a device clock that stalls or steps back leaves
 // that frame's t_s empty (counted) rather than failing the capture.
 struct Clock {
@@ -177,24 +173,19 @@ struct Clock {
   std::uint64_t not_increasing = 0;
 };
 
+// Frame `index`'s row, its t_s relative to the first frame's time.
 rec::FrameRow row_of(const fw::FrameHeader& h, std::uint64_t index, Clock& clock) {
-  rec::FrameRow row;
-  row.index = index;
+  fw::FrameHeader stamped = h;
   if (h.timestamp_valid) {
     if (!clock.t0) clock.t0 = h.timestamp_ns;
     if (clock.last && h.timestamp_ns <= *clock.last) {
       ++clock.not_increasing;
+      stamped.timestamp_valid = false;
     } else {
       clock.last = h.timestamp_ns;
-      row.t_s = static_cast<double>(h.timestamp_ns - *clock.t0) / 1e9;  // division: 1.14065, not 1.1406500000000002
     }
   }
-  if (h.exposure_ns != 0) row.exposure_s = h.exposure_ns * 1e-9;
-  if (h.readout_ns != 0) row.readout_s = h.readout_ns * 1e-9;
-  if (h.ffc != fw::FfcState::unknown) row.ffc = h.ffc == fw::FfcState::completed;
-  row.fpa_temp_c = celsius(h.fpa_temp_mc);
-  row.housing_temp_c = celsius(h.housing_temp_mc);
-  return row;
+  return rec::row_from_header(stamped, index, clock.t0.value_or(0));
 }
 
 std::string stats_text(const hal::SourceStats& s) {

@@ -20,6 +20,7 @@
 #include "bolo/frame_stack.hpp"
 #include "bolo/hal/recording_player.hpp"
 #include "bolo/progress.hpp"
+#include "bolo/recording/frame_row_header.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/registry.hpp"
 #include "bolo/sim/corrector_reference.hpp"
@@ -130,7 +131,7 @@ std::vector<FrameTiming> resolve_timing(const rec::Recording& recording, const f
   for (std::size_t i = 0; i < timing.size(); ++i) {
     const rec::FrameRow& row = recording.rows()[i];
     const fw::FrameHeader header =
-        hal::header_from_row(row, recording.width(), recording.height(), csv);
+        rec::header_from_row(row, recording.width(), recording.height(), csv);
     FrameTiming& t = timing[i];
     resolve_field(row.exposure_s, header.exposure_ns, exposure, csv, i, "exposure_s", "--exposure",
                   t.exposure_ns, t.exposure_s, t.exposure_from_flag);

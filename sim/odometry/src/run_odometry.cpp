@@ -20,6 +20,7 @@
 #include "bolo/odometry/plot.hpp"
 #include "bolo/odometry/ply.hpp"
 #include "bolo/odometry/trajectory_plot.hpp"
+#include "bolo/recording/frame_row_header.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/vo/odometry.hpp"
 
@@ -233,14 +234,10 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     if (options.photometric == vo::Photometric::ir_loop && !repeated) {
       const vo::Tau tau = odometry.tau();
       corrector.set_time_constants({to_ns(tau.h), to_ns(tau.c)});
-      fw::FrameHeader header;
-      header.width = w, header.height = h;
-      header.sequence = i, header.sequence_valid = true;
-      header.timestamp_ns = static_cast<std::int64_t>(std::llround(*row.t_s * 1e9));
-      header.timestamp_valid = true;
+      // The row's header with the timing resolved above (assumed where frames.csv has none).
+      fw::FrameHeader header = rec::header_from_row(row, w, h, csv);
       header.exposure_ns = to_ns(in.exposure_s);
       header.readout_ns = to_ns(timing[i].readout_s);
-      header.ffc = row.ffc ? (*row.ffc ? fw::FfcState::completed : fw::FfcState::none) : fw::FfcState::unknown;
       corrector.begin_frame(header);
       for (std::uint32_t y = 0; y < h; ++y) corrector.push_line(y, fw::LineView(raw.data() + std::size_t{y} * w, w));
       corrector.end_frame();

@@ -11,11 +11,6 @@
 
 namespace bolo::hal {
 
-// frames.csv row -> firmware header. Seconds become integer nanoseconds; throws rec::Error
-// naming file, frame and field when a value does not fit (e.g. exposure over 4.29 s).
-fw::FrameHeader header_from_row(const rec::FrameRow& row, std::uint32_t width,
-                                std::uint32_t height, const std::filesystem::path& csv);
-
 class RecordingPlayer final : public FrameSource {
  public:
   explicit RecordingPlayer(const std::filesystem::path& dir);
