@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bolo/core/frame_collector.hpp"
 #include "bolo/errors.hpp"
 #include "bolo/hal/captured_transfers.hpp"
 #include "bolo/hal/device_spec.hpp"
@@ -136,36 +137,6 @@ OpenedDevice open_device(const hal::DeviceSpec& spec, const std::string& text) {
   return d;
 }
 
-// Keeps the last frame pushed into it, to hand to the writer.
-class FrameGrab final : public fw::LineSink {
- public:
-  FrameGrab(std::uint32_t width, std::uint32_t height) : width_(width), height_(height), pixels_(std::size_t{width} * height) {}
-  void begin_frame(const fw::FrameHeader& header) override {
-    header_ = header;
-    lines_ = 0;
-    ok_ = header.width == width_ && header.height == height_;
-  }
-  void push_line(std::uint32_t row, fw::LineView line) override {
-    if (!ok_ || row != lines_ || line.size() != width_) {
-      ok_ = false;
-      return;
-    }
-    std::copy(line.begin(), line.end(), pixels_.begin() + static_cast<std::ptrdiff_t>(std::size_t{row} * width_));
-    ++lines_;
-  }
-  void end_frame() override {}
-  bool complete() const { return ok_ && lines_ == height_; }
-  const fw::FrameHeader& header() const { return header_; }
-  std::span<const std::uint16_t> pixels() const { return pixels_; }
-
- private:
-  std::uint32_t width_, height_;
-  std::vector<std::uint16_t> pixels_;
-  fw::FrameHeader header_{};
-  std::uint32_t lines_ = 0;
-  bool ok_ = false;
-};
-
 // The recording format needs increasing t_s; a device clock that stalls or steps back leaves
 // that frame's t_s empty (counted) rather than failing the capture.
 struct Clock {
@@ -266,7 +237,8 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
   info.source = "bolo capture --device " + o.device;
   info.notes = "t_s from the device's clock, relative to the first frame";
 
-  FrameGrab grab(format.width, format.height);
+  std::vector<fw::Pixel> grab_storage(fw::FrameCollector::storage_pixels(format.width, format.height));
+  fw::FrameCollector grab(format.width, format.height, grab_storage);
   rec::RecordingWriter writer(o.output, info, {o.overwrite});
   Progress progress("capture", o.frames, o.progress && o.frames != 0);
   Clock clock;
