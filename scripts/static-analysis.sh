@@ -5,6 +5,7 @@
 #      units of those folders, using the compile commands of a configured build; their headers
 #      are checked through them (HeaderFilterRegex).
 #   2. cppcheck --enable=warning,performance,portability on the same folders.
+#   3. scripts/check-layers.sh on the same build: no target depends on a higher layer.
 #
 # Usage: scripts/static-analysis.sh [BUILD_DIR]
 #   BUILD_DIR  a configured build with compile_commands.json; default build-static, configured
@@ -36,7 +37,7 @@ build=$(cd "$build" && pwd)
 # The board code's translation units, as the compile database names them.
 mapfile -t sources < <(
   grep -o '"file": *"[^"]*"' "$build/compile_commands.json" | sed 's/^"file": *"//; s/"$//' |
-    grep -E "^$root/(firmware/(src|examples|vo/src)|fixed_point|hal/src)/[^/]+\.cpp$" | sort -u)
+    grep -E "^$root/(firmware/(src|examples|vo/src|core/src)|fixed_point|hal/src)/[^/]+\.cpp$" | sort -u)
 if [ "${#sources[@]}" -eq 0 ]; then
   echo "static-analysis: no firmware/, fixed_point/ or hal/ sources in $build/compile_commands.json" >&2
   exit 2
@@ -77,12 +78,15 @@ if ! "$cppcheck" --enable=warning,performance,portability --error-exitcode=1 --i
   --suppress=missingIncludeSystem \
   --suppress=CastIntegerToAddressAtReturn:firmware/include/bolo/firmware/bad_pixel_stage.hpp \
   --suppress=uninitvar:firmware/src/two_frame_corrector.cpp \
-  firmware/src firmware/examples firmware/vo/src fixed_point hal/src; then
+  firmware/core/src firmware/src firmware/examples firmware/vo/src fixed_point hal/src; then
   status=1
   echo "cppcheck: findings"
 else
   echo "cppcheck: clean"
 fi
+
+echo "== layers"
+scripts/check-layers.sh "$build" || status=1
 
 echo "== static analysis $([ "$status" -eq 0 ] && echo clean || echo FAILED) in $(($(date +%s) - start)) s"
 exit "$status"
