@@ -6,7 +6,7 @@
 #   2  firmware stages (bolo_firmware, bolo_vo) | HAL board parts (bolo_hal, bolo_hal_raw,
 #      bolo_hal_faults, bolo_hal_protocols, bolo_recording): neither side depends on the other
 #   3  host HAL (bolo_hal_devices, bolo_hal_player)
-#   4  sim libraries (bolo_sim, bolo_scene, bolo_diagnose, bolo_odometry)
+#   4  sim libraries (bolo_sim, bolo_scene, bolo_effects, bolo_diagnose, bolo_odometry)
 #   5  any other target: the CLI, benchmarks, tests, fuzz targets, firmware/examples
 # Imported targets (a::b) and library files are outside the project and not checked; a new
 # library belongs in the list (until it is, it counts as layer 5 when named bolo*).
@@ -26,7 +26,7 @@ fi
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-# --graphviz re-runs the configure step of the build directory and writes the graph beside it.
+# --graphviz re-runs the configure step of the build directory; the graph goes to $tmp.
 cmake --graphviz="$tmp/targets.dot" "$build" >/dev/null || exit 2
 
 awk '
@@ -36,7 +36,7 @@ awk '
     if (t == "bolo_firmware" || t == "bolo_vo") return 2
     if (t ~ /^bolo_hal(_raw|_faults|_protocols)?$/ || t == "bolo_recording") return 2
     if (t == "bolo_hal_devices" || t == "bolo_hal_player") return 3
-    if (t == "bolo_sim" || t == "bolo_scene" || t == "bolo_diagnose" || t == "bolo_odometry") return 4
+    if (t ~ /^bolo_(sim|scene|effects|diagnose|odometry)$/) return 4
     if (t ~ /::|^\/|^-/) return -1  # imported targets, library files, flags: not the project'"'"'s
     return 5
   }
@@ -61,7 +61,8 @@ awk '
     if (layer(a) < 0 || layer(b) < 0 || (layer(b) == 5 && b !~ /^bolo/) || seen[a " " b]++) next
     edges++
     if (layer(b) > layer(a))
-      printf "check-layers: upward edge %s (layer %d) -> %s (layer %d)\n", a, layer(a), b, layer(b)
+      printf "check-layers: upward edge %s (layer %d) -> %s (layer %d%s)\n", a, layer(a), b, layer(b),
+             layer(b) == 5 ? ", not listed here" : ""
     else if (layer(a) == 2 && layer(b) == 2 && side(a) != side(b))
       printf "check-layers: edge across layer 2: %s (%s) -> %s (%s)\n", a, side(a), b, side(b)
     else
