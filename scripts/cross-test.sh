@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Builds what runs on a camera board (fixed_point, firmware, hal, recording I/O, their tests) for
-# aarch64 and armhf with Debian's cross compilers, runs the tests under qemu-user, and checks that
-# the golden hashes printed on each target are identical to the host's.
+# Builds what runs on a camera board (fixed_point, the core, firmware, hal with its recording I/O,
+# their tests) for aarch64 and armhf with Debian's cross compilers, runs the tests under qemu-user,
+# and checks that the golden hashes printed on each target are identical to the host's.
 #   scripts/cross-test.sh [aarch64] [armhf]      (default: both)
 set -euo pipefail
 cd "$(dirname "$0")/.."

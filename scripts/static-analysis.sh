@@ -7,6 +7,7 @@
 #      parsed and matched once per unit instead of once per file; the .cpp files and the headers
 #      are checked through them (HeaderFilterRegex).
 #   2. cppcheck --enable=warning,performance,portability on the same folders.
+#   3. scripts/check-layers.sh on the same build: no target depends on a higher layer.
 #
 # Usage: scripts/static-analysis.sh [BUILD_DIR]
 #   BUILD_DIR  a configured build with compile_commands.json; default build-static, configured
@@ -37,7 +38,7 @@ build=$(cd "$build" && pwd)
 
 # The board code's translation units, as the compile database names them: its .cpp files, or the
 # unity units whose every included .cpp file is board code.
-board_source="^$root/(firmware/(src|examples|vo/src)|fixed_point|hal/src)/[^/]+\.cpp$"
+board_source="^$root/(firmware/(src|examples|vo/src|core/src)|fixed_point|hal/src)/[^/]+\.cpp$"
 sources=()
 files=0
 while read -r file; do
@@ -90,16 +91,19 @@ echo "== cppcheck ($("$cppcheck" --version))"
 #    suppression go.)
 if ! "$cppcheck" --enable=warning,performance,portability --error-exitcode=1 --inline-suppr \
   --std=c++20 --language=c++ --quiet -j "$jobs" \
-  -I firmware/include -I firmware/vo/include -I fixed_point/include -I hal/include -I sim/recording/include \
+  -I firmware/core/include -I firmware/include -I firmware/vo/include -I fixed_point/include -I hal/include -I hal/recording/include \
   --suppress=missingIncludeSystem \
   --suppress=CastIntegerToAddressAtReturn:firmware/include/bolo/firmware/bad_pixel_stage.hpp \
   --suppress=uninitvar:firmware/src/two_frame_corrector.cpp \
-  firmware/src firmware/examples firmware/vo/src fixed_point hal/src; then
+  firmware/core/src firmware/src firmware/examples firmware/vo/src fixed_point hal/src; then
   status=1
   echo "cppcheck: findings"
 else
   echo "cppcheck: clean"
 fi
+
+echo "== layers"
+scripts/check-layers.sh "$build" || status=1
 
 echo "== static analysis $([ "$status" -eq 0 ] && echo clean || echo FAILED) in $(($(date +%s) - start)) s"
 exit "$status"

@@ -2,7 +2,7 @@
 # Test command: installs what is missing, builds (unity builds throughout: CI compiles cold), then
 #   1. the board parts for aarch64 and armhf, tested under qemu-user, golden hashes compared
 #      bit for bit with x86-64 (scripts/cross-test.sh);
-#   2. static analysis of firmware/, fixed_point/, hal/ (scripts/static-analysis.sh);
+#   2. static analysis of firmware/, fixed_point/, hal/ and the layers check (scripts/static-analysis.sh);
 #   3. the whole host suite under AddressSanitizer + UBSan, and the threaded code under TSan
 #      (scripts/sanitize.sh);
 #   4. every fuzz target for a short fixed time, from the sanitizer stage's build

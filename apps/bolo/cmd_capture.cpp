@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bolo/core/frame_collector.hpp"
 #include "bolo/errors.hpp"
 #include "bolo/hal/captured_transfers.hpp"
 #include "bolo/hal/device_spec.hpp"
@@ -27,6 +28,7 @@
 #include "bolo/hal/usb_libusb.hpp"
 #endif
 #include "bolo/progress.hpp"
+#include "bolo/recording/frame_row_header.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/registry.hpp"
 
@@ -135,41 +137,6 @@ OpenedDevice open_device(const hal::DeviceSpec& spec, const std::string& text) {
   return d;
 }
 
-// Keeps the last frame pushed into it, to hand to the writer.
-class FrameGrab final : public fw::LineSink {
- public:
-  FrameGrab(std::uint32_t width, std::uint32_t height) : width_(width), height_(height), pixels_(std::size_t{width} * height) {}
-  void begin_frame(const fw::FrameHeader& header) override {
-    header_ = header;
-    lines_ = 0;
-    ok_ = header.width == width_ && header.height == height_;
-  }
-  void push_line(std::uint32_t row, fw::LineView line) override {
-    if (!ok_ || row != lines_ || line.size() != width_) {
-      ok_ = false;
-      return;
-    }
-    std::copy(line.begin(), line.end(), pixels_.begin() + static_cast<std::ptrdiff_t>(std::size_t{row} * width_));
-    ++lines_;
-  }
-  void end_frame() override {}
-  bool complete() const { return ok_ && lines_ == height_; }
-  const fw::FrameHeader& header() const { return header_; }
-  std::span<const std::uint16_t> pixels() const { return pixels_; }
-
- private:
-  std::uint32_t width_, height_;
-  std::vector<std::uint16_t> pixels_;
-  fw::FrameHeader header_{};
-  std::uint32_t lines_ = 0;
-  bool ok_ = false;
-};
-
-std::optional<double> celsius(std::int32_t mc) {
-  if (mc == fw::kUnknownTemperature) return std::nullopt;
-  return std::round(mc / 10.0) / 100.0;  // the shared recordings keep 0.01 °C
-}
-
 // The recording format needs increasing t_s; a device clock that stalls or steps back leaves
 // that frame's t_s empty (counted) rather than failing the capture.
 struct Clock {
@@ -177,24 +144,19 @@ struct Clock {
   std::uint64_t not_increasing = 0;
 };
 
+// Frame `index`'s row, its t_s relative to the first frame's time.
 rec::FrameRow row_of(const fw::FrameHeader& h, std::uint64_t index, Clock& clock) {
-  rec::FrameRow row;
-  row.index = index;
+  fw::FrameHeader stamped = h;
   if (h.timestamp_valid) {
     if (!clock.t0) clock.t0 = h.timestamp_ns;
     if (clock.last && h.timestamp_ns <= *clock.last) {
       ++clock.not_increasing;
+      stamped.timestamp_valid = false;
     } else {
       clock.last = h.timestamp_ns;
-      row.t_s = static_cast<double>(h.timestamp_ns - *clock.t0) / 1e9;  // division: 1.14065, not 1.1406500000000002
     }
   }
-  if (h.exposure_ns != 0) row.exposure_s = h.exposure_ns * 1e-9;
-  if (h.readout_ns != 0) row.readout_s = h.readout_ns * 1e-9;
-  if (h.ffc != fw::FfcState::unknown) row.ffc = h.ffc == fw::FfcState::completed;
-  row.fpa_temp_c = celsius(h.fpa_temp_mc);
-  row.housing_temp_c = celsius(h.housing_temp_mc);
-  return row;
+  return rec::row_from_header(stamped, index, clock.t0.value_or(0));
 }
 
 std::string stats_text(const hal::SourceStats& s) {
@@ -275,7 +237,8 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
   info.source = "bolo capture --device " + o.device;
   info.notes = "t_s from the device's clock, relative to the first frame";
 
-  FrameGrab grab(format.width, format.height);
+  std::vector<fw::Pixel> grab_storage(fw::FrameCollector::storage_pixels(format.width, format.height));
+  fw::FrameCollector grab(format.width, format.height, grab_storage);
   rec::RecordingWriter writer(o.output, info, {o.overwrite});
   Progress progress("capture", o.frames, o.progress && o.frames != 0);
   Clock clock;

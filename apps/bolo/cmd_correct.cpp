@@ -1,5 +1,5 @@
 // bolo correct REC OUT --tau-h S --tau-c S ...: runs the firmware pipeline over a recording
-//   RecordingPlayer -> Pipeline ([bad pixels] -> two-frame corrector) -> FrameBuffer -> RecordingWriter
+//   RecordingPlayer -> Pipeline ([bad pixels] -> two-frame corrector) -> FrameCollector -> RecordingWriter
 // or, with --float, the double-precision reference for the pixels (the pipeline still runs
 // alongside for the per-frame decisions). Everything that can be checked is checked before
 // anything is written; the writer is atomic, so a failure leaves no OUT behind.
@@ -15,11 +15,13 @@
 #include <vector>
 
 #include "bolo/commands.hpp"
+#include "bolo/core/frame_collector.hpp"
 #include "bolo/errors.hpp"
 #include "bolo/firmware/pipeline.hpp"
 #include "bolo/frame_stack.hpp"
 #include "bolo/hal/recording_player.hpp"
 #include "bolo/progress.hpp"
+#include "bolo/recording/frame_row_header.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/registry.hpp"
 #include "bolo/sim/corrector_reference.hpp"
@@ -45,27 +47,6 @@ std::uint32_t flag_ns(const char* flag, double seconds) {
     fail(flag, " ", seconds_text(seconds), ": too long (the firmware takes at most 4.29 s)");
   return static_cast<std::uint32_t>(ns);
 }
-
-// Collects the lines a stage emits into one whole frame.
-class FrameBuffer final : public fw::LineSink {
- public:
-  FrameBuffer(std::uint32_t width, std::uint32_t height)
-      : width_(width), height_(height), pixels_(std::size_t{width} * height) {}
-  void begin_frame(const fw::FrameHeader&) override { lines_ = 0; }
-  void push_line(std::uint32_t row, fw::LineView line) override {
-    if (row >= height_ || line.size() != width_) return;  // not this frame's shape: incomplete
-    std::copy(line.begin(), line.end(), pixels_.begin() + std::ptrdiff_t{row} * width_);
-    ++lines_;
-  }
-  void end_frame() override {}
-  bool complete() const { return lines_ == height_; }
-  const std::vector<fw::Pixel>& pixels() const { return pixels_; }
-
- private:
-  std::uint32_t width_, height_;
-  std::vector<fw::Pixel> pixels_;
-  std::uint32_t lines_ = 0;
-};
 
 // Forwards every event to two sinks.
 class Tee final : public fw::LineSink {
@@ -130,7 +111,7 @@ std::vector<FrameTiming> resolve_timing(const rec::Recording& recording, const f
   for (std::size_t i = 0; i < timing.size(); ++i) {
     const rec::FrameRow& row = recording.rows()[i];
     const fw::FrameHeader header =
-        hal::header_from_row(row, recording.width(), recording.height(), csv);
+        rec::header_from_row(row, recording.width(), recording.height(), csv);
     FrameTiming& t = timing[i];
     resolve_field(row.exposure_s, header.exposure_ns, exposure, csv, i, "exposure_s", "--exposure",
                   t.exposure_ns, t.exposure_s, t.exposure_from_flag);
@@ -346,11 +327,13 @@ int run_correct(const CorrectOptions& options, std::ostream& out) {
   config.bad_pixels.width = width;
   config.bad_pixels.height = height;
   std::vector<fw::Pixel> arena(fw::Pipeline::arena_pixels(config));
-  FrameBuffer corrected(width, height);
+  std::vector<fw::Pixel> corrected_storage(fw::FrameCollector::storage_pixels(width, height));
+  fw::FrameCollector corrected(width, height, corrected_storage);
   fw::Pipeline pipeline(config, arena, corrected);
 
   // --float: the reference gets the raw frame (after bad-pixel replacement when asked).
-  FrameBuffer raw(width, height);
+  std::vector<fw::Pixel> raw_storage(fw::FrameCollector::storage_pixels(width, height));
+  fw::FrameCollector raw(width, height, raw_storage);
   std::vector<fw::Pixel> float_bad_storage;
   std::optional<fw::BadPixelStage> float_bad_pixels;
   std::optional<sim::ReferenceCorrector> reference;
@@ -424,7 +407,7 @@ int run_correct(const CorrectOptions& options, std::ostream& out) {
       }
       writer.append(std::span<const float>(float_frame), row);
     } else {
-      writer.append(std::span<const std::uint16_t>(corrected.pixels()), row);
+      writer.append(corrected.pixels(), row);
     }
     if (scene_source) {
       scene_source->read_scene(i, scene);

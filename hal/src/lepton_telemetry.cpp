@@ -1,6 +1,6 @@
 #include "bolo/hal/lepton_telemetry.hpp"
 
-#include "bolo/firmware/frame_header.hpp"
+#include "bolo/core/frame_header.hpp"
 
 namespace bolo::hal {
 namespace {

@@ -1,33 +1,11 @@
 #include "bolo/hal/recording_player.hpp"
 
 #include <cmath>
-#include <limits>
-#include <sstream>
+
+#include "bolo/recording/frame_row_header.hpp"
 
 namespace bolo::hal {
 namespace {
-
-[[noreturn]] void fail(const std::filesystem::path& csv, std::uint64_t frame, const char* field,
-                       const std::string& what) {
-  std::ostringstream message;
-  message << csv.string() << ": frame " << frame << ": field " << field << ": " << what;
-  throw rec::Error(message.str());
-}
-
-std::uint32_t duration_ns(const std::optional<double>& seconds, const std::filesystem::path& csv,
-                          std::uint64_t frame, const char* field) {
-  if (!seconds) return 0;
-  const double ns = std::round(*seconds * 1e9);
-  if (!(ns >= 0) || ns > double{std::numeric_limits<std::uint32_t>::max()})
-    fail(csv, frame, field, "out of range for the firmware (0 to 4.29 s)");
-  return static_cast<std::uint32_t>(ns);
-}
-
-std::int32_t milli_celsius(const std::optional<double>& celsius) {
-  if (!celsius || !std::isfinite(*celsius) || std::abs(*celsius) > 1e6)
-    return fw::kUnknownTemperature;
-  return static_cast<std::int32_t>(std::lround(*celsius * 1000.0));
-}
 
 PixelUnits to_pixel_units(rec::Units units) {
   switch (units) {
@@ -40,28 +18,6 @@ PixelUnits to_pixel_units(rec::Units units) {
 
 }  // namespace
 
-fw::FrameHeader header_from_row(const rec::FrameRow& row, std::uint32_t width,
-                                std::uint32_t height, const std::filesystem::path& csv) {
-  fw::FrameHeader header;
-  header.width = width;
-  header.height = height;
-  header.sequence = row.index;
-  header.sequence_valid = true;
-  if (row.t_s) {
-    const double ns = std::round(*row.t_s * 1e9);
-    if (!(std::abs(ns) < 9.2e18)) fail(csv, row.index, "t_s", "out of range");
-    header.timestamp_ns = static_cast<std::int64_t>(ns);
-    header.timestamp_valid = true;
-  }
-  header.exposure_ns = duration_ns(row.exposure_s, csv, row.index, "exposure_s");
-  header.readout_ns = duration_ns(row.readout_s, csv, row.index, "readout_s");
-  header.ffc = !row.ffc ? fw::FfcState::unknown
-                        : (*row.ffc ? fw::FfcState::completed : fw::FfcState::none);
-  header.fpa_temp_mc = milli_celsius(row.fpa_temp_c);
-  header.housing_temp_mc = milli_celsius(row.housing_temp_c);
-  return header;
-}
-
 RecordingPlayer::RecordingPlayer(const std::filesystem::path& dir) : recording_(dir) {
   const rec::RecordingInfo& info = recording_.info();
   format_.width = info.width;
@@ -72,7 +28,7 @@ RecordingPlayer::RecordingPlayer(const std::filesystem::path& dir) : recording_(
   const std::filesystem::path csv = dir / "frames.csv";
   headers_.reserve(recording_.rows().size());
   for (const rec::FrameRow& row : recording_.rows())
-    headers_.push_back(header_from_row(row, info.width, info.height, csv));
+    headers_.push_back(rec::header_from_row(row, info.width, info.height, csv));
   line_.resize(info.width);
 }
 

@@ -4,36 +4,31 @@
 #include <cstdint>
 #include <vector>
 
-#include "bolo/firmware/line_sink.hpp"
+#include "bolo/core/frame_collector.hpp"
+#include "bolo/core/line_sink.hpp"
 
 namespace bolo::test {
 
-// Keeps the last frame it received (storage sized once, so it does not allocate per frame) and
-// a running FNV-1a hash of every pixel of every frame.
-class FrameCollector final : public fw::LineSink {
+// The core's FrameCollector with storage of its own, and a running FNV-1a hash of every pixel of
+// every line pushed (up to the collector's width; rows past the frame are only hashed).
+class HashingCollector final : public fw::LineSink {
  public:
-  FrameCollector(std::uint32_t width, std::uint32_t height)
-      : width_(width), frame_(std::size_t{width} * height) {}
-  void begin_frame(const fw::FrameHeader& header) override {
-    header_ = header;
-    lines_ = 0;
-  }
+  HashingCollector(std::uint32_t width, std::uint32_t height)
+      : width_(width),
+        frame_(fw::FrameCollector::storage_pixels(width, height)),
+        collector_(width, height, frame_) {}
+  void begin_frame(const fw::FrameHeader& header) override { collector_.begin_frame(header); }
   void push_line(std::uint32_t row, fw::LineView line) override {
-    for (std::size_t x = 0; x < line.size() && x < width_; ++x) {
-      const std::size_t at = std::size_t{row} * width_ + x;
-      if (at < frame_.size()) frame_[at] = line[x];  // rows past the frame are only hashed
-      hash_pixel(line[x]);
-    }
-    ++lines_;
-    last_row_ = row;
+    for (std::size_t x = 0; x < line.size() && x < width_; ++x) hash_pixel(line[x]);
+    collector_.push_line(row, line);
   }
-  void end_frame() override { ++frames_; }
+  void end_frame() override { collector_.end_frame(); }
 
   const std::vector<fw::Pixel>& frame() const { return frame_; }
-  const fw::FrameHeader& header() const { return header_; }
-  std::uint64_t frames() const { return frames_; }
-  std::uint32_t lines() const { return lines_; }
-  std::uint32_t last_row() const { return last_row_; }
+  const fw::FrameHeader& header() const { return collector_.header(); }
+  std::uint64_t frames() const { return collector_.frames(); }
+  std::uint32_t lines() const { return collector_.lines(); }
+  std::uint32_t last_row() const { return collector_.last_row(); }
   std::uint64_t hash() const { return hash_; }
 
  private:
@@ -45,10 +40,7 @@ class FrameCollector final : public fw::LineSink {
   }
   std::uint32_t width_;
   std::vector<fw::Pixel> frame_;
-  fw::FrameHeader header_{};
-  std::uint32_t lines_ = 0;
-  std::uint32_t last_row_ = 0;
-  std::uint64_t frames_ = 0;
+  fw::FrameCollector collector_;
   std::uint64_t hash_ = 0xcbf29ce484222325ull;
 };
 

@@ -8,8 +8,8 @@
 #include <new>
 #include <vector>
 
+#include "bolo/core/frame_source.hpp"
 #include "bolo/firmware/pipeline.hpp"
-#include "bolo/hal/frame_source.hpp"
 #include "frame_collector.hpp"
 
 #include "counting_allocator.hpp"  // replaces malloc/new in this binary
@@ -106,7 +106,7 @@ int main() {
   cfg.use_bad_pixels = true;
   cfg.bad_pixels.mask = mask;
   std::vector<fw::Pixel> arena(fw::Pipeline::arena_pixels(cfg));
-  bolo::test::FrameCollector sink(W, H);
+  bolo::test::HashingCollector sink(W, H);
   fw::Pipeline pipeline(cfg, arena, sink);
   SyntheticSource source(W, H, 1000);
 

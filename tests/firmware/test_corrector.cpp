@@ -10,7 +10,7 @@
 #include "frame_collector.hpp"
 
 using namespace bolo;
-using bolo::test::FrameCollector;
+using bolo::test::HashingCollector;
 using bolo::test::push_frame;
 using bolo::test::SplitMix64;
 
@@ -58,7 +58,7 @@ struct Rig {
     return corrector.last_frame().carry_over;
   }
   std::vector<fw::Pixel> storage;
-  FrameCollector sink;
+  HashingCollector sink;
   fw::TwoFrameCorrector corrector;
 };
 

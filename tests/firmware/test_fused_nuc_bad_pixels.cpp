@@ -11,7 +11,7 @@
 #include "frame_collector.hpp"
 
 using namespace bolo;
-using bolo::test::FrameCollector;
+using bolo::test::HashingCollector;
 using bolo::test::SplitMix64;
 
 namespace {
@@ -80,7 +80,7 @@ TEST_CASE("bad-pixel stage with NUC on input equals NucStage -> BadPixelStage", 
         std::vector<fw::Pixel> nuc_storage(fw::NucStage::storage_pixels(w));
         std::vector<fw::Pixel> bad_storage(fw::BadPixelStage::storage_pixels(w, h));
         std::vector<fw::Pixel> fused_storage(fw::BadPixelStage::storage_pixels(w, h));
-        FrameCollector chained(w, h + 2), fused(w, h + 2);
+        HashingCollector chained(w, h + 2), fused(w, h + 2);
         fw::BadPixelStage bad(cfg, bad_storage, chained);
         fw::NucStage nuc(w, h, tables, nuc_storage, bad);
         fw::BadPixelStage both(cfg, tables, fused_storage, fused);
@@ -115,7 +115,7 @@ TEST_CASE("bad-pixel stage with NUC tables shorter than a frame passes frames th
   std::vector<std::uint16_t> gain(W * H - 1, 2 * fw::kNucUnityGain);
   std::vector<std::int16_t> offset(W * H, 0);
   std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W, H));
-  FrameCollector sink(W, H);
+  HashingCollector sink(W, H);
   fw::BadPixelConfig cfg;
   cfg.width = W;
   cfg.height = H;

@@ -10,7 +10,7 @@
 #include "frame_collector.hpp"
 
 using namespace bolo;
-using bolo::test::FrameCollector;
+using bolo::test::HashingCollector;
 using bolo::test::push_frame;
 using bolo::test::SplitMix64;
 
@@ -55,7 +55,7 @@ TEST_CASE("NUC applies a Q2.14 gain and an offset per pixel, saturating", "[nuc]
                                      fw::kNucUnityGain, fw::kNucUnityGain};
   std::vector<std::int16_t> offset = {0, 0, 0, -50, 0, 100, -2000, 0};
   std::vector<fw::Pixel> storage(fw::NucStage::storage_pixels(W));
-  FrameCollector sink(W, H);
+  HashingCollector sink(W, H);
   fw::NucStage nuc(W, H, {gain, offset}, storage, sink);
   push_frame(nuc, header(W, H, 0), {1000, 1000, 1001, 1000, 30000, 65500, 1000, 7});
   CHECK(sink.frame() == std::vector<fw::Pixel>{1000, 2000, 501, 950, 65535, 65535, 0, 7});
@@ -75,7 +75,7 @@ TEST_CASE("bad pixels are replaced by the rounded mean of their good 3x3 neighbo
   cfg.height = H;
   cfg.mask = mask;
   std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W, H));
-  FrameCollector sink(W, H);
+  HashingCollector sink(W, H);
   fw::BadPixelStage stage(cfg, storage, sink);
   std::fill(mask.begin(), mask.end(), 0);  // the stage took the mask at construction
   push_frame(stage, header(W, H, 0), frame);
@@ -156,13 +156,13 @@ TEST_CASE("the pipeline equals its stages applied one after another", "[pipeline
   cfg.bad_pixels.mask = mask;
 
   std::vector<fw::Pixel> arena(fw::Pipeline::arena_pixels(cfg));
-  FrameCollector piped(W, H);
+  HashingCollector piped(W, H);
   fw::Pipeline pipeline(cfg, arena, piped);
 
   // The same stages, each run on whole frames into its own collector.
   std::vector<fw::Pixel> nuc_storage(W), bad_storage(fw::BadPixelStage::storage_pixels(W, H)),
       cor_storage(fw::TwoFrameCorrector::storage_pixels(W, H));
-  FrameCollector after_nuc(W, H), after_bad(W, H), after_cor(W, H);
+  HashingCollector after_nuc(W, H), after_bad(W, H), after_cor(W, H);
   fw::NucStage nuc(W, H, cfg.nuc, nuc_storage, after_nuc);
   fw::BadPixelConfig bad_cfg = cfg.bad_pixels;
   bad_cfg.width = W;
@@ -248,7 +248,7 @@ TEST_CASE("the bad-pixel stage equals the plain rule on random frames", "[bad_pi
                                            : static_cast<fw::Pixel>(rng.below(0x4000));
         }
         std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(w, h));
-        FrameCollector sink(w, h);
+        HashingCollector sink(w, h);
         fw::BadPixelStage stage(cfg, storage, sink);
         INFO("w " << w << " h " << h << " variant " << variant);
         int pass = 0;
@@ -304,7 +304,7 @@ TEST_CASE("bad-pixel stage: rows beyond the frame's height are passed on, never 
   cfg.height = H;
   cfg.mask = mask;
   std::vector<fw::Pixel> storage(fw::BadPixelStage::storage_pixels(W, H));
-  FrameCollector sink(W, H + 2);
+  HashingCollector sink(W, H + 2);
   fw::BadPixelStage stage(cfg, storage, sink);
   std::vector<fw::Pixel> line(W, 700);
   stage.begin_frame(header(W, H, 0));

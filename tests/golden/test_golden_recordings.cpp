@@ -38,7 +38,7 @@ class FrameHasher final : public fw::LineSink {
   std::vector<std::uint64_t> hashes;
 
  private:
-  bolo::test::FrameCollector collector_;
+  bolo::test::HashingCollector collector_;
 };
 
 }  // namespace

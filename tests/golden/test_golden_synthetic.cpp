@@ -71,7 +71,7 @@ std::uint64_t run_case(const Case& c) {
   cfg.use_bad_pixels = c.full_pipeline;
   cfg.bad_pixels.mask = mask;
   std::vector<fw::Pixel> arena(fw::Pipeline::arena_pixels(cfg));
-  bolo::test::FrameCollector sink(c.w, c.h);
+  bolo::test::HashingCollector sink(c.w, c.h);
   fw::Pipeline pipeline(cfg, arena, sink);
 
   std::vector<fw::Pixel> frame(std::size_t{c.w} * c.h);

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "bolo/firmware/line_sink.hpp"
-#include "bolo/hal/frame_source.hpp"
+#include "bolo/core/frame_source.hpp"
+#include "bolo/core/line_sink.hpp"
 
 namespace bolo::test {
 

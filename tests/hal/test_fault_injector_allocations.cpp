@@ -47,7 +47,7 @@ int main() {
   pc.corrector.tau = {12'000'000, 12'000'000};
   pc.use_bad_pixels = true;
   std::vector<fw::Pixel> arena(fw::Pipeline::arena_pixels(pc));
-  test::FrameCollector sink(W, H);
+  test::HashingCollector sink(W, H);
   fw::Pipeline pipeline(pc, arena, sink);
 
   g_counting = true;

@@ -75,7 +75,7 @@ TEST_CASE("flirone capture: the source's frames equal the shared recording bit f
   hal::FlirOneSource source(log);
   CHECK(source.format().width == 80);
   CHECK(source.format().height == 60);
-  test::FrameCollector sink(80, 60);
+  test::HashingCollector sink(80, 60);
   std::vector<std::uint16_t> expected(80 * 60);
   std::int64_t t0 = 0;
   std::uint64_t n = 0;
@@ -113,7 +113,7 @@ TEST_CASE("flirone capture: duplicates can be skipped", "[hal][flirone][real]") 
   if (dir.empty()) return;
   hal::CapturedTransfers log(dir);
   hal::FlirOneSource source(log, {.skip_duplicates = true});
-  test::FrameCollector sink(80, 60);
+  test::HashingCollector sink(80, 60);
   std::uint64_t n = 0;
   while (source.stream_frame(sink) == hal::StreamStatus::frame) ++n;
   CHECK(n == 18);

@@ -52,7 +52,7 @@ class ScriptedTransport final : public hal::BulkInTransport {
   bool replug = true;
 };
 
-std::vector<hal::StreamStatus> run(hal::FlirOneSource& source, test::FrameCollector& sink,
+std::vector<hal::StreamStatus> run(hal::FlirOneSource& source, test::HashingCollector& sink,
                                    std::vector<std::uint64_t>& sequences) {
   std::vector<hal::StreamStatus> out;
   for (hal::StreamStatus s; (s = source.stream_frame(sink)) != hal::StreamStatus::end_of_stream;) {
@@ -86,7 +86,7 @@ TEST_CASE("flirone source: faults are counted, lost frames leave sequence gaps",
   usb.frame(test::make_flirone_frame({.frame_counter = 4, .last_ffc_ms = 9500}));  // seq 6: FFC
 
   hal::FlirOneSource source(usb, {.clock = hal::FlirOneClock::host});
-  test::FrameCollector sink(80, 60);
+  test::HashingCollector sink(80, 60);
   std::vector<std::uint64_t> seq;
   const auto statuses = run(source, sink, seq);
   CHECK(statuses == std::vector<S>{S::frame, S::fault, S::fault, S::frame, S::fault, S::frame,
@@ -118,7 +118,7 @@ TEST_CASE("flirone source: the telemetry counter shows frames skipped in the cam
   usb.frame(bad);
   for (std::uint32_t counter : {24u, 324u, 327u}) usb.frame(test::make_flirone_frame({.frame_counter = counter}));
   hal::FlirOneSource source(usb);
-  test::FrameCollector sink(80, 60);
+  test::HashingCollector sink(80, 60);
   std::vector<std::uint64_t> seq;
   run(source, sink, seq);
   // Every missing frame leaves a gap: 12 comes 2 after 6 (9 skipped), 24 comes 3 after the
@@ -137,7 +137,7 @@ TEST_CASE("flirone source: a skipped duplicate still counts, and a skip after it
   ScriptedTransport usb;
   for (std::uint32_t counter : {3u, 6u, 6u, 12u}) usb.frame(test::make_flirone_frame({.frame_counter = counter}));
   hal::FlirOneSource source(usb, {.skip_duplicates = true});
-  test::FrameCollector sink(80, 60);
+  test::HashingCollector sink(80, 60);
   std::vector<std::uint64_t> seq;
   run(source, sink, seq);
   CHECK(seq == std::vector<std::uint64_t>{0, 1, 3});  // the skipped 9 is a gap, the skipped duplicate none
@@ -151,7 +151,7 @@ TEST_CASE("flirone source: the frame after frames the camera skipped is not corr
   ScriptedTransport usb;
   for (std::uint32_t counter : {3u, 6u, 12u, 15u}) usb.frame(test::make_flirone_frame({.frame_counter = counter}));
   hal::FlirOneSource source(usb, {.clock = hal::FlirOneClock::host});
-  test::FrameCollector out(80, 60);
+  test::HashingCollector out(80, 60);
   fw::CorrectorConfig config;
   config.width = 80;
   config.height = 60;
@@ -186,7 +186,7 @@ TEST_CASE("flirone source: a pause mid-frame is a counted timeout, not a lost fr
   usb.event(T::timeout);
   usb.frame(test::make_flirone_frame({.frame_counter = 9}));
   hal::FlirOneSource source(usb, {.clock = hal::FlirOneClock::host});
-  test::FrameCollector sink(80, 60);
+  test::HashingCollector sink(80, 60);
   std::vector<std::uint64_t> seq;
   const auto statuses = run(source, sink, seq);
   CHECK(statuses == std::vector<S>{S::fault, S::frame, S::fault, S::frame});
@@ -202,7 +202,7 @@ TEST_CASE("flirone source: the first frame after a replug is not an FFC, a new F
   usb.frame(test::make_flirone_frame({.frame_counter = 6, .last_ffc_ms = 1}));
   usb.frame(test::make_flirone_frame({.frame_counter = 9, .last_ffc_ms = 2}));
   hal::FlirOneSource source(usb);
-  test::FrameCollector sink(80, 60);
+  test::HashingCollector sink(80, 60);
   std::vector<fw::FfcState> ffc;
   while (source.stream_frame(sink) == hal::StreamStatus::frame) ffc.push_back(sink.header().ffc);
   CHECK(ffc == std::vector<fw::FfcState>{fw::FfcState::none, fw::FfcState::none, fw::FfcState::completed});
@@ -215,7 +215,7 @@ TEST_CASE("flirone source: a device that stays away keeps reporting faults, neve
   usb.replug = false;
   for (int i = 0; i < 3; ++i) usb.event(hal::TransferStatus::disconnected);
   hal::FlirOneSource source(usb);
-  test::FrameCollector sink(80, 60);
+  test::HashingCollector sink(80, 60);
   std::vector<std::uint64_t> seq;
   const auto statuses = run(source, sink, seq);
   CHECK(statuses.size() == 3);
@@ -233,7 +233,7 @@ TEST_CASE("flirone source: stray transfers, trailing bytes and unread statuses a
   with_tail.insert(with_tail.end(), {9, 9, 9});  // after the frame's end, not a frame's start
   usb.steps.push_back({hal::TransferStatus::ok, with_tail});
   hal::FlirOneSource source(usb);
-  test::FrameCollector sink(80, 60);
+  test::HashingCollector sink(80, 60);
   std::vector<std::uint64_t> seq;
   run(source, sink, seq);
   CHECK(seq.size() == 2);  // none of them costs a frame

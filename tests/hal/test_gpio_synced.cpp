@@ -71,7 +71,7 @@ TEST_CASE("gpio: latency from the latest sync edge before each frame", "[hal][gp
   FakeLines lines;
   TimedFrames frames({1'005'000, 2'007'000, 3'004'000, 3'500'000});
   hal::GpioSyncedSource source(frames, lines);
-  test::FrameCollector sink(4, 2);
+  test::HashingCollector sink(4, 2);
   lines.pending = {1'000'000, 2'000'000, 2'100'000'000};  // the last one is after every frame
   REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);
   CHECK(source.last_marks().latency_ns == 5'000);
@@ -94,7 +94,7 @@ TEST_CASE("gpio: frames with no edge before them are counted unmatched", "[hal][
   FakeLines lines;
   TimedFrames frames({10, 20});
   hal::GpioSyncedSource source(frames, lines);
-  test::FrameCollector sink(4, 2);
+  test::HashingCollector sink(4, 2);
   lines.pending = {15};
   REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);
   CHECK_FALSE(source.last_marks().sync_matched);
@@ -107,7 +107,7 @@ TEST_CASE("gpio: extra counters are the inner source's, then the GPIO ones", "[h
   FakeLines lines;
   TimedFrames frames({10, 20});
   hal::GpioSyncedSource source(frames, lines);
-  test::FrameCollector sink(4, 2);
+  test::HashingCollector sink(4, 2);
   lines.imminent = true;
   REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);
   const hal::ExtraCounters extra = source.extra_counters();
@@ -124,7 +124,7 @@ TEST_CASE("gpio: shutter on request marks the next frame, FFC-imminent frames ar
   FakeLines lines;
   TimedFrames frames({1, 2, 3, 4});
   hal::GpioSyncedSource source(frames, lines);
-  test::FrameCollector sink(4, 2);
+  test::HashingCollector sink(4, 2);
   REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);
   CHECK(sink.header().ffc == fw::FfcState::none);
   lines.imminent = true;

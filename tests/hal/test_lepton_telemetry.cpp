@@ -4,7 +4,7 @@
 
 #include <array>
 
-#include "bolo/firmware/frame_header.hpp"
+#include "bolo/core/frame_header.hpp"
 #include "bolo/hal/lepton_telemetry.hpp"
 
 using namespace bolo::hal;

@@ -102,7 +102,7 @@ int main() {
   }
   Prepared usb(transfers);
   hal::FlirOneSource flirone(usb);
-  test::FrameCollector flirone_sink(80, 60);
+  test::HashingCollector flirone_sink(80, 60);
 
   // Seek: start-up frame, shutter, images.
   std::vector<std::vector<std::uint8_t>> seek_frames;
@@ -110,7 +110,7 @@ int main() {
     seek_frames.push_back(test::make_seek_frame(hal::kSeekCompact, type, 1, 2000, {5, 9}));
   PreparedSeek seek_usb(hal::kSeekCompact, seek_frames);
   hal::SeekSource seek(seek_usb, hal::kSeekCompact);
-  test::FrameCollector seek_sink(208, 156);
+  test::HashingCollector seek_sink(208, 156);
 
   // Y16 with telemetry.
   std::vector<std::uint8_t> y16(160 * 122 * 2, 0x11);

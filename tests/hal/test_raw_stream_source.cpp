@@ -32,7 +32,7 @@ TEST_CASE("raw Y16 frames stream line by line, a cut-off frame is counted", "[ha
   REQUIRE(fd >= 0);
   hal::RawStreamConfig cfg{W, H, 14, 33'333'333, 8'000'000, 25'000'000};
   hal::RawStreamSource source(fd, cfg);
-  bolo::test::FrameCollector sink(W, H);
+  bolo::test::HashingCollector sink(W, H);
   int frames = 0;
   while (source.stream_frame(sink) == hal::StreamStatus::frame) {
     CHECK(sink.frame()[0] == 1000 * frames + 0x0100);
@@ -51,7 +51,7 @@ TEST_CASE("raw Y16 frames stream line by line, a cut-off frame is counted", "[ha
 
 TEST_CASE("a bad file descriptor is a counted fault, not a crash", "[hal][raw]") {
   hal::RawStreamSource source(-1, {4, 4, 16, 0, 0, 0});
-  bolo::test::FrameCollector sink(4, 4);
+  bolo::test::HashingCollector sink(4, 4);
   CHECK(source.stream_frame(sink) == hal::StreamStatus::end_of_stream);
   CHECK(source.stats().corrupt_transfers == 1);
   CHECK(sink.frames() == 0);
@@ -78,7 +78,7 @@ TEST_CASE("raw Y16 frames stream from the caller's storage, which must hold a fr
     REQUIRE(fd >= 0);
     hal::RawStreamSource source(fd, cfg, std::span(frame).first(enough ? frame.size() : frame.size() - 1),
                                 line);
-    bolo::test::FrameCollector sink(W, H);
+    bolo::test::HashingCollector sink(W, H);
     int frames = 0;
     while (source.stream_frame(sink) == hal::StreamStatus::frame) {
       CHECK(sink.frame()[W * H - 1] == 0x3000 + W * H * (frames + 1) - 1);

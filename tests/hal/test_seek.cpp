@@ -73,7 +73,7 @@ TEST_CASE("seek source: boot frames consumed, dead map taken, shutter frames mar
       hal::SeekSource source(cam, m);
       CHECK(source.format().width == m.width);
       CHECK(source.format().height == m.image_height());
-      test::FrameCollector sink(m.width, m.image_height());
+      test::HashingCollector sink(m.width, m.image_height());
       std::vector<fw::FfcState> ffc;
       for (int i = 0; i < 4; ++i) {
         REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);
@@ -101,7 +101,7 @@ TEST_CASE("seek source: a failed first write is retried after a close", "[hal][s
   test::FakeSeek cam(hal::kSeekCompact);
   cam.fail_first_write = true;
   hal::SeekSource source(cam, hal::kSeekCompact);
-  test::FrameCollector sink(208, 156);
+  test::HashingCollector sink(208, 156);
   CHECK(source.stream_frame(sink) == hal::StreamStatus::frame);
   const std::vector<std::uint8_t> start(cam.log.begin(), cam.log.begin() + 3);
   CHECK(start == std::vector<std::uint8_t>{84, 60, 84});
@@ -113,7 +113,7 @@ TEST_CASE("seek source: zero-length reads, timeouts, errors and an unplug are co
   test::FakeSeek cam(m);
   cam.plan = {{3}, {3, F::zero_length}, {3}, {3, F::timeout}, {3, F::error}, {3}, {3, F::unplug}, {3}, {3}};
   hal::SeekSource source(cam, m);
-  test::FrameCollector sink(m.width, m.height);
+  test::HashingCollector sink(m.width, m.height);
   using S = hal::StreamStatus;
   std::vector<S> statuses;
   std::vector<std::uint64_t> seq;
@@ -149,7 +149,7 @@ TEST_CASE("seek source: a pause mid-frame is a counted timeout, not a lost frame
   test::FakeSeek cam(m);
   cam.plan = {{3}, {3, F::pause}, {3}};  // frame 2 stops after its first chunk, then goes on
   hal::SeekSource source(cam, m);
-  test::FrameCollector sink(m.width, m.height);
+  test::HashingCollector sink(m.width, m.height);
   std::vector<S> statuses;
   std::vector<std::uint64_t> seq;
   for (int i = 0; i < 4; ++i) {
@@ -177,7 +177,7 @@ TEST_CASE("seek source: a request the camera never answers costs timeouts, not a
   test::FakeSeek cam(hal::kSeekCompact);
   cam.unanswered_requests = 1;  // e.g. still booting
   hal::SeekSource source(cam, hal::kSeekCompact);
-  test::FrameCollector sink(208, 156);
+  test::HashingCollector sink(208, 156);
   std::vector<S> statuses;
   for (int i = 0; i < 3; ++i) statuses.push_back(source.stream_frame(sink));
   CHECK(statuses == std::vector<S>{S::fault, S::fault, S::frame});
@@ -194,7 +194,7 @@ TEST_CASE("seek source: the rest of a frame given up on is never delivered as pa
   cam.pause_timeouts = 3;  // longer than the source waits (2 timeouts): frame 2 is given up...
   cam.plan = {{3}, {3, F::pause}, {3}, {3}, {3}};  // ...and its rest then comes before frame 3
   hal::SeekSource source(cam, m);
-  test::FrameCollector sink(m.width, m.height);
+  test::HashingCollector sink(m.width, m.height);
   std::vector<S> statuses;
   std::vector<std::uint16_t> counters;  // of the frames delivered, from their pixels
   for (int i = 0; i < 7; ++i) {
@@ -219,7 +219,7 @@ TEST_CASE("seek source: a camera that never sends an image gives faults, not a h
   test::FakeSeek cam(hal::kSeekCompact);
   for (int i = 0; i < 200; ++i) cam.plan.push_back({6});
   hal::SeekSource source(cam, hal::kSeekCompact, {.max_frames_without_image = 16});
-  test::FrameCollector sink(208, 156);
+  test::HashingCollector sink(208, 156);
   CHECK(source.stream_frame(sink) == hal::StreamStatus::fault);
   CHECK(source.counters().calibration_frames == 16);
 }
@@ -229,7 +229,7 @@ TEST_CASE("seek source: a refused start-up is a counted fault, an unplugged came
   cam.unplugged = true;
   cam.replug = false;
   hal::SeekSource source(cam, hal::kSeekCompact);
-  test::FrameCollector sink(208, 156);
+  test::HashingCollector sink(208, 156);
   CHECK(source.stream_frame(sink) == hal::StreamStatus::fault);
   CHECK(source.stats().disconnects == 1);
   CHECK(cam.reconnects == 1);
@@ -246,7 +246,7 @@ TEST_CASE("seek source: the frame counter shows duplicates, gaps and surprises",
   // cycle whose frames count too, and an image right after it.
   cam.plan = {{3}, {3}, {3, {}, 0}, {3, {}, 3}, {3, {}, 1000}, {3}, {6}, {1}, {20}, {3}};
   hal::SeekSource source(cam, m);
-  test::FrameCollector sink(m.width, m.height);
+  test::HashingCollector sink(m.width, m.height);
   std::vector<std::uint64_t> seq;
   for (int i = 0; i < 7; ++i) {
     REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);

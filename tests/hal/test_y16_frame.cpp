@@ -161,7 +161,7 @@ TEST_CASE("v4l2 buffers: synthetic Y16 buffers become frames, with gaps, FFC, re
   using S = StreamStatus;
   V4l2BufferStream stream(Y16Layout{160, 120, 2, 384});
   SourceStats st;
-  bolo::test::FrameCollector sink(160, 120);
+  bolo::test::HashingCollector sink(160, 120);
   const auto before_ffc = lepton_buffer(384, 100, 1), after_ffc = lepton_buffer(384, 5000, 4);
   REQUIRE(stream.deliver(filled(before_ffc, 10), sink, st) == S::frame);
   CHECK(sink.header().sequence == 10);
@@ -197,7 +197,7 @@ TEST_CASE("v4l2 buffers: synthetic Y16 buffers become frames, with gaps, FFC, re
 TEST_CASE("v4l2 buffers: the telemetry frame counter shows frames skipped in the camera and sent twice", "[hal][v4l2]") {
   V4l2BufferStream stream(Y16Layout{160, 120, 2, 320});
   SourceStats st;
-  bolo::test::FrameCollector sink(160, 120);
+  bolo::test::HashingCollector sink(160, 120);
   // (telemetry frame counter, the driver's sequence number) of each buffer, in the order dequeued;
   // the delivered header's sequence of each.
   auto stream_frames = [&](std::initializer_list<std::pair<std::uint32_t, std::uint32_t>> frames) {
@@ -246,7 +246,7 @@ TEST_CASE("v4l2 buffers: the frame after frames the camera skipped is not correc
   // saw the frame), so only the sequence can tell the corrector that 4 has no predecessor.
   V4l2BufferStream stream(Y16Layout{160, 120, 2, 320});
   SourceStats st;
-  bolo::test::FrameCollector out(160, 120);
+  bolo::test::HashingCollector out(160, 120);
   bolo::fw::CorrectorConfig config;
   config.width = 160;
   config.height = 120;
@@ -275,7 +275,7 @@ TEST_CASE("v4l2 buffers: the frame after frames the camera skipped is not correc
 TEST_CASE("v4l2 buffers: a camera exporting every third core frame steps its counter by 3", "[hal][v4l2]") {
   V4l2BufferStream stream(Y16Layout{160, 120, 2, 320});
   SourceStats st;
-  bolo::test::FrameCollector sink(160, 120);
+  bolo::test::HashingCollector sink(160, 120);
   std::uint32_t sequence = 0;
   std::vector<std::uint64_t> delivered;
   for (std::uint32_t counter : {30u, 33u, 36u, 42u, 42u, 45u}) {  // 39 skipped, 42 sent twice
@@ -292,7 +292,7 @@ TEST_CASE("v4l2 buffers: a camera exporting every third core frame steps its cou
 TEST_CASE("v4l2 buffers: without telemetry rows nothing is counted from them", "[hal][v4l2]") {
   V4l2BufferStream stream(Y16Layout{160, 120, 0, 320});
   SourceStats st;
-  bolo::test::FrameCollector sink(160, 120);
+  bolo::test::HashingCollector sink(160, 120);
   for (std::uint32_t sequence : {0u, 1u, 2u}) {
     const auto bytes = lepton_buffer(320, 100, sequence * 5);  // row 120 is not read
     REQUIRE(stream.deliver(filled(bytes, sequence), sink, st) == StreamStatus::frame);

@@ -91,7 +91,7 @@ class Comparer final : public fw::LineSink {
   int decision_mismatches = 0, applied_frames = 0, frames = 0;
 
  private:
-  bolo::test::FrameCollector collector_;
+  bolo::test::HashingCollector collector_;
   rec::Recording& reader_;
   sim::ReferenceCorrector& ref_;
   const fw::TwoFrameCorrector* const& corrector_;

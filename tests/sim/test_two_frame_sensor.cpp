@@ -28,7 +28,7 @@ TEST_CASE("corrector inverts the forward model", "[sim]") {
   cfg.height = H;
   cfg.tau = {11'000'000, 13'000'000};
   std::vector<fw::Pixel> storage(fw::TwoFrameCorrector::storage_pixels(W, H));
-  bolo::test::FrameCollector sink(W, H);
+  bolo::test::HashingCollector sink(W, H);
   fw::TwoFrameCorrector corrector(cfg, storage, sink);
 
   std::vector<float> scene(W * H);

@@ -14,12 +14,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bolo/core/frame_collector.hpp"
 #include "bolo/firmware/two_frame_corrector.hpp"
 #include "bolo/odometry/align.hpp"
 #include "bolo/odometry/pinhole_remap.hpp"
 #include "bolo/odometry/plot.hpp"
 #include "bolo/odometry/ply.hpp"
 #include "bolo/odometry/trajectory_plot.hpp"
+#include "bolo/recording/frame_row_header.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/vo/odometry.hpp"
 
@@ -54,22 +56,6 @@ PinholeRemap pinhole_remap(const OdometryOptions& options, const rec::Recording&
     throw Error((recording.dir() / "camera.json").string() + ": fields k1, k2, p1, p2: " + e.what());
   }
 }
-
-// Copies a corrector's output lines into one frame.
-class FrameSink final : public fw::LineSink {
- public:
-  FrameSink(std::uint32_t width, std::uint32_t height) : width_(width), frame_(std::size_t{width} * height) {}
-  void begin_frame(const fw::FrameHeader&) override {}
-  void push_line(std::uint32_t row, fw::LineView line) override {
-    std::copy(line.begin(), line.end(), frame_.begin() + static_cast<std::ptrdiff_t>(std::size_t{row} * width_));
-  }
-  void end_frame() override {}
-  const std::vector<std::uint16_t>& frame() const { return frame_; }
-
- private:
-  std::uint32_t width_;
-  std::vector<std::uint16_t> frame_;
-};
 
 struct FrameTiming {
   double exposure_s = 0, readout_s = 0;  // 0 where the photometric model does not use them (or unknown)
@@ -189,7 +175,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   if (!odometry.ok()) throw Error(options.recording.string() + ": the VO could not be set up for this size");
 
   // ir-loop: the firmware corrector in front, fed back with the VO's tau.
-  FrameSink corrected(w, h);
+  std::vector<fw::Pixel> corrected_storage(fw::FrameCollector::storage_pixels(w, h));
+  fw::FrameCollector corrected(w, h, corrected_storage);
   std::vector<fw::Pixel> corrector_storage(fw::TwoFrameCorrector::storage_pixels(w, h));
   fw::CorrectorConfig cc;
   cc.width = w, cc.height = h;
@@ -233,18 +220,14 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
     if (options.photometric == vo::Photometric::ir_loop && !repeated) {
       const vo::Tau tau = odometry.tau();
       corrector.set_time_constants({to_ns(tau.h), to_ns(tau.c)});
-      fw::FrameHeader header;
-      header.width = w, header.height = h;
-      header.sequence = i, header.sequence_valid = true;
-      header.timestamp_ns = static_cast<std::int64_t>(std::llround(*row.t_s * 1e9));
-      header.timestamp_valid = true;
+      // The row's header with the timing resolved above (assumed where frames.csv has none).
+      fw::FrameHeader header = rec::header_from_row(row, w, h, csv);
       header.exposure_ns = to_ns(in.exposure_s);
       header.readout_ns = to_ns(timing[i].readout_s);
-      header.ffc = row.ffc ? (*row.ffc ? fw::FfcState::completed : fw::FfcState::none) : fw::FfcState::unknown;
       corrector.begin_frame(header);
       for (std::uint32_t y = 0; y < h; ++y) corrector.push_line(y, fw::LineView(raw.data() + std::size_t{y} * w, w));
       corrector.end_frame();
-      in.corrected = corrected.frame();
+      in.corrected = corrected.pixels();
     }
     const vo::FrameResult r = odometry.process(in);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -2,24 +2,13 @@
 
 #include <stdexcept>
 
+#include "bolo/core/frame_collector.hpp"
 #include "bolo/hal/recording_player.hpp"
 #include "fnv1a.hpp"
 
 namespace bolo::hil::uvc {
 
 namespace {
-
-// Collects a played frame's rows.
-class Collect final : public fw::LineSink {
- public:
-  explicit Collect(std::vector<std::uint16_t>& out) : out_(out) {}
-  void begin_frame(const fw::FrameHeader&) override {}
-  void push_line(std::uint32_t, fw::LineView line) override { out_.insert(out_.end(), line.begin(), line.end()); }
-  void end_frame() override {}
-
- private:
-  std::vector<std::uint16_t>& out_;
-};
 
 // A moving diagonal ramp with the frame number in it: every simulated frame differs.
 void simulate(std::vector<std::uint16_t>& out, std::uint64_t frames) {
@@ -59,11 +48,12 @@ FrameFeed::FrameFeed(const std::string& recording) {
   if (f.width != kWidth || f.height != kHeight)
     throw std::runtime_error(recording + ": the recording is " + std::to_string(f.width) + "x" +
                              std::to_string(f.height) + "; the emulated PureThermal streams 160x120");
-  Collect sink(images_);
-  while (player.stream_frame(sink) == hal::StreamStatus::frame) {
-  }
-  if (images_.empty() || images_.size() % kPixels != 0)
-    throw std::runtime_error(recording + ": no whole frame played");
+  std::vector<std::uint16_t> frame(fw::FrameCollector::storage_pixels(kWidth, kHeight));
+  fw::FrameCollector sink(kWidth, kHeight, frame);
+  while (player.stream_frame(sink) == hal::StreamStatus::frame && sink.complete())
+    images_.insert(images_.end(), frame.begin(), frame.end());
+  if (images_.empty()) throw std::runtime_error(recording + ": no whole frame played");
+  if (!sink.complete()) throw std::runtime_error(recording + ": a played frame was not whole");
 }
 
 Bytes FrameFeed::frame(std::uint64_t index, FrameSize size, const Telemetry& t) const {

@@ -1,7 +1,7 @@
 #pragma once
 // A pipeline stage: a LineSink that pushes its output lines into the next LineSink.
 
-#include "bolo/firmware/line_sink.hpp"
+#include "bolo/core/line_sink.hpp"
 
 namespace bolo::fw {
 

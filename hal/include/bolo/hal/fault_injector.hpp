@@ -23,7 +23,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "bolo/hal/frame_source.hpp"
+#include "bolo/core/frame_source.hpp"
 
 namespace bolo::hal {
 

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "bolo/core/frame_source.hpp"
 #include "bolo/hal/flirone_reassembler.hpp"
-#include "bolo/hal/frame_source.hpp"
 #include "bolo/hal/lepton_telemetry.hpp"
 #include "bolo/hal/usb_transport.hpp"
 

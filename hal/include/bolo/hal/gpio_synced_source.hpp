@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-#include "bolo/hal/frame_source.hpp"
+#include "bolo/core/frame_source.hpp"
 #include "bolo/hal/gpio_lines.hpp"
 
 namespace bolo::hal {

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "bolo/hal/frame_source.hpp"
+#include "bolo/core/frame_source.hpp"
 #include "bolo/recording/recording.hpp"
 
 namespace bolo::hal {

@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-#include "bolo/hal/frame_source.hpp"
+#include "bolo/core/frame_source.hpp"
 
 namespace bolo::hal {
 

@@ -6,15 +6,10 @@
 #include <filesystem>
 #include <vector>
 
-#include "bolo/hal/frame_source.hpp"
+#include "bolo/core/frame_source.hpp"
 #include "bolo/recording/recording.hpp"
 
 namespace bolo::hal {
-
-// frames.csv row -> firmware header. Seconds become integer nanoseconds; throws rec::Error
-// naming file, frame and field when a value does not fit (e.g. exposure over 4.29 s).
-fw::FrameHeader header_from_row(const rec::FrameRow& row, std::uint32_t width,
-                                std::uint32_t height, const std::filesystem::path& csv);
 
 class RecordingPlayer final : public FrameSource {
  public:

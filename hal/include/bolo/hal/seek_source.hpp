@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "bolo/hal/frame_source.hpp"
+#include "bolo/core/frame_source.hpp"
 #include "bolo/hal/seek_frame_parser.hpp"
 #include "bolo/hal/usb_transport.hpp"
 

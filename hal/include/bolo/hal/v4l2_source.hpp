@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "bolo/hal/frame_source.hpp"
+#include "bolo/core/frame_source.hpp"
 #include "bolo/hal/lepton_telemetry.hpp"
 #include "bolo/hal/y16_frame.hpp"
 

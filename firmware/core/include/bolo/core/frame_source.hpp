@@ -8,8 +8,8 @@
 #include <span>
 #include <string_view>
 
-#include "bolo/firmware/frame_header.hpp"
-#include "bolo/firmware/line_sink.hpp"
+#include "bolo/core/frame_header.hpp"
+#include "bolo/core/line_sink.hpp"
 
 namespace bolo::hal {
 

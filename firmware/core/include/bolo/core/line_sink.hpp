@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <span>
 
-#include "bolo/firmware/frame_header.hpp"
+#include "bolo/core/frame_header.hpp"
 
 namespace bolo::fw {
 
