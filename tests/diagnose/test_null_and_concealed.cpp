@@ -16,7 +16,7 @@ namespace {
 
 }  // namespace
 
-TEST_CASE("null recordings: baseline only gives no findings", "[diagnose][null]") {
+TEST_CASE("null recordings: baseline only gives no findings", "[diagnose][null][long]") {
   TempDir tmp;
   for (int seed : {11, 12}) {
     const fs::path rec = simulate(tmp, "null" + std::to_string(seed), {}, seed);
@@ -45,7 +45,7 @@ TEST_CASE("null at 8.7 Hz (lepton3 preset): no findings", "[diagnose][null]") {
 // frame): the baseline misses by hundreds of counts at moving edges. Before those pixel-frames
 // were masked, this recording gave 4 false findings (rolling_readout, crosstalk, nonlinearity,
 // tau_temperature).
-TEST_CASE("null with sub-frame motion (street drive, 4 sub-steps): no findings", "[diagnose][null]") {
+TEST_CASE("null with sub-frame motion (street drive, 4 sub-steps): no findings", "[diagnose][null][long]") {
   TempDir tmp;
   const fs::path rec = tmp / "drive";
   const CliResult r = run_bolo({"simulate", rec.string(), "--scene", "street", "--trajectory", "drive", "--size",
@@ -64,7 +64,7 @@ TEST_CASE("null with sub-frame motion (street drive, 4 sub-steps): no findings",
 // the small tails they leave in the next frames gave a gain_fpn finding that explained 9 % of
 // that residual (held-out RMS 2.0331 -> 2.0320 on a floor of 2.0205). A finding must explain a
 // material share of the mismatch; the misses are reported as unexplained, where the input changes.
-TEST_CASE("null with sub-frame motion (demo 96x72, 4 sub-steps): edge misses are unexplained, not named", "[diagnose][null]") {
+TEST_CASE("null with sub-frame motion (demo 96x72, 4 sub-steps): edge misses are unexplained, not named", "[diagnose][null][long]") {
   TempDir tmp;
   const nlohmann::json d = diagnose(
       simulate(tmp, "demo", {}, 2, {"--size", "96x72", "--substeps", "4", "--frames", "200"}), tmp / "demo.d");

@@ -141,7 +141,7 @@ TEST_CASE("an object missing from the scene for a while is reported with its fra
 
 // Pixels differ in noise on a real array. Isolated pixels with 1.6 times the typical variance
 // are significant over 400 frames (z ~ 7) but are not blinking pixels: nothing may be reported.
-TEST_CASE("pixels somewhat noisier than the rest are not reported as blinking", "[diagnose][null]") {
+TEST_CASE("pixels somewhat noisier than the rest are not reported as blinking", "[diagnose][null][long]") {
   TempDir tmp;
   const fs::path rec = simulate(tmp, "uneven", {}, 45, {"--frames", "400"});
   auto noisier = [](std::uint64_t y, std::uint64_t x) { return y % 5 == 2 && x % 5 == 2; };  // 4 % of pixels

@@ -56,7 +56,7 @@ double initial_direction_error(const test::RenderedSequence& seq, const std::vec
 
 }  // namespace
 
-TEST_CASE("the initialiser finds the forward walk's basin whichever frame it starts on", "[vo][init]") {
+TEST_CASE("the initialiser finds the forward walk's basin whichever frame it starts on", "[vo][init][long]") {
   const test::RenderedSequence seq{"street", "handheld", 160, 120, 3, 4};
   const double fps = 60;
   std::vector<std::vector<std::uint16_t>> frames;

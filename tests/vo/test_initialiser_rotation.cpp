@@ -80,7 +80,7 @@ PanRun run_pan(double fps, int frames, vo::Photometric mode) {
 
 }  // namespace
 
-TEST_CASE("the initialiser takes a pan for the rotation it is", "[vo][init]") {
+TEST_CASE("the initialiser takes a pan for the rotation it is", "[vo][init][long]") {
   // 3.3 s of the pan, 100 degrees over the street before it faces a blank wall. Measured when
   // written (both modes): the first pose at frames 3 / 5 / 10 (9 / 15 / 30 Hz) with no
   // translation, 0.010-0.013 degrees off the true turn; then every frame tracked to the end, at
