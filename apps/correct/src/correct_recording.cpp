@@ -1,7 +1,5 @@
-// The frame loop of `bolo correct`: the recording player -> [Tee ->] Pipeline ([bad pixels] ->
-// two-frame corrector) -> FrameCollector -> RecordingWriter; with --float the double-precision
-// reference gets the raw frames (after bad-pixel replacement when asked) and writes the pixels,
-// the pipeline still making the per-frame decisions.
+// The frame loop of `bolo correct`: the recording player -> CorrectionChain (Pipeline ([bad
+// pixels] -> two-frame corrector), with --float the reference beside it) -> RecordingWriter.
 
 #include "bolo/correct/correct_recording.hpp"
 
@@ -10,12 +8,10 @@
 #include <cstdio>
 #include <vector>
 
-#include "bolo/core/frame_collector.hpp"
-#include "bolo/firmware/pipeline.hpp"
 #include "bolo/hal/recording_player.hpp"
 #include "bolo/hal/source_registry.hpp"
-#include "bolo/sim/corrector_reference.hpp"
 #include "corrected_output.hpp"
+#include "correction_chain.hpp"
 #include "fail.hpp"
 #include "frame_timing.hpp"
 
@@ -23,28 +19,6 @@ namespace bolo::correct {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Forwards every event to two sinks.
-class Tee final : public fw::LineSink {
- public:
-  Tee(fw::LineSink& a, fw::LineSink& b) : a_(a), b_(b) {}
-  void begin_frame(const fw::FrameHeader& h) override {
-    a_.begin_frame(h);
-    b_.begin_frame(h);
-  }
-  void push_line(std::uint32_t row, fw::LineView line) override {
-    a_.push_line(row, line);
-    b_.push_line(row, line);
-  }
-  void end_frame() override {
-    a_.end_frame();
-    b_.end_frame();
-  }
-
- private:
-  fw::LineSink& a_;
-  fw::LineSink& b_;
-};
 
 // The recording folder the input names: a bare folder or file:REC. Other sources are refused, as
 // the output copies the recording's rows, camera, poses and scene.
@@ -65,8 +39,6 @@ fs::path recording_folder(const CorrectRequest& o) {
     fail(dir.string(), ": not a folder (a recording is a folder with recording.json, frames.npy, frames.csv)");
   return dir;
 }
-
-double q24(std::uint32_t value) { return std::ldexp(static_cast<double>(value), -int{fw::kCoefficientFractionBits}); }
 
 }  // namespace
 
@@ -118,34 +90,7 @@ CorrectResult correct_recording(const CorrectRequest& request, std::span<FrameOb
       static_cast<fw::Pixel>(bits >= 16 || bits == 0 ? 0xFFFFu : (1u << bits) - 1u);
   config.bad_pixels.width = width;
   config.bad_pixels.height = height;
-  std::vector<fw::Pixel> arena(fw::Pipeline::arena_pixels(config));
-  std::vector<fw::Pixel> corrected_storage(fw::FrameCollector::storage_pixels(width, height));
-  fw::FrameCollector corrected(width, height, corrected_storage);
-  fw::Pipeline pipeline(config, arena, corrected);
-
-  std::vector<fw::Pixel> raw_storage(fw::FrameCollector::storage_pixels(width, height));
-  fw::FrameCollector raw(width, height, raw_storage);
-  std::vector<fw::Pixel> float_bad_storage;
-  std::optional<fw::BadPixelStage> float_bad_pixels;
-  std::optional<sim::ReferenceCorrector> reference;
-  std::optional<Tee> tee;
-  std::vector<double> reference_out;
-  std::vector<float> float_frame;
-  if (o.float_output) {
-    fw::LineSink* reference_input = &raw;
-    if (o.bad_pixels) {
-      float_bad_storage.resize(fw::BadPixelStage::storage_pixels(width, height));
-      float_bad_pixels.emplace(config.bad_pixels, float_bad_storage, raw);
-      reference_input = &*float_bad_pixels;
-    }
-    tee.emplace(pipeline.input(), *reference_input);
-    std::optional<double> nominal_period_s;
-    if (o.nominal_fps) nominal_period_s = 1.0 / *o.nominal_fps;
-    reference.emplace(width, height, o.tau_h_s, o.tau_c_s, o.exposure_s, o.readout_s, nominal_period_s);
-    reference_out.resize(std::size_t{width} * height);
-    float_frame.resize(reference_out.size());
-  }
-  fw::LineSink& input = tee ? static_cast<fw::LineSink&>(*tee) : pipeline.input();
+  CorrectionChain chain(config, o, o.input.string());
 
   // 5. Run, frame by frame, into the atomic writer; scene.npy (a simulation's steady-state input)
   // still describes the same frames and goes along.
@@ -157,44 +102,9 @@ CorrectResult correct_recording(const CorrectRequest& request, std::span<FrameOb
   for (FrameObserver* observer : observers) observer->on_begin(timing.size());
   const auto start = std::chrono::steady_clock::now();
   for (std::uint64_t i = 0; i < timing.size(); ++i) {
-    if (source->stream_frame(input) != hal::StreamStatus::frame)
+    if (source->stream_frame(chain.input()) != hal::StreamStatus::frame)
       fail(o.input.string(), ": frame ", i, ": the player delivered no frame");
-    if (!corrected.complete()) fail(o.input.string(), ": frame ", i, ": the pipeline delivered an incomplete frame");
-    const rec::FrameRow& row = recording.rows()[i];
-    const fw::CorrectorFrameStats& cs = pipeline.corrector().last_frame();
-    FrameStats s;
-    s.frame = i;
-    s.carry_over = cs.carry_over;
-    s.coefficient_status = cs.coefficient_status;
-    s.gain = q24(cs.coefficients.gain_q24);
-    s.carry = q24(cs.coefficients.carry_q24);
-    s.saturated_low = cs.saturated_low;
-    s.saturated_high = cs.saturated_high;
-    s.exposure_from_flag = timing[i].exposure_from_flag;
-    s.readout_from_flag = timing[i].readout_from_flag;
-    if (const fw::BadPixelStage* bad = pipeline.bad_pixels()) {
-      s.bad_pixels_replaced = bad->last_frame().replaced;
-      s.bad_pixels_unrepairable = bad->last_frame().unrepairable;
-    }
-    if (reference) {
-      if (!raw.complete()) fail(o.input.string(), ": frame ", i, ": incomplete frame for the reference");
-      const sim::ReferenceFrameInfo info{row.index, row.t_s, timing[i].exposure_s,
-                                         timing[i].readout_s, row.ffc.value_or(false)};
-      const bool applied = reference->process(info, raw.pixels(), reference_out);
-      s.reference_disagrees = applied != (s.carry_over == fw::CarryOver::applied);
-      const double g = 1.0 / (1.0 - std::exp(-timing[i].exposure_s / o.tau_h_s));
-      s.gain = g;
-      s.carry = applied ? g * std::exp(-timing[i - 1].readout_s / o.tau_c_s) : 0.0;
-      s.saturated_low = s.saturated_high = 0;
-      for (std::size_t p = 0; p < reference_out.size(); ++p) {
-        float_frame[p] = static_cast<float>(reference_out[p]);
-        s.saturated_low += reference_out[p] <= 0.0;
-        s.saturated_high += reference_out[p] >= 65535.0;
-      }
-      writer.append(std::span<const float>(float_frame), row);
-    } else {
-      writer.append(corrected.pixels(), row);
-    }
+    const FrameStats s = chain.finish_frame(i, recording.rows()[i], timing, writer);
     if (!scene.empty()) {
       player.read_scene(i, scene);
       writer.append_scene(scene);
