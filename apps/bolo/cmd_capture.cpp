@@ -1,7 +1,7 @@
-// bolo capture --device DEV --out REC [--frames N]: records from any HAL backend (V4L2, USB
-// cores, a recording, a captured FLIR ONE transfer log) into the shared recording format through
-// the atomic RecordingWriter. Device faults are counted and reported; too many of them in a row
-// give up with nothing written.
+// bolo capture --device SPEC --out REC [--frames N]: records from any source hal::open_source
+// opens (V4L2, USB cores, a recording, a captured FLIR ONE transfer log) into the shared
+// recording format through the atomic RecordingWriter. Device faults are counted and reported;
+// too many of them in a row give up with nothing written.
 
 #include <algorithm>
 #include <chrono>
@@ -53,7 +53,7 @@ hal::SourceSpec parse_device(const std::string& text) {
   }
 }
 
-std::unique_ptr<hal::OpenedSource> open_device(const std::string& text) {
+std::unique_ptr<hal::OpenedSource> open_named_source(const std::string& text) {
   try {
     return hal::open_source(text, kDeviceOptions);
   } catch (const hal::SourceError& e) {
@@ -142,7 +142,7 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
   if (!o.shutter_at.empty() && !gpio_shutter && !spec.backend.shutter)
     fail("--shutter-at: ", o.device, " has no shutter control here (use --gpio CHIP:shutter=N, or usb:seek)");
   if (!spec.backend.finite && o.frames == 0) fail("--frames: required for a live camera (", o.device, ")");
-  const std::unique_ptr<hal::OpenedSource> device = open_device(o.device);
+  const std::unique_ptr<hal::OpenedSource> device = open_named_source(o.device);
 
   hal::FrameSource* source = device.get();
   std::unique_ptr<hal::GpioLines> lines;
