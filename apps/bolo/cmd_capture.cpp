@@ -1,7 +1,7 @@
-// bolo capture --device DEV --out REC [--frames N]: records from any HAL backend (V4L2, USB
-// cores, a recording, a captured FLIR ONE transfer log) into the shared recording format through
-// the atomic RecordingWriter. Device faults are counted and reported; too many of them in a row
-// give up with nothing written.
+// bolo capture --device SPEC --out REC [--frames N]: records from any source hal::open_source
+// opens (V4L2, USB cores, a recording, a captured FLIR ONE transfer log) into the shared
+// recording format through the atomic RecordingWriter. Device faults are counted and reported;
+// too many of them in a row give up with nothing written.
 
 #include <algorithm>
 #include <chrono>
@@ -17,16 +17,9 @@
 
 #include "bolo/core/frame_collector.hpp"
 #include "bolo/errors.hpp"
-#include "bolo/hal/captured_transfers.hpp"
 #include "bolo/hal/device_spec.hpp"
-#include "bolo/hal/flirone_source.hpp"
 #include "bolo/hal/gpio_synced_source.hpp"
-#include "bolo/hal/recording_player.hpp"
-#include "bolo/hal/seek_source.hpp"
-#include "bolo/hal/v4l2_source.hpp"
-#if defined(BOLO_HAVE_LIBUSB)
-#include "bolo/hal/usb_libusb.hpp"
-#endif
+#include "bolo/hal/source_registry.hpp"
 #include "bolo/progress.hpp"
 #include "bolo/recording/frame_row_header.hpp"
 #include "bolo/recording/recording.hpp"
@@ -48,93 +41,33 @@ struct CaptureOptions {
   bool progress = true;
 };
 
-// A frame source with whatever it runs on (transport, player) kept alive beside it.
-struct OpenedDevice {
-  std::string sensor;
-  rec::Units units = rec::Units::counts;
-  std::unique_ptr<hal::BulkInTransport> transport;
-  std::unique_ptr<hal::VendorUsbTransport> vendor_transport;
-  std::unique_ptr<hal::FrameSource> source;
-  hal::SeekSource* seek = nullptr;  // the one backend with its own shutter command
-};
+// --device takes a scheme always: a bare word is more likely a mistyped device than a folder.
+constexpr hal::SourceOptions kDeviceOptions{.bare_path_is_recording = false};
 
-#if !defined(BOLO_HAVE_LIBUSB)
-[[noreturn]] void no_usb(const std::string& device) {
-  fail("--device ", device,
-       ": this build has no USB backend (libusb-1.0 was not found when it was configured; see `bolo devices`)");
-}
-#endif
-
-hal::DeviceSpec parse_device(const std::string& text) {
+// The backend a --device spec names, before anything is opened.
+hal::SourceSpec parse_device(const std::string& text) {
   try {
-    return hal::parse_device_spec(text);
-  } catch (const std::invalid_argument& e) {
-    fail("--device ", text, ": ", e.what());
+    return hal::parse_source_spec(text, kDeviceOptions);
+  } catch (const hal::SourceError& e) {
+    fail("--device ", e.what());
   }
 }
 
-bool finite(const hal::DeviceSpec& spec) {
-  return spec.kind == hal::DeviceKind::file || spec.kind == hal::DeviceKind::flirone_log;
+std::unique_ptr<hal::OpenedSource> open_named_source(const std::string& text) {
+  try {
+    return hal::open_source(text, kDeviceOptions);
+  } catch (const hal::SourceError& e) {
+    fail("--device ", e.what());
+  }
 }
 
-OpenedDevice open_device(const hal::DeviceSpec& spec, const std::string& text) {
-  OpenedDevice d;
-  try {
-    switch (spec.kind) {
-      case hal::DeviceKind::file: {
-        auto player = std::make_unique<hal::RecordingPlayer>(spec.path);
-        d.sensor = player->recording().info().sensor;
-        d.units = player->recording().info().units;
-        d.source = std::move(player);
-        break;
-      }
-      case hal::DeviceKind::flirone_log: {
-        d.transport = std::make_unique<hal::CapturedTransfers>(spec.path);
-        d.source = std::make_unique<hal::FlirOneSource>(*d.transport);
-        d.sensor = "FLIR ONE Pro (Lepton-class 80x60 core), replayed transfer log";
-        break;
-      }
-      case hal::DeviceKind::v4l2: {
-        auto v4l2 = std::make_unique<hal::V4l2Source>(hal::V4l2Config{.path = spec.path});
-        d.sensor = v4l2->negotiated().card + " (V4L2 Y16, " + v4l2->negotiated().driver + ")";
-        d.source = std::move(v4l2);
-        break;
-      }
-      case hal::DeviceKind::usb_flirone: {
-#if defined(BOLO_HAVE_LIBUSB)
-        d.transport = std::make_unique<hal::LibusbTransport>(hal::flirone_libusb_config());
-        d.source = std::make_unique<hal::FlirOneSource>(*d.transport);
-        d.sensor = "FLIR ONE Pro (Lepton-class 80x60 core)";
-        break;
-#else
-        no_usb(text);
-#endif
-      }
-      case hal::DeviceKind::usb_seek: {
-#if defined(BOLO_HAVE_LIBUSB)
-        auto usb = std::make_unique<hal::LibusbTransport>(hal::seek_libusb_config());
-        const hal::SeekModel& model = usb->opened().product_id == hal::kSeekCompactPro.product_id
-                                          ? hal::kSeekCompactPro
-                                          : hal::kSeekCompact;
-        auto seek = std::make_unique<hal::SeekSource>(*usb, model);
-        d.seek = seek.get();
-        d.source = std::move(seek);
-        d.vendor_transport = std::move(usb);
-        d.sensor = std::string("Seek Thermal ") + model.name;
-        break;
-#else
-        no_usb(text);
-#endif
-      }
-    }
-  } catch (const Error&) {
-    throw;
-  } catch (const rec::Error&) {
-    throw;  // names the recording's file, frame and field already
-  } catch (const std::exception& e) {
-    fail("--device ", text, ": ", e.what());
+rec::Units units_of(hal::PixelUnits units) {
+  switch (units) {
+    case hal::PixelUnits::centikelvin: return rec::Units::centikelvin;
+    case hal::PixelUnits::counts8: return rec::Units::counts8;
+    case hal::PixelUnits::counts: break;
   }
-  return d;
+  return rec::Units::counts;
 }
 
 // The recording format needs increasing t_s; a device clock that stalls or steps back leaves
@@ -204,14 +137,14 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
     if (!hal::gpio_backend_available())
       fail("--gpio ", o.gpio, ": this build has no GPIO backend (libgpiod was not found when it was configured)");
   }
-  const hal::DeviceSpec spec = parse_device(o.device);
+  const hal::SourceSpec spec = parse_device(o.device);
   const bool gpio_shutter = gpio_config && gpio_config->shutter_line >= 0;
-  if (!o.shutter_at.empty() && !gpio_shutter && spec.kind != hal::DeviceKind::usb_seek)
+  if (!o.shutter_at.empty() && !gpio_shutter && !spec.backend.shutter)
     fail("--shutter-at: ", o.device, " has no shutter control here (use --gpio CHIP:shutter=N, or usb:seek)");
-  if (!finite(spec) && o.frames == 0) fail("--frames: required for a live camera (", o.device, ")");
-  OpenedDevice device = open_device(spec, o.device);
+  if (!spec.backend.finite && o.frames == 0) fail("--frames: required for a live camera (", o.device, ")");
+  const std::unique_ptr<hal::OpenedSource> device = open_named_source(o.device);
 
-  hal::FrameSource* source = device.source.get();
+  hal::FrameSource* source = device.get();
   std::unique_ptr<hal::GpioLines> lines;
   std::unique_ptr<hal::GpioSyncedSource> synced;
 #if defined(BOLO_HAVE_LIBGPIOD)
@@ -228,11 +161,11 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
 
   const hal::SourceFormat format = source->format();
   rec::RecordingInfo info;
-  info.sensor = device.sensor;
+  info.sensor = device->sensor();
   info.width = format.width;
   info.height = format.height;
   info.bits = format.bits;
-  info.units = device.units;
+  info.units = units_of(format.units);
   if (format.frame_period_ns != 0) info.fps = std::round(1e11 / format.frame_period_ns) / 100.0;
   info.source = "bolo capture --device " + o.device;
   info.notes = "t_s from the device's clock, relative to the first frame";
@@ -252,7 +185,7 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
   while (o.frames == 0 || captured < o.frames) {
     if (next_shutter < shutter_at.size() && shutter_at[next_shutter] <= captured) {
       ++next_shutter;
-      const bool ok = synced && gpio_shutter ? synced->request_shutter() : device.seek && device.seek->request_shutter();
+      const bool ok = synced && gpio_shutter ? synced->request_shutter() : device->request_shutter();
       shutters += ok ? 1 : 0;
     }
     const hal::StreamStatus s = source->stream_frame(grab);
@@ -306,6 +239,14 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
   return kExitOk;
 }
 
+// The registered source specs, one per line, for the help page.
+std::string source_list() {
+  std::ostringstream text;
+  for (const hal::SourceBackend& b : hal::source_schemes())
+    text << "  " << std::left << std::setw(18) << b.example() << " " << b.summary << "\n";
+  return text.str();
+}
+
 }  // namespace
 
 Command add_capture_command(CLI::App& parent) {
@@ -314,13 +255,9 @@ Command add_capture_command(CLI::App& parent) {
       parent, "capture", "Record frames from a camera (V4L2, USB) or a recording into a recording",
       "Records from any frame source of the HAL into a recording in the shared format\n"
       "(frames.npy, frames.csv with time, FFC and temperatures where the device reports them,\n"
-      "recording.json, capture.json with the device's fault and extra counters). Devices:\n"
-      "  v4l2:/dev/videoN   UVC Y16 camera (Lepton on PureThermal: 160x122 with telemetry)\n"
-      "  usb:flirone        FLIR ONE Pro (libusb)\n"
-      "  usb:seek           Seek Thermal Compact / CompactPro (libusb)\n"
-      "  file:REC           a recording (the recording player)\n"
-      "  flirone-log:DIR    a captured FLIR ONE bulk-transfer log (N.txt hex files)\n"
-      "Faults (timeouts, short or corrupt transfers, unplugs) are counted and skipped; more than\n"
+      "recording.json, capture.json with the device's fault and extra counters). Devices:\n" +
+          source_list() +
+          "Faults (timeouts, short or corrupt transfers, unplugs) are counted and skipped; more than\n"
       "--max-faults in a row give up and write nothing. `bolo devices` lists what is connected.\n\n"
       "Example:\n"
       "  bolo capture --device v4l2:/dev/video0 --out lepton-run --frames 500");

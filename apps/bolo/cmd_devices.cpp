@@ -8,6 +8,7 @@
 
 #include "bolo/errors.hpp"
 #include "bolo/hal/device_spec.hpp"
+#include "bolo/hal/source_registry.hpp"
 #include "bolo/hal/gpio_lines.hpp"
 #include "bolo/hal/v4l2_source.hpp"
 #if defined(BOLO_HAVE_LIBUSB)
@@ -44,6 +45,9 @@ int run_devices(bool json, std::ostream& out) {
 #endif
   for (const auto& c : hal::list_gpiochips())
     j["gpio"].push_back({{"chip", c.name}, {"label", c.label}, {"lines", c.lines}});
+  j["sources"] = nlohmann::json::array();
+  for (const hal::SourceBackend& b : hal::source_schemes())
+    j["sources"].push_back({{"spec", b.example()}, {"summary", b.summary}, {"available", b.unavailable.empty()}});
   if (json) {
     out << j.dump(2) << "\n";
     return kExitOk;
@@ -72,6 +76,10 @@ int run_devices(bool json, std::ostream& out) {
   for (const auto& c : j["gpio"])
     out << "  " << c["chip"].get<std::string>() << "  " << c["label"].get<std::string>() << "  "
         << c["lines"].get<unsigned>() << " lines\n";
+  out << "Source specs (bolo capture --device, bolo correct):\n";
+  for (const hal::SourceBackend& b : hal::source_schemes())
+    out << "  " << std::left << std::setw(18) << b.example() << " " << b.summary
+        << (b.unavailable.empty() ? "" : " [compiled out]") << "\n";
   return kExitOk;
 }
 

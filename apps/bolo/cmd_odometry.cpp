@@ -9,14 +9,14 @@
 #include "bolo/frame_stack.hpp"
 #include "bolo/odometry/run_odometry.hpp"
 #include "bolo/progress.hpp"
+#include "bolo/recording_source.hpp"
 #include "bolo/registry.hpp"
 
 namespace bolo::cli {
 
 int run_odometry(const OdometryOptions& o, std::ostream& out) {
-  require_recording_folder(o.input);
   odo::OdometryOptions options;
-  options.recording = o.input;
+  options.recording = recording_folder(o.input, "odometry");
   options.output = o.output;
   if (!vo::parse_photometric(o.photometric.c_str(), options.photometric))
     fail("--photometric: unknown model '", o.photometric, "' (none, affine, ir, ir-loop)");
@@ -132,7 +132,7 @@ Command add_odometry_command(CLI::App& parent) {
       "  bolo simulate out/street --scene street --trajectory drive --fps 60 --frames 300 --tau 0.012 --noise 3\n"
       "  bolo odometry out/street --out out/vo-ir --photometric ir\n"
       "  bolo odometry ../shared/data/real/lepton3-possum --out out/vo-possum --hfov 57");
-  app->add_option("REC", o->input, "Recording folder (recording.json, frames.npy, frames.csv, camera.json)")->required();
+  app->add_option("REC", o->input, "Recording folder (recording.json, frames.npy, frames.csv, camera.json), or file:REC")->required();
   app->add_option("--out", o->output, "Output folder (must not exist unless --overwrite)")->required();
   app->add_option("--photometric", o->photometric, "none, affine, ir or ir-loop (default none)");
   app->add_option("--tau-init", o->tau_init_s, "Starting tau for the ir modes, seconds (default 0.010)");

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "bolo/correct/correct_recording.hpp"
+
 namespace bolo::cli {
 
 // bolo info REC [--json]
@@ -20,21 +22,10 @@ struct InfoOptions {
 };
 int run_info(const InfoOptions& options, std::ostream& out);
 
-// bolo correct REC OUT --tau-h S --tau-c S [--exposure S] [--readout S] [--float] [--overwrite]
+// bolo correct SOURCE OUT --tau-h S --tau-c S [--exposure S] [--readout S] [--float] [--overwrite]
 //              [--bad-pixels] [--stats FILE.csv] [--nominal-fps F]
-struct CorrectOptions {
-  std::filesystem::path input;
-  std::filesystem::path output;
-  double tau_h_s = 0.0;
-  double tau_c_s = 0.0;
-  std::optional<double> exposure_s;  // used for frames whose exposure_s cell is empty
-  std::optional<double> readout_s;   // used for frames whose readout_s cell is empty
-  bool float_output = false;         // float32 frames.npy from the double-precision reference
-  bool overwrite = false;
-  bool bad_pixels = false;
-  std::optional<std::filesystem::path> stats;  // per-frame statistics CSV
-  std::optional<double> nominal_fps;           // frame rate for gap detection; default: learned
-  bool progress = true;                        // progress bar (only ever when stderr is a TTY)
+struct CorrectOptions : correct::CorrectRequest {
+  bool progress = true;  // progress bar (only ever when stderr is a TTY)
 };
 int run_correct(const CorrectOptions& options, std::ostream& out);
 

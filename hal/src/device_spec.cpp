@@ -6,13 +6,6 @@
 namespace bolo::hal {
 namespace {
 
-bool starts_with(const std::string& s, const char* prefix, std::string& rest) {
-  const std::string p(prefix);
-  if (s.rfind(p, 0) != 0) return false;
-  rest = s.substr(p.size());
-  return true;
-}
-
 int line_number(const std::string& key, const std::string& value) {
   int n = -1;
   const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), n);
@@ -22,34 +15,6 @@ int line_number(const std::string& key, const std::string& value) {
 }
 
 }  // namespace
-
-DeviceSpec parse_device_spec(const std::string& text) {
-  DeviceSpec spec;
-  std::string rest;
-  if (starts_with(text, "v4l2:", rest)) {
-    spec.kind = DeviceKind::v4l2;
-    if (rest.empty()) throw std::invalid_argument("v4l2: needs a device node, e.g. v4l2:/dev/video0");
-    spec.path = rest;
-  } else if (text == "usb:flirone") {
-    spec.kind = DeviceKind::usb_flirone;
-  } else if (text == "usb:seek") {
-    spec.kind = DeviceKind::usb_seek;
-  } else if (starts_with(text, "file:", rest)) {
-    spec.kind = DeviceKind::file;
-    if (rest.empty()) throw std::invalid_argument("file: needs a recording folder, e.g. file:rec");
-    spec.path = rest;
-  } else if (starts_with(text, "flirone-log:", rest)) {
-    spec.kind = DeviceKind::flirone_log;
-    if (rest.empty()) throw std::invalid_argument("flirone-log: needs a transfer-log folder");
-    spec.path = rest;
-  } else if (starts_with(text, "usb:", rest)) {
-    throw std::invalid_argument("unknown USB camera '" + rest + "' (known: usb:flirone, usb:seek)");
-  } else {
-    throw std::invalid_argument(
-        "unknown device (expected v4l2:/dev/videoN, usb:flirone, usb:seek, file:REC or flirone-log:DIR)");
-  }
-  return spec;
-}
 
 GpioConfig parse_gpio_spec(const std::string& text) {
   GpioConfig c;

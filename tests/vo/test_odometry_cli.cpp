@@ -116,6 +116,18 @@ TEST_CASE("odometry tracks a short drive and writes every output", "[vo][cli]") 
   CHECK(e["tracked_points_total"].get<int>() > 1000);
 }
 
+TEST_CASE("odometry takes the recording as file:REC and refuses other sources by name", "[vo][cli]") {
+  const fs::path& seq = sequence("drive", "0.0002");
+  TempDir out;
+  odometry(fs::path("file:" + seq.string()), out / "vo", {"--photometric", "none"});
+  CHECK(fs::exists(out / "vo" / "trajectory.tum"));
+  const CliResult r = run_bolo({"odometry", "v4l2:/dev/video0", "--out", (out / "v4l2").string()});
+  CHECK(r.code == 2);
+  CHECK(contains(r.err, "v4l2:/dev/video0: bolo odometry takes a recording (a folder or file:REC); record v4l2 "
+                        "with `bolo capture` first"));
+  CHECK_FALSE(fs::exists(out / "v4l2"));
+}
+
 TEST_CASE("odometry: --max-keyframes sets the sliding window", "[vo][cli]") {
   const fs::path& seq = sequence("drive", "0.0002");
   TempDir out;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <vector>
 
 #include "bolo/core/frame_source.hpp"
@@ -21,6 +22,10 @@ class RecordingPlayer final : public FrameSource {
   std::uint64_t position() const { return next_; }
   void seek(std::uint64_t frame) { next_ = frame; }
   const rec::Recording& recording() const { return recording_; }
+  // Every frame's header, as stream_frame delivers it (from frames.csv).
+  std::span<const fw::FrameHeader> headers() const { return headers_; }
+  // Frame `frame`'s steady-state scene (scene.npy); only when recording().has_scene().
+  void read_scene(std::uint64_t frame, std::span<float> out) { recording_.read_scene(frame, out); }
 
  private:
   rec::Recording recording_;

@@ -1,0 +1,93 @@
+#include "correction_chain.hpp"
+
+#include <cmath>
+
+#include "fail.hpp"
+
+namespace bolo::correct {
+namespace {
+
+double q24(std::uint32_t value) {
+  return std::ldexp(static_cast<double>(value), -int{fw::kCoefficientFractionBits});
+}
+
+}  // namespace
+
+CorrectionChain::CorrectionChain(const fw::PipelineConfig& config, const CorrectRequest& request,
+                                 std::string input)
+    : request_(request),
+      input_name_(std::move(input)),
+      arena_(fw::Pipeline::arena_pixels(config)),
+      corrected_storage_(fw::FrameCollector::storage_pixels(config.corrector.width, config.corrector.height)),
+      corrected_(config.corrector.width, config.corrector.height, corrected_storage_),
+      pipeline_(config, arena_, corrected_),
+      raw_storage_(fw::FrameCollector::storage_pixels(config.corrector.width, config.corrector.height)),
+      raw_(config.corrector.width, config.corrector.height, raw_storage_) {
+  if (!request.float_output) return;
+  const std::uint32_t width = config.corrector.width, height = config.corrector.height;
+  fw::LineSink* reference_input = &raw_;
+  if (request.bad_pixels) {
+    float_bad_storage_.resize(fw::BadPixelStage::storage_pixels(width, height));
+    float_bad_pixels_.emplace(config.bad_pixels, float_bad_storage_, raw_);
+    reference_input = &*float_bad_pixels_;
+  }
+  tee_.emplace(pipeline_.input(), *reference_input);
+  std::optional<double> nominal_period_s;
+  if (request.nominal_fps) nominal_period_s = 1.0 / *request.nominal_fps;
+  reference_.emplace(width, height, request.tau_h_s, request.tau_c_s, request.exposure_s, request.readout_s,
+                     nominal_period_s);
+  reference_out_.resize(std::size_t{width} * height);
+  float_frame_.resize(reference_out_.size());
+}
+
+FrameStats CorrectionChain::pipeline_stats(std::uint64_t i, const FrameTiming& timing) {
+  const fw::CorrectorFrameStats& cs = pipeline_.corrector().last_frame();
+  FrameStats s;
+  s.frame = i;
+  s.carry_over = cs.carry_over;
+  s.coefficient_status = cs.coefficient_status;
+  s.gain = q24(cs.coefficients.gain_q24);
+  s.carry = q24(cs.coefficients.carry_q24);
+  s.saturated_low = cs.saturated_low;
+  s.saturated_high = cs.saturated_high;
+  s.exposure_from_flag = timing.exposure_from_flag;
+  s.readout_from_flag = timing.readout_from_flag;
+  if (const fw::BadPixelStage* bad = pipeline_.bad_pixels()) {
+    s.bad_pixels_replaced = bad->last_frame().replaced;
+    s.bad_pixels_unrepairable = bad->last_frame().unrepairable;
+  }
+  return s;
+}
+
+void CorrectionChain::run_reference(std::uint64_t i, const rec::FrameRow& row,
+                                    std::span<const FrameTiming> timing, FrameStats& s) {
+  if (!raw_.complete()) fail(input_name_, ": frame ", i, ": incomplete frame for the reference");
+  const sim::ReferenceFrameInfo info{row.index, row.t_s, timing[i].exposure_s, timing[i].readout_s,
+                                     row.ffc.value_or(false)};
+  const bool applied = reference_->process(info, raw_.pixels(), reference_out_);
+  s.reference_disagrees = applied != (s.carry_over == fw::CarryOver::applied);
+  const double g = 1.0 / (1.0 - std::exp(-timing[i].exposure_s / request_.tau_h_s));
+  s.gain = g;
+  s.carry = applied ? g * std::exp(-timing[i - 1].readout_s / request_.tau_c_s) : 0.0;
+  s.saturated_low = s.saturated_high = 0;
+  for (std::size_t p = 0; p < reference_out_.size(); ++p) {
+    float_frame_[p] = static_cast<float>(reference_out_[p]);
+    s.saturated_low += reference_out_[p] <= 0.0;
+    s.saturated_high += reference_out_[p] >= 65535.0;
+  }
+}
+
+FrameStats CorrectionChain::finish_frame(std::uint64_t i, const rec::FrameRow& row,
+                                         std::span<const FrameTiming> timing, rec::RecordingWriter& writer) {
+  if (!corrected_.complete()) fail(input_name_, ": frame ", i, ": the pipeline delivered an incomplete frame");
+  FrameStats s = pipeline_stats(i, timing[i]);
+  if (reference_) {
+    run_reference(i, row, timing, s);
+    writer.append(std::span<const float>(float_frame_), row);
+  } else {
+    writer.append(corrected_.pixels(), row);
+  }
+  return s;
+}
+
+}  // namespace bolo::correct

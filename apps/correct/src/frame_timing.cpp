@@ -1,0 +1,82 @@
+#include "frame_timing.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "fail.hpp"
+
+namespace bolo::correct {
+namespace fs = std::filesystem;
+
+std::uint32_t flag_ns(const char* flag, double seconds) {
+  if (!std::isfinite(seconds) || !(seconds > 0))
+    fail(flag, " ", seconds_text(seconds), ": must be a finite time in seconds, > 0");
+  const double ns = std::round(seconds * 1e9);
+  if (ns < 1) fail(flag, " ", seconds_text(seconds), ": below the firmware's 1 ns resolution");
+  if (ns > 4294967295.0)
+    fail(flag, " ", seconds_text(seconds), ": too long (the firmware takes at most 4.29 s)");
+  return static_cast<std::uint32_t>(ns);
+}
+
+namespace {
+
+// One timing field of one frame: the cell's value wins, the flag fills in where the cell is empty
+// (or 0, which the firmware reads as unknown).
+void resolve_field(const std::optional<double>& cell, std::uint32_t cell_ns, const Defaults& flag,
+                   const fs::path& csv, std::uint64_t frame, const char* field,
+                   const char* flag_name, std::uint32_t& ns, double& seconds, bool& from_flag) {
+  if (cell_ns != 0) {
+    ns = cell_ns;
+    seconds = *cell;
+    from_flag = false;
+    return;
+  }
+  if (flag.seconds) {
+    ns = flag.ns;
+    seconds = *flag.seconds;
+    from_flag = true;
+    return;
+  }
+  if (!cell)
+    fail(csv.string(), ": frame ", frame, ": field ", field, ": empty and no ", flag_name, " given");
+  fail(csv.string(), ": frame ", frame, ": field ", field, ": ", seconds_text(*cell),
+       " s is zero for the firmware (unknown) and no ", flag_name, " given");
+}
+
+}  // namespace
+
+std::vector<FrameTiming> resolve_timing(const rec::Recording& recording,
+                                        std::span<const fw::FrameHeader> headers, const fs::path& csv,
+                                        const Defaults& exposure, const Defaults& readout) {
+  std::vector<FrameTiming> timing(headers.size());
+  for (std::size_t i = 0; i < timing.size(); ++i) {
+    const rec::FrameRow& row = recording.rows()[i];
+    FrameTiming& t = timing[i];
+    resolve_field(row.exposure_s, headers[i].exposure_ns, exposure, csv, i, "exposure_s", "--exposure",
+                  t.exposure_ns, t.exposure_s, t.exposure_from_flag);
+    resolve_field(row.readout_s, headers[i].readout_ns, readout, csv, i, "readout_s", "--readout",
+                  t.readout_ns, t.readout_s, t.readout_from_flag);
+  }
+  return timing;
+}
+
+void check_coefficients(const std::vector<FrameTiming>& timing, fw::TimeConstants tau,
+                        const CorrectRequest& o, const fs::path& csv) {
+  for (std::size_t i = 0; i < timing.size(); ++i) {
+    fw::CorrectorCoefficients c;
+    const fw::CoefficientStatus status =
+        i == 0 ? fw::compute_gain_only(tau, timing[i].exposure_ns, c)
+               : fw::compute_coefficients(tau, timing[i].exposure_ns, timing[i - 1].readout_ns, c);
+    if (status == fw::CoefficientStatus::ok) continue;
+    std::ostringstream what;
+    what << csv.string() << ": frame " << i << ": no usable coefficients ("
+         << fw::to_string(status) << ") for exposure " << seconds_text(timing[i].exposure_s)
+         << " s (" << (timing[i].exposure_from_flag ? "--exposure" : "field exposure_s")
+         << ") with --tau-h " << seconds_text(o.tau_h_s) << " --tau-c " << seconds_text(o.tau_c_s);
+    if (status == fw::CoefficientStatus::gain_out_of_range)
+      what << ": exposure / tau_h must be at least ~0.004 (gain 1/(1-exp(-t_e/tau_h)) below 256)";
+    throw Error(what.str());
+  }
+}
+
+}  // namespace bolo::correct

@@ -1,0 +1,42 @@
+#pragma once
+// The exposure and readout each frame is corrected with, resolved (and every frame's coefficients
+// checked) before anything runs: the corrector would otherwise pass a frame through uncorrected.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "bolo/core/frame_header.hpp"
+#include "bolo/correct/correct_recording.hpp"
+#include "bolo/firmware/corrector_coefficients.hpp"
+#include "bolo/recording/recording.hpp"
+
+namespace bolo::correct {
+
+struct FrameTiming {
+  std::uint32_t exposure_ns = 0, readout_ns = 0;
+  double exposure_s = 0, readout_s = 0;
+  bool exposure_from_flag = false, readout_from_flag = false;
+};
+
+// A flag's time (seconds) when given, and as firmware nanoseconds.
+struct Defaults {
+  std::optional<double> seconds;
+  std::uint32_t ns = 0;
+};
+
+// A time given on the command line, as firmware nanoseconds: finite, > 0, within uint32 ns.
+std::uint32_t flag_ns(const char* flag, double seconds);
+
+// Per frame: the frames.csv value (as the player's header has it) wins, the flag fills in.
+std::vector<FrameTiming> resolve_timing(const rec::Recording& recording,
+                                        std::span<const fw::FrameHeader> headers,
+                                        const std::filesystem::path& csv, const Defaults& exposure,
+                                        const Defaults& readout);
+
+void check_coefficients(const std::vector<FrameTiming>& timing, fw::TimeConstants tau,
+                        const CorrectRequest& request, const std::filesystem::path& csv);
+
+}  // namespace bolo::correct

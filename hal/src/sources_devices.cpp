@@ -1,0 +1,94 @@
+// v4l2:, usb:flirone, usb:seek (cameras) and flirone-log: (a captured FLIR ONE transfer log
+// replayed through the same source as usb:flirone).
+
+#include "bolo/hal/captured_transfers.hpp"
+#include "bolo/hal/flirone_source.hpp"
+#include "bolo/hal/seek_source.hpp"
+#include "bolo/hal/v4l2_source.hpp"
+#if defined(BOLO_HAVE_LIBUSB)
+#include "bolo/hal/usb_libusb.hpp"
+#endif
+#include "builtin_sources.hpp"
+
+namespace bolo::hal::detail {
+namespace {
+
+// Set on the usb: backends of a build configured without libusb-1.0.
+constexpr const char* kNoUsb =
+    "this build has no USB backend (libusb-1.0 was not found when it was configured; see `bolo devices`)";
+
+SourceBackend v4l2_backend() {
+  SourceBackend b;
+  b.scheme = "v4l2";
+  b.argument = "/dev/videoN";
+  b.argument_help = "a device node, e.g. v4l2:/dev/video0";
+  b.summary = "UVC Y16 camera (Lepton on PureThermal: 160x122 with telemetry)";
+  b.open = [](const std::string& node, const SourceOptions&) {
+    auto v4l2 = std::make_unique<V4l2Source>(V4l2Config{.path = node});
+    std::string sensor = v4l2->negotiated().card + " (V4L2 Y16, " + v4l2->negotiated().driver + ")";
+    return std::make_unique<OpenedSource>(std::move(v4l2), std::move(sensor));
+  };
+  return b;
+}
+
+SourceBackend flirone_backend() {
+  SourceBackend b;
+  b.scheme = "usb:flirone";
+  b.summary = "FLIR ONE Pro (libusb)";
+#if defined(BOLO_HAVE_LIBUSB)
+  b.open = [](const std::string&, const SourceOptions&) {
+    auto usb = std::make_shared<LibusbTransport>(flirone_libusb_config());
+    return std::make_unique<OpenedSource>(std::make_unique<FlirOneSource>(*usb),
+                                          "FLIR ONE Pro (Lepton-class 80x60 core)", usb);
+  };
+#else
+  b.unavailable = kNoUsb;
+#endif
+  return b;
+}
+
+SourceBackend seek_backend() {
+  SourceBackend b;
+  b.scheme = "usb:seek";
+  b.summary = "Seek Thermal Compact / CompactPro (libusb)";
+  b.shutter = true;
+#if defined(BOLO_HAVE_LIBUSB)
+  b.open = [](const std::string&, const SourceOptions&) {
+    auto usb = std::make_shared<LibusbTransport>(seek_libusb_config());
+    const SeekModel& model =
+        usb->opened().product_id == kSeekCompactPro.product_id ? kSeekCompactPro : kSeekCompact;
+    auto seek = std::make_unique<SeekSource>(*usb, model);
+    SeekSource* shutter = seek.get();
+    return std::make_unique<OpenedSource>(std::move(seek), std::string("Seek Thermal ") + model.name, usb,
+                                          [shutter] { return shutter->request_shutter(); });
+  };
+#else
+  b.unavailable = kNoUsb;
+#endif
+  return b;
+}
+
+}  // namespace
+
+void add_device_sources(std::vector<SourceBackend>& backends) {
+  backends.push_back(v4l2_backend());
+  backends.push_back(flirone_backend());
+  backends.push_back(seek_backend());
+}
+
+void add_replay_sources(std::vector<SourceBackend>& backends) {
+  SourceBackend b;
+  b.scheme = "flirone-log";
+  b.argument = "DIR";
+  b.argument_help = "a transfer-log folder";
+  b.summary = "a captured FLIR ONE bulk-transfer log (N.txt hex files)";
+  b.finite = true;
+  b.open = [](const std::string& dir, const SourceOptions&) {
+    auto log = std::make_shared<CapturedTransfers>(dir);
+    return std::make_unique<OpenedSource>(std::make_unique<FlirOneSource>(*log),
+                                          "FLIR ONE Pro (Lepton-class 80x60 core), replayed transfer log", log);
+  };
+  backends.push_back(std::move(b));
+}
+
+}  // namespace bolo::hal::detail
