@@ -1,5 +1,7 @@
 #include "bolo/frame_stack.hpp"
 
+#include "bolo/hal/source_registry.hpp"
+
 #include "bolo/errors.hpp"
 
 namespace bolo::cli {
@@ -7,10 +9,11 @@ namespace bolo::cli {
 namespace fs = std::filesystem;
 
 void require_recording_folder(const fs::path& dir) {
-  std::error_code ec;
-  if (!fs::exists(dir, ec)) fail(dir.string(), ": no such recording folder");
-  if (!fs::is_directory(dir, ec))
-    fail(dir.string(), ": not a folder (a recording is a folder with recording.json, frames.npy, frames.csv)");
+  try {
+    hal::require_recording_folder(dir);
+  } catch (const hal::SourceError& e) {
+    fail(e.what());
+  }
 }
 
 FrameStack::FrameStack(const fs::path& dir) : dir_(dir) {

@@ -105,4 +105,22 @@ std::unique_ptr<OpenedSource> open_source(std::string_view spec, const SourceOpt
   }
 }
 
+std::filesystem::path recording_folder_of(std::string_view spec, std::string_view command) {
+  const SourceSpec parsed = parse_source_spec(spec);
+  if (parsed.backend.scheme != "file")
+    throw SourceError(std::string(spec) + ": bolo " + std::string(command) +
+                      " takes a recording (a folder or file:REC); record " + parsed.backend.scheme +
+                      " with `bolo capture` first");
+  require_recording_folder(parsed.argument);
+  return parsed.argument;
+}
+
+void require_recording_folder(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (!std::filesystem::exists(dir, ec)) throw SourceError(dir.string() + ": no such recording folder");
+  if (!std::filesystem::is_directory(dir, ec))
+    throw SourceError(dir.string() +
+                      ": not a folder (a recording is a folder with recording.json, frames.npy, frames.csv)");
+}
+
 }  // namespace bolo::hal

@@ -20,24 +20,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The recording folder the input names: a bare folder or file:REC. Other sources are refused, as
-// the output copies the recording's rows, camera, poses and scene.
+// The recording folder the input names; the output copies the recording's rows, camera, poses
+// and scene, so other sources are refused.
 fs::path recording_folder(const CorrectRequest& o) {
-  hal::SourceSpec spec;
   try {
-    spec = hal::parse_source_spec(o.input.string());
+    return hal::recording_folder_of(o.input.string(), "correct");
   } catch (const hal::SourceError& e) {
     fail(e.what());
   }
-  if (spec.backend.scheme != "file")
-    fail(o.input.string(), ": bolo correct takes a recording (a folder or file:REC); record ",
-         spec.backend.scheme, " with `bolo capture` first");
-  const fs::path dir = spec.argument;
-  std::error_code ec;
-  if (!fs::exists(dir, ec)) fail(dir.string(), ": no such recording folder");
-  if (!fs::is_directory(dir, ec))
-    fail(dir.string(), ": not a folder (a recording is a folder with recording.json, frames.npy, frames.csv)");
-  return dir;
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 // SourceError whose message starts with the spec.
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -84,5 +85,11 @@ SourceSpec parse_source_spec(std::string_view spec, const SourceOptions& options
 // Opens the source a spec names. Throws SourceError ("SPEC: reason"); a recording's own errors
 // (rec::Error) pass unchanged, as they name the recording's file, frame and field already.
 std::unique_ptr<OpenedSource> open_source(std::string_view spec, const SourceOptions& options = {});
+// The recording folder a spec names (a bare folder or file:REC), for a command that reads a whole
+// recording (`command` is named in the refusal). Throws SourceError for another kind of source, a
+// missing folder or a path that is not a folder.
+std::filesystem::path recording_folder_of(std::string_view spec, std::string_view command);
+// Throws SourceError unless `dir` exists and is a folder (what every recording is).
+void require_recording_folder(const std::filesystem::path& dir);
 
 }  // namespace bolo::hal
