@@ -3,8 +3,10 @@
 #
 #   BOLO_SANITIZE  list for -fsanitize=, e.g. "address,undefined" (the `asan` preset); empty: none.
 #                  Errors are fatal (-fno-sanitize-recover=all), so ctest sees them as failures.
-#   BOLO_FUZZ      the libFuzzer targets in fuzz/ (clang only, the `fuzz` preset); every target
-#                  gets libFuzzer's coverage instrumentation (-fsanitize=fuzzer-no-link).
+#   BOLO_FUZZ      the libFuzzer targets in fuzz/ (clang only, the `asan` preset); the fuzz
+#                  targets and the libraries they drive get libFuzzer's coverage instrumentation
+#                  (-fsanitize=fuzzer-no-link, bolo_fuzz_coverage()), nothing else: the tests,
+#                  the CLI and the simulator compile and run without its per-comparison callbacks.
 set(BOLO_SANITIZE "" CACHE STRING "Sanitizers for every target (-fsanitize=...), e.g. address,undefined")
 option(BOLO_FUZZ "Build the libFuzzer targets in fuzz/ (clang)" OFF)
 
@@ -27,10 +29,9 @@ endif()
 
 if(BOLO_FUZZ)
   if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
-    message(FATAL_ERROR "BOLO_FUZZ needs clang (libFuzzer); use the `fuzz` preset "
+    message(FATAL_ERROR "BOLO_FUZZ needs clang (libFuzzer); use the `asan` preset "
                         "(CC=clang CXX=clang++) and Debian's libclang-rt-14-dev")
   endif()
-  add_compile_options(-fsanitize=fuzzer-no-link)
   # Known, reported findings that fuzzing must get past until they are fixed (see the file).
   # Used through a copy named by its hash: neither ninja nor ccache looks into the file, so a
   # changed list must change the command line to rebuild every object with it.
@@ -40,3 +41,13 @@ if(BOLO_FUZZ)
   configure_file(${_bolo_ignorelist} ${_bolo_ignorelist_copy} COPYONLY)
   add_compile_options(-fsanitize-ignorelist=${_bolo_ignorelist_copy})
 endif()
+
+# Coverage instrumentation for libFuzzer on the given targets (a fuzz target and the libraries it
+# drives), where BOLO_FUZZ is on.
+function(bolo_fuzz_coverage)
+  if(BOLO_FUZZ)
+    foreach(target IN LISTS ARGN)
+      target_compile_options(${target} PRIVATE -fsanitize=fuzzer-no-link)
+    endforeach()
+  endif()
+endfunction()
