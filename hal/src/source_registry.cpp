@@ -87,6 +87,7 @@ SourceSpec parse_source_spec(std::string_view spec, const SourceOptions& options
       if (b.scheme == "file") return {b, std::string(spec)};
   }
   std::vector<std::string> examples;
+  examples.reserve(backends.size());
   for (const SourceBackend& b : backends) examples.push_back(b.example());
   spec_error(spec, "unknown device (expected " + listing(examples, " or ") + ")");
 }
