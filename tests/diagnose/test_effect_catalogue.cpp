@@ -152,8 +152,10 @@ TEST_CASE("every entry is applied by the simulator and fitted by diagnose", "[di
     if (model && !model->simulator_effect().empty()) {
       const sim::EffectSpec text = sim::parse_effect(model->simulator_effect());
       CHECK(text.id == id);
-      for (const auto& [key, value] : text.params)
+      for (const auto& entry : text.params) {
+        const auto& key = entry.first;  // a named copy: clang 14 cannot capture a structured binding
         CHECK(std::any_of(e->params.begin(), e->params.end(), [&](const auto& p) { return p.name == key; }));
+      }
     }
     candidate->release();
   }
