@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 
 #include "bolo/effects/scene_flow.hpp"
 #include "bolo/effects/stats.hpp"
@@ -28,6 +30,19 @@ struct CrosstalkSchema {
   static constexpr std::string_view id = "crosstalk";
   static constexpr Param epsilon{"epsilon", "", 0.05, 0.0, 1.0};
 };
+
+// Crosstalk's neighbourhood: the mean of pixel (r, c)'s four neighbours in a w x h image, an
+// edge's missing neighbour clamped to the frame (the pixel itself). One definition for the
+// simulator's blur and diagnose's regressor.
+template <class T>
+T mean_of_four_neighbours(const T* image, std::int64_t w, std::int64_t h, std::int64_t r, std::int64_t c) {
+  const auto at = [&](std::int64_t row, std::int64_t col) {
+    row = std::clamp<std::int64_t>(row, 0, h - 1);
+    col = std::clamp<std::int64_t>(col, 0, w - 1);
+    return image[static_cast<std::size_t>(row * w + col)];
+  };
+  return T(0.25) * (at(r - 1, c) + at(r + 1, c) + at(r, c - 1) + at(r, c + 1));
+}
 
 }  // namespace
 }  // namespace bolo::effects
@@ -86,16 +101,10 @@ class CrosstalkEffect final : public Effect {
   const char* id() const override { return S::id.data(); }
   void on_reading(const FrameState&, std::span<double> y) override {
     copy_.assign(y.begin(), y.end());
-    auto at = [&](std::int64_t r, std::int64_t c) {
-      r = std::clamp<std::int64_t>(r, 0, h_ - 1);
-      c = std::clamp<std::int64_t>(c, 0, w_ - 1);
-      return copy_[static_cast<std::size_t>(r) * w_ + static_cast<std::size_t>(c)];
-    };
     for (std::int64_t r = 0; r < h_; ++r)
       for (std::int64_t c = 0; c < w_; ++c) {
-        const double mean4 = 0.25 * (at(r - 1, c) + at(r + 1, c) + at(r, c - 1) + at(r, c + 1));
-        y[static_cast<std::size_t>(r) * w_ + static_cast<std::size_t>(c)] =
-            (1 - eps_) * at(r, c) + eps_ * mean4;
+        const std::size_t i = static_cast<std::size_t>(r * w_ + c);
+        y[i] = (1 - eps_) * copy_[i] + eps_ * effects::mean_of_four_neighbours(copy_.data(), w_, h_, r, c);
       }
   }
   nlohmann::json parameters() const override { return {{S::epsilon.name, eps_}}; }
@@ -208,13 +217,8 @@ class CrosstalkCandidate final : public PooledLinear {
       const float* b = d.frame(d.baseline, n);
       float* x = X[0].data() + std::size_t(n) * P;
       for (int r = 0; r < H; ++r)
-        for (int c = 0; c < W; ++c) {
-          // Edges clamp to the frame (the neighbour outside is the pixel itself).
-          const float centre = b[r * W + c];
-          const float up = r > 0 ? b[(r - 1) * W + c] : centre, down = r + 1 < H ? b[(r + 1) * W + c] : centre;
-          const float left = c > 0 ? b[r * W + c - 1] : centre, right = c + 1 < W ? b[r * W + c + 1] : centre;
-          x[r * W + c] = 0.25f * (up + down + left + right) - centre;
-        }
+        for (int c = 0; c < W; ++c)
+          x[r * W + c] = effects::mean_of_four_neighbours(b, W, H, r, c) - b[r * W + c];
     }
     return true;
   }
