@@ -57,7 +57,7 @@ TEST_CASE("lepton35-trailcam-ffc: the shutter event is found at frame 309", "[di
 // then settles over ~20 frames to a level ~140 counts higher (the core's filter and re-settling);
 // frames.csv's real time stamps have a 1.8 s gap there, the uniform copy none.
 TEST_CASE("lepton35-trailcam-ffc without its flag: the shutter event is found within a frame",
-          "[diagnose][shared]") {
+          "[diagnose][shared][long]") {
   const fs::path source = shared_recording("lepton35-trailcam-ffc");
   if (source.empty()) return;
   TempDir tmp;

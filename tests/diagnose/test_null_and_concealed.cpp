@@ -222,7 +222,7 @@ TEST_CASE("a rolling readout that shows only at fast moving edges is named with 
 // The rolling readout's edges pull the baseline's gain (0.99946 for 1.0 here); the full refit
 // after the finding fitted worse and was dropped, and agc's free global gain took the rest as a
 // second finding until gain and offset were refitted alone.
-TEST_CASE("after a finding the baseline's gain is refitted: no agc behind a rolling readout", "[diagnose][concealed]") {
+TEST_CASE("after a finding the baseline's gain is refitted: no agc behind a rolling readout", "[diagnose][concealed][long]") {
   TempDir tmp;
   const nlohmann::json d = diagnose(
       simulate(tmp, "rolling", {"rolling_readout:line_time_s=1.4e-6"}, 1, {"--size", "96x72", "--frames", "200"}),
