@@ -156,7 +156,7 @@ TEST_CASE("odometry runs over a live source (a FLIR ONE transfer log) and writes
   CHECK_FALSE(fs::exists(out / "no-hfov"));
 }
 
-TEST_CASE("odometry runs over the real FLIR ONE transfer log, live", "[vo][cli][real]") {
+TEST_CASE("odometry runs over the real FLIR ONE transfer log as a live source", "[vo][cli][real]") {
   const fs::path log = shared_folder("usb/flirone-pro", "1.txt");
   if (log.empty()) return;
   TempDir out;
