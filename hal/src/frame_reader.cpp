@@ -48,18 +48,18 @@ FrameReader::Result FrameReader::next(fw::LineSink& sink) {
   }
 }
 
-std::string stats_text(const SourceStats& s) {
+std::string stats_text(const SourceStats& stats) {
   std::ostringstream o;
-  o << "timeouts " << s.timeouts << ", short " << s.short_transfers << ", corrupt " << s.corrupt_transfers
-    << ", disconnects " << s.disconnects << ", reconnects " << s.reconnects << ", dropped " << s.dropped
-    << ", duplicates " << s.duplicates;
+  o << "timeouts " << stats.timeouts << ", short " << stats.short_transfers << ", corrupt " << stats.corrupt_transfers
+    << ", disconnects " << stats.disconnects << ", reconnects " << stats.reconnects << ", dropped " << stats.dropped
+    << ", duplicates " << stats.duplicates;
   return o.str();
 }
 
 // "skipped_in_camera 2" reads as "skipped in camera 2", like the SourceStats line beside it.
-std::string extra_counters_text(const ExtraCounters& extra) {
+std::string extra_counters_text(const ExtraCounters& counters) {
   std::ostringstream o;
-  for (const NamedCounter& c : extra.items()) {
+  for (const NamedCounter& c : counters.items()) {
     std::string name(c.name);
     std::replace(name.begin(), name.end(), '_', ' ');
     o << (o.tellp() > 0 ? ", " : "") << name << " " << c.value;
