@@ -18,6 +18,7 @@
 #include "bolo/core/frame_collector.hpp"
 #include "bolo/errors.hpp"
 #include "bolo/hal/device_spec.hpp"
+#include "bolo/hal/frame_reader.hpp"
 #include "bolo/hal/gpio_synced_source.hpp"
 #include "bolo/hal/source_registry.hpp"
 #include "bolo/progress.hpp"
@@ -61,69 +62,6 @@ std::unique_ptr<hal::OpenedSource> open_named_source(const std::string& text) {
   }
 }
 
-rec::Units units_of(hal::PixelUnits units) {
-  switch (units) {
-    case hal::PixelUnits::centikelvin: return rec::Units::centikelvin;
-    case hal::PixelUnits::counts8: return rec::Units::counts8;
-    case hal::PixelUnits::counts: break;
-  }
-  return rec::Units::counts;
-}
-
-// The recording format needs increasing t_s; a device clock that stalls or steps back leaves
-// that frame's t_s empty (counted) rather than failing the capture.
-struct Clock {
-  std::optional<std::int64_t> t0, last;
-  std::uint64_t not_increasing = 0;
-};
-
-// Frame `index`'s row, its t_s relative to the first frame's time.
-rec::FrameRow row_of(const fw::FrameHeader& h, std::uint64_t index, Clock& clock) {
-  fw::FrameHeader stamped = h;
-  if (h.timestamp_valid) {
-    if (!clock.t0) clock.t0 = h.timestamp_ns;
-    if (clock.last && h.timestamp_ns <= *clock.last) {
-      ++clock.not_increasing;
-      stamped.timestamp_valid = false;
-    } else {
-      clock.last = h.timestamp_ns;
-    }
-  }
-  return rec::row_from_header(stamped, index, clock.t0.value_or(0));
-}
-
-std::string stats_text(const hal::SourceStats& s) {
-  std::ostringstream o;
-  o << "timeouts " << s.timeouts << ", short " << s.short_transfers << ", corrupt " << s.corrupt_transfers
-    << ", disconnects " << s.disconnects << ", reconnects " << s.reconnects << ", dropped " << s.dropped
-    << ", duplicates " << s.duplicates;
-  return o.str();
-}
-
-nlohmann::json stats_json(const hal::SourceStats& s) {
-  return {{"frames_delivered", s.frames_delivered}, {"timeouts", s.timeouts},
-          {"short_transfers", s.short_transfers},   {"corrupt_transfers", s.corrupt_transfers},
-          {"disconnects", s.disconnects},           {"reconnects", s.reconnects},
-          {"dropped", s.dropped},                   {"duplicates", s.duplicates}};
-}
-
-// "skipped_in_camera 2" reads as "skipped in camera 2", like the SourceStats line above it.
-std::string extra_counters_text(const hal::ExtraCounters& extra) {
-  std::ostringstream o;
-  for (const hal::NamedCounter& c : extra.items()) {
-    std::string name(c.name);
-    std::replace(name.begin(), name.end(), '_', ' ');
-    o << (o.tellp() > 0 ? ", " : "") << name << " " << c.value;
-  }
-  return o.str();
-}
-
-nlohmann::json extra_counters_json(const hal::ExtraCounters& extra) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const hal::NamedCounter& c : extra.items()) j[std::string(c.name)] = c.value;
-  return j;
-}
-
 int run_capture(const CaptureOptions& o, std::ostream& out) {
   if (o.output.empty()) fail("--out: required");
   if (!o.overwrite && fs::exists(o.output)) fail(o.output.string(), ": exists (use --overwrite to replace it)");
@@ -160,13 +98,7 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
 #endif
 
   const hal::SourceFormat format = source->format();
-  rec::RecordingInfo info;
-  info.sensor = device->sensor();
-  info.width = format.width;
-  info.height = format.height;
-  info.bits = format.bits;
-  info.units = units_of(format.units);
-  if (format.frame_period_ns != 0) info.fps = std::round(1e11 / format.frame_period_ns) / 100.0;
+  rec::RecordingInfo info = hal::recording_info_of(*device);
   info.source = "bolo capture --device " + o.device;
   info.notes = "t_s from the device's clock, relative to the first frame";
 
@@ -174,8 +106,9 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
   fw::FrameCollector grab(format.width, format.height, grab_storage);
   rec::RecordingWriter writer(o.output, info, {o.overwrite});
   Progress progress("capture", o.frames, o.progress && o.frames != 0);
-  Clock clock;
-  std::uint64_t faults_in_a_row = 0, captured = 0;
+  rec::RowClock clock;
+  hal::FrameReader reader(*source, o.max_faults);
+  std::uint64_t captured = 0;
   bool ended = false;
   const auto start = std::chrono::steady_clock::now();
   std::uint64_t shutters = 0;
@@ -188,35 +121,24 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
       const bool ok = synced && gpio_shutter ? synced->request_shutter() : device->request_shutter();
       shutters += ok ? 1 : 0;
     }
-    const hal::StreamStatus s = source->stream_frame(grab);
-    if (s == hal::StreamStatus::end_of_stream) {
+    const hal::FrameReader::Result r = reader.next(grab);
+    if (r == hal::FrameReader::Result::ended) {
       ended = true;
       break;
     }
-    if (s == hal::StreamStatus::fault || !grab.complete()) {
-      if (++faults_in_a_row > o.max_faults) {
-        // The source's own counters say what the stream did before it failed (e.g. frames the
-        // camera skipped), next to the faults.
-        const hal::ExtraCounters device_counters = source->extra_counters();
-        const std::string device_part =
-            device_counters.items().empty() ? "" : "; device counters: " + extra_counters_text(device_counters);
-        fail(o.device, ": gave up after ", o.max_faults, " faults in a row, ", captured,
-             " frames captured, nothing written (", stats_text(source->stats()), device_part, ")");
-      }
-      continue;
-    }
-    faults_in_a_row = 0;
-    writer.append(grab.pixels(), row_of(grab.header(), captured, clock));
+    // The source's own counters say what the stream did before it failed (e.g. frames the camera
+    // skipped), next to the faults.
+    if (r == hal::FrameReader::Result::gave_up)
+      fail(o.device, ": gave up after ", o.max_faults, " faults in a row, ", captured,
+           " frames captured, nothing written (", hal::fault_text(*source), ")");
+    writer.append(grab.pixels(), clock.row(grab.header(), captured));
     progress.update(++captured);
   }
   progress.finish();
   if (captured == 0) fail(o.device, ": delivered no frames, nothing written");
   const hal::SourceStats stats = source->stats();
   const hal::ExtraCounters counters = source->extra_counters();
-  nlohmann::json extra = {{"device", o.device},
-                          {"stats", stats_json(stats)},
-                          {"extra_counters", extra_counters_json(counters)},
-                          {"timestamps_not_increasing", clock.not_increasing}};
+  nlohmann::json extra = hal::source_record(o.device, *source, clock.not_increasing());
   if (synced && synced->latency().count > 0)
     extra["sync_latency_ns"] = {{"count", synced->latency().count}, {"min", synced->latency().min_ns},
                                 {"mean", synced->latency().mean_ns()}, {"max", synced->latency().max_ns}};
@@ -228,11 +150,11 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
       << " into " << o.output.string() << " in " << std::fixed << std::setprecision(1) << seconds << " s\n";
   if (ended && o.frames != 0 && captured < o.frames)
     out << "the source ended after " << captured << " of " << o.frames << " frames\n";
-  out << "device faults: " << stats_text(stats) << "\n";
-  if (!counters.items().empty()) out << "device counters: " << extra_counters_text(counters) << "\n";
+  out << "device faults: " << hal::stats_text(stats) << "\n";
+  if (!counters.items().empty()) out << "device counters: " << hal::extra_counters_text(counters) << "\n";
   if (!shutter_at.empty()) out << "shutter events requested: " << shutters << " of " << shutter_at.size() << "\n";
-  if (clock.not_increasing > 0)
-    out << clock.not_increasing << " frames with a time stamp not after the previous one: t_s left empty\n";
+  if (clock.not_increasing() > 0)
+    out << clock.not_increasing() << " frames with a time stamp not after the previous one: t_s left empty\n";
   if (synced && synced->latency().count > 0)
     out << "sync-to-frame latency: mean " << synced->latency().mean_ns() / 1000 << " us over "
         << synced->latency().count << " frames\n";

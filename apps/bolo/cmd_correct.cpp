@@ -1,5 +1,6 @@
 // bolo correct SOURCE OUT --tau-h S --tau-c S ...: the command line of the correction driver
-// (apps/correct: correct_recording), its progress bar and summary fed by frame observers.
+// (apps/correct: correct_recording, any source hal::open_source opens), its progress bar and
+// summary fed by frame observers.
 
 #include <memory>
 
@@ -18,7 +19,8 @@ namespace fs = std::filesystem;
 class ProgressObserver final : public correct::FrameObserver {
  public:
   explicit ProgressObserver(bool enabled) : enabled_(enabled) {}
-  void on_begin(std::uint64_t frames) override { bar_.emplace("correct", frames, enabled_); }
+  // A live source's count is unknown (0) unless --frames: no bar then.
+  void on_begin(std::uint64_t frames) override { bar_.emplace("correct", frames, enabled_ && frames != 0); }
   void on_frame(const correct::FrameStats& s) override { bar_->update(s.frame + 1); }
   void finish() {
     if (bar_) bar_->finish();
@@ -47,20 +49,29 @@ Command add_correct_command(CLI::App& parent) {
   auto readout = std::make_shared<double>(0.0);
   auto nominal_fps = std::make_shared<double>(0.0);
   auto stats = std::make_shared<std::string>();
+  auto frames = std::make_shared<std::uint64_t>(0);
   CLI::App* app = add_command(
-      parent, "correct", "Correct the ghosting of a recording (two-frame corrector, firmware pipeline)",
-      "Corrects the ghosting of a recording with the two-frame corrector (paper Eq. 6):\n"
+      parent, "correct", "Correct the ghosting of a recording or a camera (two-frame corrector, firmware pipeline)",
+      "Corrects the ghosting of a source's frames with the two-frame corrector (paper Eq. 6):\n"
       "  I'_i = (I_i - a * I_{i-1}) * g,  a = exp(-t_r,i-1 / tau_c),  g = 1 / (1 - exp(-t_e,i / tau_h))\n"
       "run through the fixed-point firmware pipeline, and write the corrected recording to OUT\n"
-      "(uint16 frames.npy; frames.csv, camera.json, poses.tum, scene.npy copied; recording.json\n"
-      "notes the correction). Per-frame exposure_s/readout_s from frames.csv win over\n"
-      "--exposure/--readout; every frame needs both from one or the other. A frame is corrected\n"
-      "against its predecessor unless it is the first, follows an FFC event, a frame drop or a\n"
-      "time gap (> 1.5 frame periods); the summary counts the reasons.\n\n"
-      "Example (a real recording without timing columns):\n"
+      "(uint16 frames.npy; recording.json notes the correction). SOURCE is any source spec of\n"
+      "`bolo capture --help` or a recording folder. From a recording, frames.csv, camera.json,\n"
+      "poses.tum and scene.npy are copied and every frame is checked before any is corrected; from\n"
+      "a live source (a camera, a transfer log), frames.csv comes from each frame's header,\n"
+      "recording.json says what the source knows (sensor, size, bit depth) and capture.json holds its\n"
+      "fault counters; faulted frames are skipped and counted, more than --max-faults in a row give\n"
+      "up, and a camera that streams on needs --frames. Each frame's exposure and readout (frames.csv\n"
+      "or the frame header) win over --exposure/--readout; every frame needs both from one or the\n"
+      "other. A frame is corrected against its predecessor unless it is the first, follows an FFC\n"
+      "event, a frame drop or a time gap (> 1.5 frame periods); the summary counts the reasons.\n\n"
+      "Examples (a real recording without timing columns; a FLIR ONE transfer log):\n"
       "  bolo correct ../shared/data/real/lepton3-possum out/corrected --tau-h 0.012 --tau-c 0.012 \\\n"
-      "      --exposure 0.01 --readout 0.1 --stats out/stats.csv");
-  app->add_option("REC", o->input, "Input recording: a folder, or the source spec file:REC")->required();
+      "      --exposure 0.01 --readout 0.1 --stats out/stats.csv\n"
+      "  bolo correct flirone-log:../shared/data/usb/flirone-pro out/f1 --tau-h 0.012 --tau-c 0.012 \\\n"
+      "      --exposure 0.01 --readout 0.1");
+  app->add_option("SOURCE", o->input, "A recording folder or a source spec (file:REC, v4l2:/dev/video0, ...)")
+      ->required();
   app->add_option("OUT", o->output, "Output recording folder (must not exist unless --overwrite)")
       ->required();
   app->add_option("--tau-h", o->tau_h_s, "Heating time constant tau_h, seconds (e.g. 0.012)")
@@ -83,6 +94,9 @@ Command add_correct_command(CLI::App& parent) {
   CLI::Option* fps_opt = app->add_option(
       "--nominal-fps", *nominal_fps,
       "Frame rate for time-gap detection (default: learned from the recent t_s intervals)");
+  app->add_option("--frames", *frames, "Correct at most N frames (required for a camera that streams on)")
+      ->check(CLI::PositiveNumber);
+  app->add_option("--max-faults", o->max_faults, "A live source's faulted frames in a row before giving up (default 50)");
   app->add_flag("--no-progress", [o](std::int64_t) { o->progress = false; },
                 "Never draw the progress bar (it is drawn only when stderr is a terminal)");
   return {app, [=](std::ostream& out) {
@@ -90,6 +104,7 @@ Command add_correct_command(CLI::App& parent) {
             if (readout_opt->count()) o->readout_s = *readout;
             if (fps_opt->count()) o->nominal_fps = *nominal_fps;
             if (stats_opt->count()) o->stats = fs::path(*stats);
+            if (*frames != 0) o->frames = *frames;
             return run_correct(*o, out);
           }};
 }

@@ -1,8 +1,9 @@
-// bolo odometry REC --out DIR --photometric none|affine|ir|ir-loop: monocular direct visual
-// odometry (firmware/vo) over a recording.
+// bolo odometry SOURCE --out DIR --photometric none|affine|ir|ir-loop: monocular direct visual
+// odometry (firmware/vo) over a recording or any other source hal::open_source opens.
 
 #include <iomanip>
 #include <memory>
+#include <optional>
 
 #include "bolo/commands.hpp"
 #include "bolo/errors.hpp"
@@ -14,9 +15,12 @@
 
 namespace bolo::cli {
 
+namespace fs = std::filesystem;
+
 int run_odometry(const OdometryOptions& o, std::ostream& out) {
   odo::OdometryOptions options;
-  options.recording = recording_folder(o.input, "odometry");
+  const std::optional<fs::path> folder = recording_folder_or_live(o.input.string(), o.frames.has_value());
+  if (folder) options.recording = *folder;
   options.output = o.output;
   if (!vo::parse_photometric(o.photometric.c_str(), options.photometric))
     fail("--photometric: unknown model '", o.photometric, "' (none, affine, ir, ir-loop)");
@@ -57,7 +61,9 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
     total = n;
     progress.update(done);
   };
-  const odo::OdometrySummary s = odo::run_odometry(options);
+  const odo::OdometrySummary s =
+      folder ? odo::run_odometry(options)
+             : odo::run_odometry(options, [&] { return read_live_frames(o.input.string(), o.frames, o.max_faults); });
   progress.finish();
   out << "odometry: wrote " << o.output.string() << ": " << s.frames << " frames, " << s.posed << " posed, "
       << s.lost << " lost, " << (s.duplicates ? std::to_string(s.duplicates) + " repeated (skipped), " : std::string())
@@ -66,6 +72,7 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
       << std::setprecision(4) << s.tau_h_s * 1e3 << " ms, tau_c " << s.tau_c_s * 1e3 << " ms; "
       << std::setprecision(3) << (s.seconds > 0 ? s.frames / s.seconds : 0.0) << " fps (VO only), arena "
       << s.arena_bytes / 1024 << " KiB\n";
+  if (s.live) out << "odometry: live source " << o.input.string() << " (device faults in summary.json)\n";
   if (s.intensity_scale != 1.0 && o.intensity_scale == 0.0)
     out << "odometry: thresholds scaled by " << std::setprecision(3) << s.intensity_scale
         << " (the frames' pixel noise is above " << vo::kNominalNoiseCounts << " counts)\n";
@@ -105,7 +112,8 @@ Command add_odometry_command(CLI::App& parent) {
       parent, "odometry", "Monocular direct visual odometry with a microbolometer photometric model",
       "Runs the on-board VO (firmware/vo: direct sparse odometry, frame-to-keyframe alignment,\n"
       "epipolar depth search, sliding-window bundle adjustment) over a recording with camera.json\n"
-      "(a lens with distortion k1, k2, p1, p2: the frames are resampled onto a pinhole first),\n"
+      "(a lens with distortion k1, k2, p1, p2: the frames are resampled onto a pinhole first) or\n"
+      "over any other source of `bolo capture --help` (a camera, a transfer log: see below),\n"
       "and writes to DIR: trajectory.tum (camera-to-world, per posed frame), stats.csv (per frame:\n"
       "state, tracked points, keyframe flag, residual, tau estimates, time), points.ply (keyframe\n"
       "points, world), trajectory.svg (top view; with the ground truth, Sim(3)-aligned, when\n"
@@ -127,12 +135,20 @@ Command add_odometry_command(CLI::App& parent) {
       "A frame identical to the one before (a camera or link sending a frame twice) is skipped (state\n"
       "'duplicate' in stats.csv, no pose) and breaks the chain for the frame after it.\n"
       "Each keyframe selects one point per 40 pixels, at most 500 (160x120: 480; 320x256 and larger:\n"
-      "500, about DSO's density).\n\n"
+      "500, about DSO's density).\n"
+      "A live source (not a recording) is read first, to its end or --frames N (required for a camera\n"
+      "that streams on; faulted frames are skipped and counted, more than --max-faults in a row give\n"
+      "up), held in memory and run as a recording; frames.csv's columns are then each frame's header,\n"
+      "--hfov gives the intrinsics, and summary.json names the source and its faults.\n\n"
       "Example:\n"
       "  bolo simulate out/street --scene street --trajectory drive --fps 60 --frames 300 --tau 0.012 --noise 3\n"
       "  bolo odometry out/street --out out/vo-ir --photometric ir\n"
-      "  bolo odometry ../shared/data/real/lepton3-possum --out out/vo-possum --hfov 57");
-  app->add_option("REC", o->input, "Recording folder (recording.json, frames.npy, frames.csv, camera.json), or file:REC")->required();
+      "  bolo odometry ../shared/data/real/lepton3-possum --out out/vo-possum --hfov 57\n"
+      "  bolo odometry v4l2:/dev/video0 --frames 600 --out out/vo-lepton --hfov 57");
+  app->add_option("SOURCE", o->input,
+                  "Recording folder (recording.json, frames.npy, frames.csv, camera.json), file:REC, or a source "
+                  "spec (flirone-log:DIR, v4l2:/dev/video0, ...)")
+      ->required();
   app->add_option("--out", o->output, "Output folder (must not exist unless --overwrite)")->required();
   app->add_option("--photometric", o->photometric, "none, affine, ir or ir-loop (default none)");
   app->add_option("--tau-init", o->tau_init_s, "Starting tau for the ir modes, seconds (default 0.010)");
@@ -157,7 +173,9 @@ Command add_odometry_command(CLI::App& parent) {
                   "damps the detail near the sampling limit that bilinear sampling misreads and cut "
                   "the ir modes' ATE by 40-50 % on the study's sequences: docs/odometry-study.md)")
       ->capture_default_str();
-  app->add_option("--frames", o->frames, "Use only the first N frames")->check(not_negative());
+  app->add_option("--frames", o->frames, "Use only the first N frames (a live camera: read N frames)")
+      ->check(not_negative());
+  app->add_option("--max-faults", o->max_faults, "A live source's faulted frames in a row before giving up (default 50)");
   app->add_option("--max-keyframes", o->max_keyframes,
                   "Keyframes in the sliding window, 2..8 (default 8; 6 is about a fifth faster and less accurate: docs/odometry-study.md)");
   app->add_flag("--no-ba", o->no_ba, "Skip the sliding-window bundle adjustment (tracking and depth search only)");

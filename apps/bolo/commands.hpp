@@ -93,7 +93,7 @@ struct DiagnoseOptions {
 };
 int run_diagnose(const DiagnoseOptions& options, std::ostream& out);
 
-// bolo odometry REC --out DIR [--photometric none|affine|ir|ir-loop] [--tau-init S] [--fixed-tau] [--frames N]
+// bolo odometry SOURCE --out DIR [--photometric none|affine|ir|ir-loop] [--tau-init S] [--fixed-tau] [--frames N]
 //               [--no-ba] [--marginalisation-prior] [--retirement spread|oldest] [--overwrite]
 struct OdometryOptions {
   std::filesystem::path input;
@@ -107,6 +107,7 @@ struct OdometryOptions {
   double carry_coring = 1.0;
   std::uint32_t smoothing = 1;
   std::optional<std::uint64_t> frames;
+  std::uint64_t max_faults = 50;
   bool no_ba = false;
   bool marginalisation_prior = false;
   std::string retirement = "spread";

@@ -90,7 +90,7 @@ TEST_CASE("correct: the observer sees every frame with the stats of --stats and 
   }
 }
 
-TEST_CASE("correct: the input may be a source spec naming a recording, not another source", "[cli][correct]") {
+TEST_CASE("correct: the input may be a source spec naming a recording", "[cli][correct]") {
   TempDir tmp;
   SmallRecording::write(tmp / "rec");
   const auto args = [&](const std::string& in, const std::string& out) {
@@ -102,8 +102,7 @@ TEST_CASE("correct: the input may be a source spec naming a recording, not anoth
   CHECK(r.code == 0);
   CHECK(contains(r.out, "corrected " + spec + " -> "));
   CHECK(rec::Recording(tmp / "out").frame_count() == SmallRecording::kFrames);
-  CHECK(contains(refused(args("v4l2:/dev/video0", "o2")),
-                 "v4l2:/dev/video0: bolo correct takes a recording (a folder or file:REC); record v4l2 with `bolo capture` first"));
+  CHECK(contains(refused(args("v4l2:/dev/video0", "o2")), "--frames: required for a live camera (v4l2:/dev/video0)"));
   CHECK(contains(refused(args("usb:boson", "o2")), "usb:boson: unknown USB camera 'boson'"));
   CHECK_FALSE(fs::exists(tmp / "o2"));
 }

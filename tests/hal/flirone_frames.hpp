@@ -3,6 +3,9 @@
 // with valid CRCs, JPEG, JSON), for tests that need frames the capture does not contain.
 
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -81,6 +84,27 @@ inline void split_into_transfers(const std::vector<std::uint8_t>& bytes, std::si
   for (std::size_t at = 0; at < bytes.size(); at += chunk)
     out.emplace_back(bytes.begin() + static_cast<std::ptrdiff_t>(at),
                      bytes.begin() + static_cast<std::ptrdiff_t>(std::min(bytes.size(), at + chunk)));
+}
+
+// A transfer log (flirone-log:DIR) of `frames` frames, one transfer (N.txt, hex) each, ~8.6 Hz on
+// the camera's clock, the scene brightening by 40 counts a frame; the frames listed in `corrupt`
+// have a pixel bit flipped (a CRC fault).
+inline void write_flirone_log(const std::filesystem::path& dir, int frames, std::initializer_list<int> corrupt = {}) {
+  static const char* digits = "0123456789abcdef";
+  std::filesystem::create_directories(dir);
+  for (int i = 0; i < frames; ++i) {
+    FlirOneFrameSpec spec;
+    spec.base = static_cast<std::uint16_t>(3000 + 40 * i);
+    spec.frame_counter = static_cast<std::uint32_t>(3 * i);
+    spec.json = R"({"shutterState":"ON","shutterTemperature":320.5,"usbNotifiedTimestamp":)" +
+                std::to_string(100.0 + 0.116 * i) + R"(,"ffcState":"FFC_VALID_RAD"})";
+    std::vector<std::uint8_t> f = make_flirone_frame(spec);
+    for (int c : corrupt)
+      if (c == i) f[1000] ^= 0x10;
+    std::string text;
+    for (std::uint8_t b : f) text += {digits[b >> 4], digits[b & 15]};
+    std::ofstream(dir / (std::to_string(i + 1) + ".txt")) << text;
+  }
 }
 
 }  // namespace bolo::test

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../cli/cli_test_support.hpp"
+#include "../hal/flirone_frames.hpp"
 #include "bolo/odometry/tum.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/vo/config.hpp"
@@ -116,16 +117,52 @@ TEST_CASE("odometry tracks a short drive and writes every output", "[vo][cli]") 
   CHECK(e["tracked_points_total"].get<int>() > 1000);
 }
 
-TEST_CASE("odometry takes the recording as file:REC and refuses other sources by name", "[vo][cli]") {
+TEST_CASE("odometry takes the recording as file:REC; a spec no backend knows is refused by name", "[vo][cli]") {
   const fs::path& seq = sequence("drive", "0.0002");
   TempDir out;
   odometry(fs::path("file:" + seq.string()), out / "vo", {"--photometric", "none"});
   CHECK(fs::exists(out / "vo" / "trajectory.tum"));
-  const CliResult r = run_bolo({"odometry", "v4l2:/dev/video0", "--out", (out / "v4l2").string()});
+  CliResult r = run_bolo({"odometry", "nosuch:thing", "--out", (out / "bad").string()});
   CHECK(r.code == 2);
-  CHECK(contains(r.err, "v4l2:/dev/video0: bolo odometry takes a recording (a folder or file:REC); record v4l2 "
-                        "with `bolo capture` first"));
-  CHECK_FALSE(fs::exists(out / "v4l2"));
+  CHECK(contains(r.err, "nosuch:thing: unknown device (expected "));
+  r = run_bolo({"odometry", "v4l2:/dev/video0", "--out", (out / "bad").string()});
+  CHECK(r.code == 2);
+  CHECK(contains(r.err, "--frames: required for a live camera (v4l2:/dev/video0)"));
+  CHECK_FALSE(fs::exists(out / "bad"));
+}
+
+TEST_CASE("odometry runs over a live source (a FLIR ONE transfer log) and writes its trajectory", "[vo][cli]") {
+  TempDir out;
+  write_flirone_log(out / "log", 12, {6});
+  const std::string spec = "flirone-log:" + (out / "log").string();
+  const CliResult r = run_bolo({"odometry", spec, "--out", (out / "vo").string(), "--hfov", "50", "--no-progress"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(contains(r.out, "odometry: wrote " + (out / "vo").string() + ": 11 frames"));
+  CHECK(contains(r.out, "odometry: live source " + spec));
+  CHECK(fs::exists(out / "vo" / "trajectory.tum"));
+  CHECK(read_text(out / "vo" / "trajectory.tum").rfind("# bolo odometry: none", 0) == 0);
+  const nlohmann::json s = summary_of(out / "vo");
+  CHECK(s["frames"] == 11);
+  CHECK(s["source"]["spec"] == spec);
+  CHECK(s["source"]["skipped"] == 1);
+  CHECK(contains(s["source"]["faults"].get<std::string>(), "corrupt 1"));
+  // --frames bounds what is read; without --hfov there are no intrinsics.
+  odometry(fs::path(spec), out / "five", {"--hfov", "50", "--frames", "5"});
+  CHECK(summary_of(out / "five")["frames"] == 5);
+  const CliResult no_hfov = run_bolo({"odometry", spec, "--out", (out / "no-hfov").string()});
+  CHECK(no_hfov.code == 2);
+  CHECK(contains(no_hfov.err, spec + ": a live source has no camera.json (give --hfov DEG)"));
+  CHECK_FALSE(fs::exists(out / "no-hfov"));
+}
+
+TEST_CASE("odometry runs over the real FLIR ONE transfer log as a live source", "[vo][cli][real]") {
+  const fs::path log = shared_folder("usb/flirone-pro", "1.txt");
+  if (log.empty()) return;
+  TempDir out;
+  odometry(fs::path("flirone-log:" + log.string()), out / "vo", {"--hfov", "50", "--photometric", "ir"});
+  CHECK(fs::exists(out / "vo" / "trajectory.tum"));
+  CHECK(summary_of(out / "vo")["frames"] == 20);
 }
 
 TEST_CASE("odometry: --max-keyframes sets the sliding window", "[vo][cli]") {

@@ -1,5 +1,8 @@
-// The frame loop of `bolo correct`: the recording player -> CorrectionChain (Pipeline ([bad
-// pixels] -> two-frame corrector), with --float the reference beside it) -> RecordingWriter.
+// The frame loop of `bolo correct`: a source -> CorrectionChain (Pipeline ([bad pixels] ->
+// two-frame corrector), with --float the reference beside it) -> RecordingWriter. A recording
+// (a folder, file:REC) is checked whole before anything runs and its rows, camera, poses and
+// scene go along; a live source (a camera, a transfer log) is corrected frame by frame as it
+// delivers, its faulted frames skipped and counted.
 
 #include "bolo/correct/correct_recording.hpp"
 
@@ -8,8 +11,10 @@
 #include <cstdio>
 #include <vector>
 
+#include "bolo/hal/frame_reader.hpp"
 #include "bolo/hal/recording_player.hpp"
 #include "bolo/hal/source_registry.hpp"
+#include "bolo/recording/frame_row_header.hpp"
 #include "corrected_output.hpp"
 #include "correction_chain.hpp"
 #include "fail.hpp"
@@ -19,15 +24,142 @@ namespace bolo::correct {
 namespace {
 
 namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
 
-// The recording folder the input names; the output copies the recording's rows, camera, poses
-// and scene, so other sources are refused.
-fs::path recording_folder(const CorrectRequest& o) {
+// The flags, checked and in the firmware's units.
+struct Setup {
+  fw::TimeConstants tau;
+  Defaults exposure, readout;
+  std::uint32_t nominal_period_ns = 0;
+};
+
+fw::PipelineConfig pipeline_config(const Setup& setup, const hal::SourceFormat& format, bool bad_pixels) {
+  fw::PipelineConfig config;
+  config.corrector.width = format.width;
+  config.corrector.height = format.height;
+  config.corrector.tau = setup.tau;
+  config.corrector.default_exposure_ns = setup.exposure.ns;
+  config.corrector.default_readout_ns = setup.readout.ns;
+  config.corrector.nominal_frame_period_ns = setup.nominal_period_ns;
+  config.use_bad_pixels = bad_pixels;
+  const std::uint32_t bits = format.bits;
+  config.bad_pixels.stuck_high = static_cast<fw::Pixel>(bits >= 16 || bits == 0 ? 0xFFFFu : (1u << bits) - 1u);
+  config.bad_pixels.width = format.width;
+  config.bad_pixels.height = format.height;
+  return config;
+}
+
+// Stats first (atomic), then the recording; if the commit fails, the stats go too.
+void commit(const CorrectRequest& o, const std::vector<FrameStats>& stats, rec::RecordingWriter& writer) {
+  if (o.stats) rec::write_file_atomically(*o.stats, stats_csv(stats));
   try {
-    return hal::recording_folder_of(o.input.string(), "correct");
+    writer.commit();
+  } catch (...) {
+    if (o.stats) {
+      std::error_code ec;
+      fs::remove(*o.stats, ec);
+    }
+    throw;
+  }
+}
+
+void deliver(std::span<FrameObserver* const> observers, const FrameStats& s, std::vector<FrameStats>& stats) {
+  stats.push_back(s);
+  for (FrameObserver* observer : observers) observer->on_frame(s);
+}
+
+CorrectResult correct_recording_folder(const CorrectRequest& o, const Setup& setup,
+                                       std::span<FrameObserver* const> observers) {
+  // The source is opened once; the player validates the whole recording.
+  fs::path dir;
+  try {
+    dir = hal::recording_folder_of(o.input.string(), "correct");
   } catch (const hal::SourceError& e) {
     fail(e.what());
   }
+  check_output(o, dir);
+  const std::unique_ptr<hal::OpenedSource> source = hal::open_source("file:" + dir.string());
+  auto& player = dynamic_cast<hal::RecordingPlayer&>(source->backend());
+  const rec::Recording& recording = player.recording();
+  const fs::path csv = dir / "frames.csv";
+  const hal::SourceFormat format = player.format();
+  if (recording.frame_count() == 0) fail(csv.string(), ": no frames");
+  // Timing and coefficients of every frame to be corrected.
+  std::span<const fw::FrameHeader> headers = player.headers();
+  if (o.frames) headers = headers.first(std::min<std::size_t>(headers.size(), *o.frames));
+  const std::vector<FrameTiming> timing = resolve_timing(recording, headers, csv, setup.exposure, setup.readout);
+  check_coefficients(timing, setup.tau, o, csv);
+  CorrectionChain chain(pipeline_config(setup, format, o.bad_pixels), o, o.input.string());
+
+  // Frame by frame into the atomic writer; scene.npy (a simulation's steady-state input) still
+  // describes the same frames and goes along.
+  rec::RecordingWriter writer(o.output, corrected_info(recording.info(), o, false),
+                              {o.overwrite, o.float_output ? rec::DType::f4 : rec::DType::u2});
+  std::vector<float> scene(recording.has_scene() ? std::size_t{format.width} * format.height : 0);
+  std::vector<FrameStats> stats;
+  stats.reserve(timing.size());
+  for (FrameObserver* observer : observers) observer->on_begin(timing.size());
+  const auto start = Clock::now();
+  for (std::uint64_t i = 0; i < timing.size(); ++i) {
+    if (source->stream_frame(chain.input()) != hal::StreamStatus::frame)
+      fail(o.input.string(), ": frame ", i, ": the player delivered no frame");
+    const FrameStats s = chain.finish_frame(i, recording.rows()[i], timing, writer);
+    if (!scene.empty()) {
+      player.read_scene(i, scene);
+      writer.append_scene(scene);
+    }
+    deliver(observers, s, stats);
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (recording.camera()) writer.set_camera(*recording.camera());
+  if (fs::exists(dir / "poses.tum")) writer.add_file("poses.tum", read_whole_file(dir / "poses.tum"));
+  commit(o, stats, writer);
+  return {timing.size(), seconds};
+}
+
+// A live source: what it knows of itself goes into recording.json, its fault counters into
+// capture.json (as `bolo capture` writes them); frames.csv from each frame's header.
+CorrectResult correct_live_source(const CorrectRequest& o, const Setup& setup, const hal::SourceSpec& spec,
+                                  std::span<FrameObserver* const> observers) {
+  const std::string name = o.input.string();
+  if (!spec.backend.finite && !o.frames) fail("--frames: required for a live camera (", name, ")");
+  check_output(o, {});
+  std::unique_ptr<hal::OpenedSource> source;
+  try {
+    source = hal::open_source(name);
+  } catch (const hal::SourceError& e) {
+    fail(e.what());
+  }
+  CorrectionChain chain(pipeline_config(setup, source->format(), o.bad_pixels), o, name);
+  rec::RecordingInfo info = hal::recording_info_of(*source);
+  info.notes = "t_s from the device's clock, relative to the first frame";
+  rec::RecordingWriter writer(o.output, corrected_info(info, o, true),
+                              {o.overwrite, o.float_output ? rec::DType::f4 : rec::DType::u2});
+  hal::FrameReader reader(*source, o.max_faults);
+  rec::RowClock clock;
+  std::vector<FrameTiming> timing;
+  std::vector<FrameStats> stats;
+  for (FrameObserver* observer : observers) observer->on_begin(o.frames.value_or(0));
+  const auto start = Clock::now();
+  for (std::uint64_t i = 0; !o.frames || i < *o.frames; ++i) {
+    const hal::FrameReader::Result r = reader.next(chain.input());
+    if (r == hal::FrameReader::Result::ended) break;
+    if (r == hal::FrameReader::Result::gave_up)
+      fail(name, ": gave up after ", o.max_faults, " faults in a row, ", i, " frames corrected, nothing written (",
+           hal::fault_text(*source), ")");
+    timing.push_back(timing_from_header(reader.header(), setup.exposure, setup.readout, name, i));
+    check_coefficients_at(timing, i, setup.tau, o, name, "frame header");
+    deliver(observers, chain.finish_frame(i, clock.row(reader.header(), i), timing, writer), stats);
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (timing.empty()) fail(name, ": delivered no frames, nothing written");
+  writer.add_file("capture.json", hal::source_record(name, *source, clock.not_increasing()).dump(2) + "\n");
+  commit(o, stats, writer);
+  CorrectResult result{timing.size(), seconds};
+  result.live = true;
+  result.faults = hal::fault_text(*source);
+  result.skipped = reader.skipped();
+  return result;
 }
 
 }  // namespace
@@ -41,84 +173,24 @@ std::string seconds_text(double seconds) {
 CorrectResult correct_recording(const CorrectRequest& request, std::span<FrameObserver* const> observers) {
   CorrectRequest o = request;
   if (!o.output.empty() && !o.output.has_filename()) o.output = o.output.parent_path();  // "out/"
-  // 1. Flags.
-  const fw::TimeConstants tau{flag_ns("--tau-h", o.tau_h_s), flag_ns("--tau-c", o.tau_c_s)};
-  Defaults exposure, readout;
-  if (o.exposure_s) exposure = {o.exposure_s, flag_ns("--exposure", *o.exposure_s)};
-  if (o.readout_s) readout = {o.readout_s, flag_ns("--readout", *o.readout_s)};
-  std::uint32_t nominal_period_ns = 0;
+  Setup setup;
+  setup.tau = {flag_ns("--tau-h", o.tau_h_s), flag_ns("--tau-c", o.tau_c_s)};
+  if (o.exposure_s) setup.exposure = {o.exposure_s, flag_ns("--exposure", *o.exposure_s)};
+  if (o.readout_s) setup.readout = {o.readout_s, flag_ns("--readout", *o.readout_s)};
   if (o.nominal_fps) {
     if (!std::isfinite(*o.nominal_fps) || !(*o.nominal_fps > 0.25) || *o.nominal_fps > 1e6)
       fail("--nominal-fps ", seconds_text(*o.nominal_fps), ": must be a frame rate between 0.25 and 1e6");
-    nominal_period_ns = static_cast<std::uint32_t>(std::lround(1e9 / *o.nominal_fps));
+    setup.nominal_period_ns = static_cast<std::uint32_t>(std::lround(1e9 / *o.nominal_fps));
   }
-  // 2. Files: the source is opened once; the player validates the whole recording.
-  const fs::path dir = recording_folder(o);
-  check_output(o, dir);
-  const std::unique_ptr<hal::OpenedSource> source = hal::open_source("file:" + dir.string());
-  auto& player = dynamic_cast<hal::RecordingPlayer&>(source->backend());
-  const rec::Recording& recording = player.recording();
-  const fs::path csv = dir / "frames.csv";
-  const hal::SourceFormat format = player.format();
-  const std::uint32_t width = format.width, height = format.height;
-  if (recording.frame_count() == 0) fail(csv.string(), ": no frames");
-  // 3. Timing and coefficients of every frame.
-  const std::vector<FrameTiming> timing = resolve_timing(recording, player.headers(), csv, exposure, readout);
-  check_coefficients(timing, tau, o, csv);
-
-  // 4. The pipeline.
-  fw::PipelineConfig config;
-  config.corrector.width = width;
-  config.corrector.height = height;
-  config.corrector.tau = tau;
-  config.corrector.default_exposure_ns = exposure.ns;
-  config.corrector.default_readout_ns = readout.ns;
-  config.corrector.nominal_frame_period_ns = nominal_period_ns;
-  config.use_bad_pixels = o.bad_pixels;
-  const std::uint32_t bits = format.bits;
-  config.bad_pixels.stuck_high =
-      static_cast<fw::Pixel>(bits >= 16 || bits == 0 ? 0xFFFFu : (1u << bits) - 1u);
-  config.bad_pixels.width = width;
-  config.bad_pixels.height = height;
-  CorrectionChain chain(config, o, o.input.string());
-
-  // 5. Run, frame by frame, into the atomic writer; scene.npy (a simulation's steady-state input)
-  // still describes the same frames and goes along.
-  rec::RecordingWriter writer(o.output, corrected_info(recording.info(), o),
-                              {o.overwrite, o.float_output ? rec::DType::f4 : rec::DType::u2});
-  std::vector<float> scene(recording.has_scene() ? std::size_t{width} * height : 0);
-  std::vector<FrameStats> stats;
-  stats.reserve(timing.size());
-  for (FrameObserver* observer : observers) observer->on_begin(timing.size());
-  const auto start = std::chrono::steady_clock::now();
-  for (std::uint64_t i = 0; i < timing.size(); ++i) {
-    if (source->stream_frame(chain.input()) != hal::StreamStatus::frame)
-      fail(o.input.string(), ": frame ", i, ": the player delivered no frame");
-    const FrameStats s = chain.finish_frame(i, recording.rows()[i], timing, writer);
-    if (!scene.empty()) {
-      player.read_scene(i, scene);
-      writer.append_scene(scene);
-    }
-    stats.push_back(s);
-    for (FrameObserver* observer : observers) observer->on_frame(s);
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-  if (recording.camera()) writer.set_camera(*recording.camera());
-  if (fs::exists(dir / "poses.tum")) writer.add_file("poses.tum", read_whole_file(dir / "poses.tum"));
-
-  // 6. Stats first (atomic), then the recording; if the commit fails, the stats go too.
-  if (o.stats) rec::write_file_atomically(*o.stats, stats_csv(stats));
+  if (o.frames && *o.frames == 0) fail("--frames 0: must be at least 1");
+  hal::SourceSpec spec;
   try {
-    writer.commit();
-  } catch (...) {
-    if (o.stats) {
-      std::error_code ec;
-      fs::remove(*o.stats, ec);
-    }
-    throw;
+    spec = hal::parse_source_spec(o.input.string());
+  } catch (const hal::SourceError& e) {
+    fail(e.what());
   }
-  return {timing.size(), seconds};
+  if (spec.backend.scheme == "file") return correct_recording_folder(o, setup, observers);
+  return correct_live_source(o, setup, spec, observers);
 }
 
 }  // namespace bolo::correct

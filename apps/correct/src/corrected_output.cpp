@@ -45,15 +45,16 @@ void check_output(const CorrectRequest& o, const fs::path& recording) {
   }
 }
 
-rec::RecordingInfo corrected_info(const rec::RecordingInfo& input, const CorrectRequest& o) {
+rec::RecordingInfo corrected_info(const rec::RecordingInfo& input, const CorrectRequest& o, bool live) {
   rec::RecordingInfo info = input;
   std::ostringstream source, notes;
-  source << "bolo correct of " << o.input.string();
+  source << "bolo correct of " << (live ? "live source " : "") << o.input.string();
   if (!input.source.empty()) source << " (source: " << input.source << ")";
   notes << "two-frame ghosting correction (Zhang, Brink, Willis, Eq. 6) with tau_h = "
         << seconds_text(o.tau_h_s) << " s, tau_c = " << seconds_text(o.tau_c_s) << " s";
-  if (o.exposure_s) notes << ", exposure " << seconds_text(*o.exposure_s) << " s where frames.csv has none";
-  if (o.readout_s) notes << ", readout " << seconds_text(*o.readout_s) << " s where frames.csv has none";
+  const char* timing = live ? "the source gives none" : "frames.csv has none";
+  if (o.exposure_s) notes << ", exposure " << seconds_text(*o.exposure_s) << " s where " << timing;
+  if (o.readout_s) notes << ", readout " << seconds_text(*o.readout_s) << " s where " << timing;
   if (o.bad_pixels) notes << ", bad pixels replaced";
   notes << (o.float_output ? "; float32 output of the double-precision reference"
                            : "; uint16 output of the fixed-point firmware pipeline");
@@ -69,6 +70,7 @@ rec::RecordingInfo corrected_info(const rec::RecordingInfo& input, const Correct
                            {"bad_pixels", o.bad_pixels}};
   record["exposure_s"] = o.exposure_s ? nlohmann::json(*o.exposure_s) : nlohmann::json(nullptr);
   record["readout_s"] = o.readout_s ? nlohmann::json(*o.readout_s) : nlohmann::json(nullptr);
+  if (live) record["live"] = true;
   info.extra["correction"] = record;
   return info;
 }

@@ -28,10 +28,12 @@ void print_summary(std::ostream& out, const CorrectRequest& request, const Summa
   out << "corrected " << o.input.string() << " -> " << o.output.string() << " ("
       << (o.float_output ? "float32, reference" : "uint16, firmware pipeline") << ")\n";
   line("tau") << "tau_h " << seconds_text(o.tau_h_s) << " s, tau_c " << seconds_text(o.tau_c_s) << " s\n";
-  line("exposure") << "frames.csv for " << n - t.exposure_from_flag << " frames, --exposure for "
-                   << t.exposure_from_flag << '\n';
-  line("readout") << "frames.csv for " << n - t.readout_from_flag << " frames, --readout for "
-                  << t.readout_from_flag << '\n';
+  if (result.live)
+    line("input") << "live source: " << result.skipped << " faulted frames skipped; device faults: " << result.faults
+                  << '\n';
+  const char* timing = result.live ? "the source for " : "frames.csv for ";
+  line("exposure") << timing << n - t.exposure_from_flag << " frames, --exposure for " << t.exposure_from_flag << '\n';
+  line("readout") << timing << n - t.readout_from_flag << " frames, --readout for " << t.readout_from_flag << '\n';
   line("frames") << n << ": " << applied << " corrected against the previous frame, " << n - applied
                  << " without (gain only)\n";
   if (n > applied) {

@@ -60,23 +60,48 @@ std::vector<FrameTiming> resolve_timing(const rec::Recording& recording,
   return timing;
 }
 
+FrameTiming timing_from_header(const fw::FrameHeader& header, const Defaults& exposure, const Defaults& readout,
+                               const std::string& source, std::uint64_t frame) {
+  const auto field = [&](std::uint32_t header_ns, const Defaults& flag, const char* name, const char* flag_name,
+                         std::uint32_t& ns, double& seconds, bool& from_flag) {
+    if (header_ns != 0) {
+      ns = header_ns;
+      seconds = header_ns * 1e-9;  // as frames.csv records it (rec::row_from_header)
+      from_flag = false;
+    } else if (flag.seconds) {
+      ns = flag.ns;
+      seconds = *flag.seconds;
+      from_flag = true;
+    } else {
+      fail(source, ": frame ", frame, ": the source gives no ", name, " time and no ", flag_name, " given");
+    }
+  };
+  FrameTiming t;
+  field(header.exposure_ns, exposure, "exposure", "--exposure", t.exposure_ns, t.exposure_s, t.exposure_from_flag);
+  field(header.readout_ns, readout, "readout", "--readout", t.readout_ns, t.readout_s, t.readout_from_flag);
+  return t;
+}
+
+void check_coefficients_at(std::span<const FrameTiming> timing, std::size_t i, fw::TimeConstants tau,
+                           const CorrectRequest& o, const std::string& where, const char* field) {
+  fw::CorrectorCoefficients c;
+  const fw::CoefficientStatus status =
+      i == 0 ? fw::compute_gain_only(tau, timing[i].exposure_ns, c)
+             : fw::compute_coefficients(tau, timing[i].exposure_ns, timing[i - 1].readout_ns, c);
+  if (status == fw::CoefficientStatus::ok) return;
+  std::ostringstream what;
+  what << where << ": frame " << i << ": no usable coefficients (" << fw::to_string(status) << ") for exposure "
+       << seconds_text(timing[i].exposure_s) << " s (" << (timing[i].exposure_from_flag ? "--exposure" : field)
+       << ") with --tau-h " << seconds_text(o.tau_h_s) << " --tau-c " << seconds_text(o.tau_c_s);
+  if (status == fw::CoefficientStatus::gain_out_of_range)
+    what << ": exposure / tau_h must be at least ~0.004 (gain 1/(1-exp(-t_e/tau_h)) below 256)";
+  throw Error(what.str());
+}
+
 void check_coefficients(const std::vector<FrameTiming>& timing, fw::TimeConstants tau,
                         const CorrectRequest& o, const fs::path& csv) {
-  for (std::size_t i = 0; i < timing.size(); ++i) {
-    fw::CorrectorCoefficients c;
-    const fw::CoefficientStatus status =
-        i == 0 ? fw::compute_gain_only(tau, timing[i].exposure_ns, c)
-               : fw::compute_coefficients(tau, timing[i].exposure_ns, timing[i - 1].readout_ns, c);
-    if (status == fw::CoefficientStatus::ok) continue;
-    std::ostringstream what;
-    what << csv.string() << ": frame " << i << ": no usable coefficients ("
-         << fw::to_string(status) << ") for exposure " << seconds_text(timing[i].exposure_s)
-         << " s (" << (timing[i].exposure_from_flag ? "--exposure" : "field exposure_s")
-         << ") with --tau-h " << seconds_text(o.tau_h_s) << " --tau-c " << seconds_text(o.tau_c_s);
-    if (status == fw::CoefficientStatus::gain_out_of_range)
-      what << ": exposure / tau_h must be at least ~0.004 (gain 1/(1-exp(-t_e/tau_h)) below 256)";
-    throw Error(what.str());
-  }
+  for (std::size_t i = 0; i < timing.size(); ++i)
+    check_coefficients_at(timing, i, tau, o, csv.string(), "field exposure_s");
 }
 
 }  // namespace bolo::correct

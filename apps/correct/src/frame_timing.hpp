@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "bolo/core/frame_header.hpp"
@@ -36,7 +37,16 @@ std::vector<FrameTiming> resolve_timing(const rec::Recording& recording,
                                         const std::filesystem::path& csv, const Defaults& exposure,
                                         const Defaults& readout);
 
+// A live source's frame: the header's exposure and readout (0: unknown) win, the flag fills in;
+// errors name `source` and the frame.
+FrameTiming timing_from_header(const fw::FrameHeader& header, const Defaults& exposure, const Defaults& readout,
+                               const std::string& source, std::uint64_t frame);
+
 void check_coefficients(const std::vector<FrameTiming>& timing, fw::TimeConstants tau,
                         const CorrectRequest& request, const std::filesystem::path& csv);
+// Frame i's coefficients (with frame i-1's readout); errors name `where` and, for a value not
+// from a flag, `field` ("field exposure_s").
+void check_coefficients_at(std::span<const FrameTiming> timing, std::size_t i, fw::TimeConstants tau,
+                           const CorrectRequest& request, const std::string& where, const char* field);
 
 }  // namespace bolo::correct

@@ -73,4 +73,18 @@ FrameRow row_from_header(const fw::FrameHeader& header, std::uint64_t index, std
   return row;
 }
 
+FrameRow RowClock::row(const fw::FrameHeader& header, std::uint64_t index) {
+  fw::FrameHeader stamped = header;
+  if (header.timestamp_valid) {
+    if (!t0_) t0_ = header.timestamp_ns;
+    if (last_ && header.timestamp_ns <= *last_) {
+      ++not_increasing_;
+      stamped.timestamp_valid = false;
+    } else {
+      last_ = header.timestamp_ns;
+    }
+  }
+  return row_from_header(stamped, index, t0_.value_or(0));
+}
+
 }  // namespace bolo::rec

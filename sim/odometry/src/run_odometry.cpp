@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <span>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -30,30 +31,50 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The frames the VO runs over: a recording's, read as they are needed, or a live source's.
+struct Input {
+  std::string name;  // the recording folder or the spec, as errors and summary.json name it
+  fs::path csv;      // what errors about a frame's row name: frames.csv, or the spec
+  std::uint32_t width = 0, height = 0;
+  rec::Units units = rec::Units::counts;
+  const std::vector<rec::FrameRow>* rows = nullptr;
+  std::optional<nlohmann::json> camera;  // camera.json
+  fs::path dir;                          // a recording's folder (camera.json, poses.tum)
+  std::optional<rec::Recording> recording;
+  std::optional<LiveFrames> live;
+
+  void read(std::uint64_t i, std::span<std::uint16_t> out) {
+    if (recording) return recording->read_frame(i, out);
+    const std::size_t n = std::size_t{width} * height;
+    std::copy_n(live->pixels.begin() + static_cast<std::ptrdiff_t>(i * n), n, out.begin());
+  }
+};
+
 // camera.json as the recording format defines it (a pinhole with Brown-Conrady distortion).
-sim::scene::Camera read_camera(const rec::Recording& recording) {
-  const fs::path file = recording.dir() / "camera.json";
-  if (!recording.camera())
+sim::scene::Camera read_camera(const Input& input) {
+  if (input.live) throw Error(input.name + ": a live source has no camera.json (give --hfov DEG)");
+  const fs::path file = input.dir / "camera.json";
+  if (!input.camera)
     throw Error(file.string() + ": missing (the VO needs the camera intrinsics: add it, or give --hfov DEG)");
   try {
-    return sim::scene::Camera::from_json(*recording.camera(), recording.width(), recording.height());
+    return sim::scene::Camera::from_json(*input.camera, input.width, input.height);
   } catch (const std::invalid_argument& e) {
     throw Error(file.string() + ": " + e.what());
   }
 }
 
 // The frames' resampling onto the VO's pinhole (no resampling without distortion or with --hfov).
-PinholeRemap pinhole_remap(const OdometryOptions& options, const rec::Recording& recording) {
-  const std::uint32_t w = recording.width(), h = recording.height();
+PinholeRemap pinhole_remap(const OdometryOptions& options, const Input& input) {
+  const std::uint32_t w = input.width, h = input.height;
   if (options.hfov_deg) {
     sim::scene::Camera pinhole(w, h, *options.hfov_deg);
     return PinholeRemap(pinhole);
   }
-  const sim::scene::Camera camera = read_camera(recording);
+  const sim::scene::Camera camera = read_camera(input);
   try {
     return PinholeRemap(camera);
   } catch (const std::invalid_argument& e) {
-    throw Error((recording.dir() / "camera.json").string() + ": fields k1, k2, p1, p2: " + e.what());
+    throw Error((input.dir / "camera.json").string() + ": fields k1, k2, p1, p2: " + e.what());
   }
 }
 
@@ -95,14 +116,48 @@ const char* to_string(TauSource source) {
   return "none";
 }
 
+namespace {
+OdometrySummary run(const OdometryOptions& options, const std::function<void(Input&)>& open);
+}  // namespace
+
 OdometrySummary run_odometry(const OdometryOptions& options) {
+  return run(options, [&](Input& input) {
+    const rec::Recording& r = input.recording.emplace(options.recording);
+    input.name = options.recording.string();
+    input.csv = r.dir() / "frames.csv";
+    input.width = r.width(), input.height = r.height();
+    input.units = r.info().units;
+    input.rows = &r.rows();
+    input.camera = r.camera();
+    input.dir = r.dir();
+  });
+}
+
+OdometrySummary run_odometry(const OdometryOptions& options, const std::function<LiveFrames()>& read) {
+  OdometryOptions all = options;
+  all.max_frames.reset();
+  return run(all, [&](Input& input) {
+    LiveFrames& frames = input.live.emplace(read());
+    if (frames.rows.empty()) throw Error(frames.name + ": no frames");
+    input.name = frames.name;
+    input.csv = frames.name;
+    input.width = frames.width, input.height = frames.height;
+    input.units = frames.units;
+    input.rows = &frames.rows;
+  });
+}
+
+namespace {
+
+OdometrySummary run(const OdometryOptions& options, const std::function<void(Input&)>& open) {
   const fs::path out_dir = options.output.has_filename() ? options.output : options.output.parent_path();
   rec::AtomicFolder folder(out_dir, options.overwrite);  // the destination checked before the work
-  rec::Recording recording(options.recording);
-  const std::uint32_t w = recording.width(), h = recording.height();
+  Input input;
+  open(input);
+  const std::uint32_t w = input.width, h = input.height;
   vo::VoConfig config;
   config.width = w, config.height = h;
-  const PinholeRemap remap = pinhole_remap(options, recording);
+  const PinholeRemap remap = pinhole_remap(options, input);
   config.camera = remap.pinhole();
   config.photometric = options.photometric;
   config.tau_init_s = static_cast<float>(options.tau_init_s);
@@ -115,12 +170,12 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   config.carry_coring = static_cast<float>(options.carry_coring);
   config.smoothing = options.smoothing;
   config.estimate_tau = options.estimate_tau;
-  if (const char* why = vo::invalid_reason(config)) throw Error(options.recording.string() + ": " + why);
+  if (const char* why = vo::invalid_reason(config)) throw Error(input.name + ": " + why);
 
-  const auto& rows = recording.rows();
+  const std::vector<rec::FrameRow>& rows = *input.rows;
   const std::uint64_t frames = std::min<std::uint64_t>(rows.size(), options.max_frames.value_or(rows.size()));
   const bool ir = options.photometric == vo::Photometric::ir || options.photometric == vo::Photometric::ir_loop;
-  const fs::path csv = recording.dir() / "frames.csv";
+  const fs::path& csv = input.csv;
   for (std::uint64_t i = 0; i < frames; ++i)
     if (!rows[i].t_s) throw Error(csv.string() + ": frame " + std::to_string(i) + ": t_s is empty (the VO needs frame times)");
   // Frame period for gap detection: the median interval.
@@ -130,7 +185,8 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   const double period = intervals.empty() ? 0.0 : intervals[intervals.size() / 2];
 
   OdometrySummary summary;
-  summary.ir_on_tone_mapped = ir && recording.info().units == rec::Units::counts8;
+  summary.ir_on_tone_mapped = ir && input.units == rec::Units::counts8;
+  summary.live = input.live.has_value();
   // The ir modes' frame timing: frames.csv, else the options, else half the frame interval each.
   std::vector<FrameTiming> timing(frames);
   if (ir) {
@@ -172,7 +228,7 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
 
   std::vector<std::byte> arena(vo::Odometry::arena_bytes(config));
   vo::Odometry odometry(config, arena);
-  if (!odometry.ok()) throw Error(options.recording.string() + ": the VO could not be set up for this size");
+  if (!odometry.ok()) throw Error(input.name + ": the VO could not be set up for this size");
 
   // ir-loop: the firmware corrector in front, fed back with the VO's tau.
   std::vector<fw::Pixel> corrected_storage(fw::FrameCollector::storage_pixels(w, h));
@@ -199,9 +255,9 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   bool held_before = false;
   for (std::uint64_t i = 0; i < frames; ++i) {
     if (remap.identity()) {
-      recording.read_frame(i, raw);
+      input.read(i, raw);
     } else {
-      recording.read_frame(i, distorted);
+      input.read(i, distorted);
       remap.apply(distorted, raw);
     }
     const rec::FrameRow& row = rows[i];
@@ -278,20 +334,18 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
   const std::vector<std::size_t> frame_segment = tracking_segments(states);
   std::vector<std::size_t> pose_segment;
   for (const std::size_t frame : pose_frame) pose_segment.push_back(frame_segment[frame]);
-  const fs::path truth_file = recording.dir() / "poses.tum";
   std::optional<std::vector<StampedPose>> truth;
-  if (fs::exists(truth_file)) truth = read_tum(truth_file);
+  if (!input.live && fs::exists(input.dir / "poses.tum")) truth = read_tum(input.dir / "poses.tum");
   const std::vector<PlotSeries> series = trajectory_series(
       trajectory, pose_segment, truth, period, "estimate (" + std::string(vo::to_string(options.photometric)) + ")");
-  write_text(folder.path() / "trajectory.svg", trajectory_svg("bolo odometry: " + recording.dir().filename().string() +
+  write_text(folder.path() / "trajectory.svg", trajectory_svg("bolo odometry: " + (input.live ? input.name : input.dir.filename().string()) +
                                                              ", top view (x, y)", series));
   summary.tau_source = tau_source(ir, options.estimate_tau, !summary.shutter_taus.empty(), timing);
   nlohmann::json shutter_json = nlohmann::json::array();
   for (const auto& [t, tau] : summary.shutter_taus) shutter_json.push_back({{"t_s", t}, {"tau_s", tau}});
   nlohmann::json bridges_json = nlohmann::json::array();
   for (const auto& [from, to] : summary.scale_bridges) bridges_json.push_back({{"from_t_s", from}, {"to_t_s", to}});
-  nlohmann::json j = {{"recording", fs::absolute(options.recording).lexically_normal().string()},
-                      {"photometric", vo::to_string(options.photometric)},
+  nlohmann::json j = {{"photometric", vo::to_string(options.photometric)},
                       {"frames", summary.frames},
                       {"posed", summary.posed},
                       {"lost", summary.lost},
@@ -326,9 +380,15 @@ OdometrySummary run_odometry(const OdometryOptions& options) {
                       {"tau_source", to_string(summary.tau_source)},
                       {"vo_seconds", summary.seconds},
                       {"arena_bytes", summary.arena_bytes}};
+  // A recording's folder (bolo evaluate finds poses.tum there); a live source's spec.
+  if (input.live)
+    j["source"] = {{"spec", input.name}, {"live", true}, {"faults", input.live->faults}, {"skipped", input.live->skipped}};
+  else
+    j["recording"] = fs::absolute(fs::path(input.name)).lexically_normal().string();
   write_text(folder.path() / "summary.json", j.dump(2) + "\n");
   folder.commit();
   return summary;
 }
 
+}  // namespace
 }  // namespace bolo::odo

@@ -1,13 +1,15 @@
 #pragma once
-// `bolo correct`'s work: a recording through the firmware pipeline (or, with float_output, the
-// double-precision reference beside it) into a new recording, each frame's stats to observers.
-// Everything that can be checked is checked before anything is written; the output is atomic,
-// so a failure leaves no output (and no stats file) behind.
+// `bolo correct`'s work: the frames of any source (a recording, a camera, a transfer log) through
+// the firmware pipeline (or, with float_output, the double-precision reference beside it) into a
+// new recording, each frame's stats to observers. Everything that can be checked is checked
+// before anything is written (a recording's every frame; a live source's frames as they come);
+// the output is atomic, so a failure leaves no output (and no stats file) behind.
 
 #include <filesystem>
 #include <optional>
 #include <span>
 #include <stdexcept>
+#include <string>
 
 #include "bolo/correct/frame_observer.hpp"
 
@@ -19,22 +21,28 @@ class Error : public std::runtime_error {
 };
 
 struct CorrectRequest {
-  std::filesystem::path input;   // a recording folder, or a source spec naming one (file:REC)
+  std::filesystem::path input;   // a source spec (hal::open_source): a recording folder, file:REC, v4l2:...
   std::filesystem::path output;
   double tau_h_s = 0.0;
   double tau_c_s = 0.0;
-  std::optional<double> exposure_s;  // used for frames whose exposure_s cell is empty
-  std::optional<double> readout_s;   // used for frames whose readout_s cell is empty
+  std::optional<double> exposure_s;  // for frames without one (empty exposure_s cell, 0 in the header)
+  std::optional<double> readout_s;   // for frames without one (empty readout_s cell, 0 in the header)
   bool float_output = false;         // float32 frames.npy from the double-precision reference
   bool overwrite = false;
   bool bad_pixels = false;
   std::optional<std::filesystem::path> stats;  // per-frame statistics CSV
   std::optional<double> nominal_fps;           // frame rate for gap detection; default: learned
+  std::optional<std::uint64_t> frames;         // at most this many; required for a camera that streams on
+  std::uint64_t max_faults = 50;               // a live source's faulted frames in a row before giving up
 };
 
 struct CorrectResult {
   std::uint64_t frames = 0;
   double seconds = 0;  // the frame loop's wall time
+  // A live source (not a recording): its fault counters (hal::fault_text) and the frames skipped.
+  bool live = false;
+  std::string faults;
+  std::uint64_t skipped = 0;
 };
 
 // Runs the correction; the observers see every frame in order. Errors name the flag, file, frame

@@ -1,5 +1,6 @@
 #pragma once
-// Runs the VO core over a recording (the host side of `bolo odometry`): feeds raw frames
+// Runs the VO core over a recording, or over frames a caller read from another source and holds in
+// memory (the host side of `bolo odometry`): feeds raw frames
 // (resampled onto a pinhole first when camera.json has lens distortion, pinhole_remap.hpp) with
 // their timing and carry-over chain state, runs the firmware corrector in front for ir-loop with
 // the VO's current tau, and writes trajectory.tum, stats.csv, points.ply, trajectory.svg and
@@ -13,6 +14,7 @@
 #include <vector>
 #include <string>
 
+#include "bolo/recording/recording.hpp"
 #include "bolo/vo/config.hpp"
 
 namespace bolo::odo {
@@ -77,12 +79,30 @@ struct OdometrySummary {
   // times of the first and last held frames), and the frames held.
   std::vector<std::pair<double, double>> scale_bridges;
   std::uint64_t centre_held = 0;
+  bool live = false;  // ran over LiveFrames
   double seconds = 0;        // VO time only (not I/O)
   std::size_t arena_bytes = 0;
 };
 
+// Frames of a live source (a camera, a transfer log), read whole by the caller: each frame's row as
+// a recording of it would have (rec::RowClock) and its pixels, one frame after the other. There is
+// no camera.json (the intrinsics come from --hfov) and no ground truth.
+struct LiveFrames {
+  std::string name;  // the source spec, as errors, the plot and summary.json name it
+  std::uint32_t width = 0, height = 0;
+  rec::Units units = rec::Units::counts;
+  std::vector<rec::FrameRow> rows;
+  std::vector<std::uint16_t> pixels;
+  std::string faults;         // the source's fault counters, for summary.json
+  std::uint64_t skipped = 0;  // frames skipped for a fault
+};
+
 // Throws Error (or bolo::rec::Error) naming the file/frame/field for bad input; nothing is
-// left behind then.
+// left behind then. The first runs over options.recording, the second over the frames `read`
+// returns (called once the output folder is known to be writable; options.recording and
+// max_frames are not used); both run the frames the same way (the frame period, for gaps and
+// assumed timing, is the median interval of the frames used).
 OdometrySummary run_odometry(const OdometryOptions& options);
+OdometrySummary run_odometry(const OdometryOptions& options, const std::function<LiveFrames()>& read);
 
 }  // namespace bolo::odo
