@@ -5,7 +5,7 @@
 # bit-exactly, replug recovered within 2 s. Then through the project's FlirOneSource: 3) simulated
 # frames without faults: none lost, every image bit-exact; 4) with the faults (unplug/replug
 # included) every good image delivered bit-exactly, every unplug counted; 5) ~30 replugs in a row.
-# BOLO_HIL_FRAMES (run-hil-test.sh: 10000 on x86-64, 2000 on arm64) sets the length.
+# BOLO_HIL_FRAMES (run-hil-test.sh: 3000 on x86-64, 2000 on arm64; 10000 for the endurance run) sets the length.
 # device: usb:flirone
 # real: hil_flirone --real --frames ${BOLO_HIL_FRAMES:-10000}
 frames="${BOLO_HIL_FRAMES:-10000}"

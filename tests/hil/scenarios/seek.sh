@@ -5,7 +5,7 @@
 # dead pixels found; 2) 1 % of each fault kind, stalls and unplug/replug included; 3) ~9
 # unplug/replug cycles in a row; 4) the real-camera check (no send log): passes a clean stream,
 # fails one with frame-id jumps and duplicates.
-# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 10000 on x86-64, 2000 on arm64) sets the clean
+# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 3000 on x86-64, 2000 on arm64; 10000 for the endurance run) sets the clean
 # run's length; the fault run streams a quarter of it.
 # device: usb:seek
 # real: hil_seek_hal --real --frames "${BOLO_HIL_SEEK_FRAMES:-10000}"

@@ -9,7 +9,7 @@
 # recording is there: `bolo capture --device v4l2:/dev/videoN` of the recording played once must
 # hold exactly its pixels; 6) the real-camera check (`hil_uvc_hal --real`, no send log): passes a
 # clean stream, fails one with short frames.
-# BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 10000 on x86-64, 2000 on arm64) sets the clean run's length; the fault
+# BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 3000 on x86-64, 2000 on arm64; 10000 for the endurance run) sets the clean run's length; the fault
 # run streams a quarter of it.
 # device: v4l2
 # real: hil_uvc_hal --real --device "${BOLO_HIL_DEVICE#v4l2:}" --size "${BOLO_HIL_UVC_SIZE:-160x120}" --frames "${BOLO_HIL_UVC_FRAMES:-10000}"
