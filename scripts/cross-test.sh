@@ -23,49 +23,26 @@ if [ ! -x build/tests/golden/test_golden_synthetic ]; then
 fi
 golden_hashes build > build/golden-x86_64.txt
 
-# One target: configure, build, test under its emulator, compare the golden hashes.
-cross_one() {  # target
-  local target=$1 toolchain emulator dir status=0
+status=0
+for target in "${targets[@]}"; do
   case $target in
     aarch64) toolchain=toolchain/aarch64-linux-gnu.cmake; emulator=(qemu-aarch64 -L /usr/aarch64-linux-gnu) ;;
     armhf) toolchain=toolchain/arm-linux-gnueabihf.cmake; emulator=(qemu-arm -L /usr/arm-linux-gnueabihf) ;;
+    *) echo "cross-test: unknown target '$target' (aarch64, armhf)" >&2; exit 2 ;;
   esac
   dir=build-$target
   echo "== $target: configure, build, test under ${emulator[0]}"
   cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_TOOLCHAIN_FILE="$toolchain" \
-    -DBOLO_BUILD_HOST_TOOLS=OFF -DBOLO_WERROR=ON -DCMAKE_UNITY_BUILD=ON >/dev/null || return 1
-  cmake --build "$dir" -j "$jobs" || return 1
+    -DBOLO_BUILD_HOST_TOOLS=OFF -DBOLO_WERROR=ON -DCMAKE_UNITY_BUILD=ON >/dev/null
+  cmake --build "$dir" -j "$jobs"
   ctest --test-dir "$dir" --output-on-failure -j "$jobs" || status=1
   golden_hashes "$dir" "${emulator[@]}" > "$dir/golden-$target.txt"
   if [ -s "$dir/golden-$target.txt" ] && diff -q build/golden-x86_64.txt "$dir/golden-$target.txt" >/dev/null; then
     echo "== $target: $(wc -l < "$dir/golden-$target.txt") golden hashes identical to x86-64"
   else
-    echo "== $target: golden hashes DIFFER from x86-64:"
-    diff build/golden-x86_64.txt "$dir/golden-$target.txt" | head -20 || true
+    echo "== $target: golden hashes DIFFER from x86-64:" >&2
+    diff build/golden-x86_64.txt "$dir/golden-$target.txt" | head -20 >&2 || true
     status=1
   fi
-  return $status
-}
-
-for target in "${targets[@]}"; do
-  case $target in
-    aarch64|armhf) ;;
-    *) echo "cross-test: unknown target '$target' (aarch64, armhf)" >&2; exit 2 ;;
-  esac
-done
-# The targets build and test side by side, each with every core: one target's serial stretches
-# (its longest compile, its last tests) leave cores the other one uses. Each log is printed whole
-# when its target ends.
-logs=$(mktemp -d)
-trap 'rm -rf "$logs"' EXIT
-pids=()
-for target in "${targets[@]}"; do
-  cross_one "$target" > "$logs/$target.log" 2>&1 &
-  pids+=($!)
-done
-status=0
-for i in "${!targets[@]}"; do
-  wait "${pids[$i]}" || { status=1; echo "== ${targets[$i]}: FAILED" >> "$logs/${targets[$i]}.log"; }
-  cat "$logs/${targets[$i]}.log"
 done
 exit $status
