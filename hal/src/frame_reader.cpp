@@ -76,8 +76,10 @@ std::string fault_text(const FrameSource& source) {
 nlohmann::json source_record(std::string_view spec, const FrameSource& source,
                              std::uint64_t timestamps_not_increasing) {
   const SourceStats s = source.stats();
+  // items() views into the ExtraCounters: it must outlive the loop.
+  const ExtraCounters extra = source.extra_counters();
   nlohmann::json counters = nlohmann::json::object();
-  for (const NamedCounter& c : source.extra_counters().items()) counters[std::string(c.name)] = c.value;
+  for (const NamedCounter& c : extra.items()) counters[std::string(c.name)] = c.value;
   return {{"device", std::string(spec)},
           {"stats", {{"frames_delivered", s.frames_delivered}, {"timeouts", s.timeouts},
                      {"short_transfers", s.short_transfers},   {"corrupt_transfers", s.corrupt_transfers},
