@@ -82,18 +82,37 @@ def pixels_per_iteration(loop_text):
     return max(steps) // 2 if steps else None
 
 
+def sequential_pair(first, second):
+    """Whether ldrd/strd's two registers form the even/odd pair ARM state requires."""
+    a, b = (re.fullmatch(r"r(\d+)", r) for r in (first, second))
+    return bool(a and b) and int(a[1]) % 2 == 0 and int(b[1]) == int(a[1]) + 1
+
+
 def thumb_as_arm(loop_text):
     """A Thumb-2 loop in ARM state, which llvm-mca models: IT instructions dropped (ARM predicates
-    each instruction itself), cbz/cbnz as cmp + beq/bne, .w/.n width suffixes dropped."""
+    each instruction itself), cbz/cbnz as cmp + beq/bne, ldrd/strd of a pair ARM state cannot
+    encode as two ldr/str, vswp (which the A9 model lacks) as one vorr, .w/.n suffixes dropped."""
     out = []
     for t in loop_text:
-        mnemonic, _, operands = t.partition(" ")
+        mnemonic, _, operands = t.replace("\t", " ").partition(" ")
+        operands = operands.strip()
         mnemonic = re.sub(r"\.[wn]$", "", mnemonic)
         if re.fullmatch(r"it[te]{0,3}", mnemonic):
             continue
         if mnemonic in ("cbz", "cbnz"):
             reg, target = (o.strip() for o in operands.split(","))
             out += [f"cmp {reg}, #0", f"{'beq' if mnemonic == 'cbz' else 'bne'} {target}"]
+            continue
+        if mnemonic == "vswp":  # no scheduling data in LLVM 14's A9 model: one NEON issue, as vmov
+            first, second = (o.strip() for o in operands.split(","))
+            out.append(f"vorr {first}, {second}, {second}")
+            continue
+        pair = re.fullmatch(r"(\w+),\s*(\w+),\s*\[(\w+)(?:,\s*#(-?\d+))?\]", operands)
+        if mnemonic in ("ldrd", "strd") and pair and not sequential_pair(pair[1], pair[2]):
+            # ARM state pairs an even register with the next one; Thumb-2 pairs any two
+            first, second, base, offset = pair[1], pair[2], pair[3], int(pair[4] or 0)
+            single = mnemonic[:-1]
+            out += [f"{single} {first}, [{base}, #{offset}]", f"{single} {second}, [{base}, #{offset + 4}]"]
             continue
         out.append(f"{mnemonic} {operands}".strip())
     return out
@@ -158,7 +177,7 @@ def main():
             keep_path = f"{keep}/{loop['target']}-{loop['name']}-{tag}.s" if keep else None
             try:
                 per_iteration, busiest, report = run_mca(config["llvm_mca"], cpu, body, keep_path)
-            except RuntimeError as error:  # e.g. LLVM 14's Cortex-A9 model on the armhf intake
+            except RuntimeError as error:  # an instruction the CPU model has no data for
                 results.append({"target": loop.get("target"), "loop": loop["name"],
                                 "cpu": cpu["label"], "instructions_per_iteration": len(body),
                                 "pixels_per_iteration": loop["pixels"],
