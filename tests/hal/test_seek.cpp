@@ -201,7 +201,7 @@ TEST_CASE("seek source: images before the first shutter frame are consumed, not 
   CHECK(std::equal(want.begin(), want.end(), got[0].begin()));  // ...the third is the one delivered
 }
 
-TEST_CASE("seek source: the start-up frame must come first; a lost one runs the sequence again", "[hal][seek]") {
+TEST_CASE("seek source: the start-up frame must come first, a lost one runs the sequence again", "[hal][seek]") {
   SECTION("another frame first: the open fails") {
     test::FakeSeek cam(hal::kSeekCompact);
     cam.boot = {3};

@@ -1,8 +1,9 @@
 #!/bin/sh
 # HIL scenario, run inside the VM: the Seek Compact emulator on FunctionFS, the host side
-# through the project's SeekSource: 1) images without faults, shutter cycles every 100 images:
-# none lost, every image bit-exact, every shutter frame an FFC event, the start-up frame's 5
-# dead pixels found; 2) 1 % of each fault kind, stalls and unplug/replug included; 3) ~9
+# through the project's SeekSource: 1) images without faults, a shutter cycle after the boot and
+# every 100 images: none lost, every image bit-exact equal to the emulator's own image minus the
+# latest shutter frame (the offset pattern changes at each shutter event), no start-up request
+# refused, every shutter frame an FFC event, the start-up frame's 5 dead pixels found; 2) 1 % of each fault kind, stalls and unplug/replug included; 3) ~9
 # unplug/replug cycles in a row; 4) the real-camera check (no send log): passes a clean stream,
 # fails one with frame-id jumps and duplicates.
 # BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 3000 on x86-64, 2000 on arm64; 10000 for the endurance run) sets the clean
@@ -36,7 +37,7 @@ run() {  # name, emulator arguments, host arguments (default: against the emulat
 }
 
 run seek_clean "--frames $frames --shutter-period 100" \
-  "--min-frames $frames --shutters $(((frames - 1) / 100)) --dead-pixels 5"
+  "--min-frames $frames --shutters $((1 + (frames - 1) / 100)) --dead-pixels 5"
 run seek_faults "--frames $fault_frames --shutter-period 100 --fault-rate 0.01 --seed 3 \
   --faults short_transfer,timeout,frame_id_jump,duplicate,stall,disconnect" \
   "--min-frames $((fault_frames * 9 / 10))"
