@@ -106,7 +106,7 @@ void SeekImageCorrector::correct(std::span<const std::uint16_t> frame, bool subt
     add(kRight, f.index + 1);
     add(kUp, f.index - w);
     add(kDown, f.index + w);
-    image_[f.index] = static_cast<std::uint16_t>(sum / count);  // count > 0: listed with a neighbour
+    if (count > 0) image_[f.index] = static_cast<std::uint16_t>(sum / count);  // always: listed with one
   }
 }
 
