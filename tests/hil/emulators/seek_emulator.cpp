@@ -1,14 +1,14 @@
-// Seek Thermal Compact emulator on FunctionFS: demands the public driver's start-up sequence (its
+// Seek Thermal Compact / CompactPro emulator on FunctionFS: demands the public driver's start-up sequence (its
 // own list below; a request out of order is stalled, an OUT request whose payload is wrong
 // leaves the camera refusing frames until it is started again; both counted), then serves one
-// frame per START_GET_IMAGE_TRANSFER in 16224-byte chunks: the boot frame sequence (start-up
+// frame per START_GET_IMAGE_TRANSFER in the model's chunks: the boot frame sequence (start-up
 // frame with dead pixels first, a shutter cycle), a shutter cycle every --shutter-period images,
 // with an offset pattern that changes at each shutter event (seek_frames.hpp); injects device
 // faults on demand. Image frames are logged like the FLIR ONE emulator's (send_log.hpp), the
 // image hash being that of the image a host must deliver (expected_image); other frames as
 // "# type T counter C" lines; at the end "# refused-requests N".
 //
-//   seek_emulator --log FILE [--frames N] [--fault-rate R --faults a,b --seed S]
+//   seek_emulator --log FILE [--model compact|compactpro] [--frames N] [--fault-rate R --faults a,b --seed S]
 //                 [--shutter-period N] [--quiet-ms MS] [--name NAME]
 //                 [--ready F --done F --finished F]
 
@@ -42,8 +42,8 @@ enum Request : std::uint8_t {
   kGetFirmwareInfo = 78, kStartGetImageTransfer = 83, kTargetPlatform = 84, kGetFactorySettings = 88,
 };
 
-// The Compact's start-up as libseek-thermal sends it: OUT requests with their payload, IN
-// requests with their length. Written here on its own: the check must not reuse the HAL's table.
+// The start-up as libseek-thermal sends it: OUT requests with their payload, IN requests with
+// their length. Written here on its own: the check must not reuse the HAL's table.
 struct Expected {
   bool in;
   std::uint8_t request;
@@ -70,8 +70,36 @@ const std::vector<Expected> kCompactStartup = {
     {true, 61, {}, 2},
 };
 
+std::vector<Expected> compact_pro_startup() {
+  std::vector<Expected> steps = {
+      {false, 84, {0x01}, 0},
+      {false, 60, {0x00, 0x00}, 0},
+      {true, 78, {}, 4},
+      {true, 54, {}, 12},
+      {false, 86, {0x06, 0x00, 0x08, 0x00, 0x00, 0x00}, 0},
+      {true, 88, {}, 12},
+      {false, 85, {0x17, 0x00}, 0},
+      {true, 78, {}, 64},
+      {false, 86, {0x01, 0x00, 0x00, 0x06, 0x00, 0x00}, 0},
+      {true, 88, {}, 2},
+      {false, 86, {0x01, 0x00, 0x01, 0x06, 0x00, 0x00}, 0},
+      {true, 88, {}, 2},
+  };
+  for (std::uint32_t block = 0; block < 80; ++block) {  // factory settings, 32 words a block
+    const std::uint32_t address = block * 32;
+    steps.push_back({false, 86, {0x20, 0x00, static_cast<std::uint8_t>(address), static_cast<std::uint8_t>(address >> 8), 0x00, 0x00}, 0});
+    steps.push_back({true, 88, {}, 64});
+  }
+  steps.push_back({false, 85, {0x15, 0x00}, 0});
+  steps.push_back({true, 78, {}, 64});
+  steps.push_back({false, 62, {0x08, 0x00}, 0});
+  steps.push_back({false, 60, {0x01, 0x00}, 0});
+  return steps;
+}
+
 struct Options {
   std::string log = "/tmp/seek-sent.log";
+  std::string model = "compact";
   std::uint64_t frames = 100;  // image frames
   double fault_rate = 0;
   std::string faults = "short_transfer,stall,timeout,disconnect,frame_id_jump,duplicate";
@@ -91,6 +119,7 @@ Options parse(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--log") o.log = value();
+    else if (a == "--model") o.model = value();
     else if (a == "--frames") o.frames = std::stoull(value());
     else if (a == "--fault-rate") o.fault_rate = std::stod(value());
     else if (a == "--faults") o.faults = value();
@@ -109,6 +138,8 @@ Options parse(int argc, char** argv) {
 // Host-visible state, driven by ep0 events: enabled, the start-up sequence, and frame requests
 // not yet served.
 struct Link {
+  const seek::Layout* layout = nullptr;
+  std::vector<Expected> startup;
   std::mutex mutex;
   std::condition_variable changed;
   bool enabled = false;
@@ -138,7 +169,7 @@ void refuse(Link& link, const usb_ctrlrequest& r, const char* why) {
 
 // One start-up step done; the last one boots the camera.
 void advance(Link& link) {
-  if (++link.position < kCompactStartup.size()) return;
+  if (++link.position < link.startup.size()) return;
   link.running = true;
   ++link.boots;
   link.requests.clear();
@@ -146,7 +177,7 @@ void advance(Link& link) {
 }
 
 const Expected* expected_step(const Link& link) {
-  return link.position > 0 && link.position < kCompactStartup.size() ? &kCompactStartup[link.position] : nullptr;
+  return link.position > 0 && link.position < link.startup.size() ? &link.startup[link.position] : nullptr;
 }
 
 // An OUT request is judged by its code and length before its data is read (a stall must come
@@ -188,7 +219,9 @@ void serve_ep0(FunctionFs& ffs, Link& link) {
       const Bytes data = ffs.accept_setup(r.wLength);
       std::lock_guard lock(link.mutex);
       const Expected* e = expected_step(link);
-      const std::uint8_t count[4] = {static_cast<std::uint8_t>(seek::kPixels), static_cast<std::uint8_t>(seek::kPixels >> 8), 0, 0};
+      const std::uint32_t pixels = link.layout->pixels();
+      const Bytes count = {static_cast<std::uint8_t>(pixels), static_cast<std::uint8_t>(pixels >> 8),
+                           static_cast<std::uint8_t>(pixels >> 16), 0};
       if (r.bRequest == kTargetPlatform && data == Bytes{0x01}) {
         link.position = 1;  // a (re)start
         link.running = false;
@@ -198,8 +231,8 @@ void serve_ep0(FunctionFs& ffs, Link& link) {
         link.position = 0;  // closed
         link.running = false;
         link.requests.clear();
-      } else if (link.running && r.bRequest == kStartGetImageTransfer && data == Bytes(count, count + 4)) {
-        link.requests.push_back(seek::kPixels);
+      } else if (link.running && r.bRequest == kStartGetImageTransfer && data == count) {
+        link.requests.push_back(pixels);
         link.changed.notify_all();
       } else if (link.running && r.bRequest == kToggleShutter && data == Bytes{0xFC, 0x00, 0x04, 0x00}) {
       } else {
@@ -226,7 +259,7 @@ void serve_ep0(FunctionFs& ffs, Link& link) {
 class Emulator {
  public:
   Emulator(const Options& o, ConfigfsGadget& gadget, int ep, Link& link)
-      : o_(o), gadget_(gadget), ep_(ep), link_(link), log_(o.log), types_(o.shutter_period) {
+      : o_(o), gadget_(gadget), ep_(ep), link_(link), l_(*link.layout), log_(o.log), types_(o.shutter_period) {
     if (!log_) throw std::runtime_error(o.log + ": cannot write");
   }
 
@@ -252,7 +285,7 @@ class Emulator {
       const std::uint16_t type = types_.next();
       if (type == seek::kShutter) ++epoch;
       if (type != seek::kImage) {
-        Bytes f = seek::make_frame(image, type, counter++, epoch);
+        Bytes f = seek::make_frame(l_, image, type, counter++, epoch);
         if (type == seek::kShutter) shutter = f;
         log_ << "# type " << type << " counter " << counter - 1 << "\n";
         send_chunks(f, f.size());
@@ -260,12 +293,12 @@ class Emulator {
       }
       const Fault fault = plan.at(image);
       if (fault == Fault::frame_id_jump) counter = static_cast<std::uint16_t>(counter + 5000);
-      Bytes f = seek::make_frame(image, type, counter++, epoch);
+      Bytes f = seek::make_frame(l_, image, type, counter++, epoch);
       char line[160];
       const unsigned long long hash = flirone::fnv1a(f);
       // What the host must deliver: this image minus the latest shutter frame (none: 0).
       const unsigned long long delivered =
-          shutter.empty() ? 0 : fnv1a_add_pixels_le(kFnvOffset, seek::expected_image(f, shutter));
+          shutter.empty() ? 0 : fnv1a_add_pixels_le(kFnvOffset, seek::expected_image(l_, f, shutter));
       std::snprintf(line, sizeof line, "frame %llu %s %016llx %u %zu %016llx\n",
                     static_cast<unsigned long long>(image), fault_name(fault), hash,
                     static_cast<unsigned>(counter - 1), f.size(), delivered);
@@ -290,7 +323,7 @@ class Emulator {
 
   void send_chunks(const Bytes& f, std::size_t stop_after) {
     for (std::size_t at = 0; at < stop_after;) {
-      const std::size_t n = std::min<std::size_t>(seek::kChunkBytes, stop_after - at);
+      const std::size_t n = std::min<std::size_t>(l_.chunk_bytes, stop_after - at);
       if (::write(ep_, f.data() + at, n) < 0) {
         log_ << "lost-by-emulator\n";
         return;
@@ -302,20 +335,20 @@ class Emulator {
   void send_with_fault(const Bytes& f, Fault fault) {
     switch (fault) {
       case Fault::short_transfer:
-        send_chunks(f, 2 * seek::kChunkBytes);
+        send_chunks(f, 2 * l_.chunk_bytes);
         (void)::write(ep_, f.data(), 0);  // the zero-length read a host must abort on
         break;
       case Fault::stall:
-        send_chunks(f, seek::kChunkBytes);
+        send_chunks(f, l_.chunk_bytes);
         FunctionFs::halt_in_endpoint(ep_);
         break;
       case Fault::timeout:
-        send_chunks(f, seek::kChunkBytes);
+        send_chunks(f, l_.chunk_bytes);
         std::this_thread::sleep_for(std::chrono::milliseconds(o_.quiet_ms));
         drop_requests();
         break;
       case Fault::disconnect:
-        send_chunks(f, seek::kChunkBytes);
+        send_chunks(f, l_.chunk_bytes);
         gadget_.unbind();
         std::this_thread::sleep_for(std::chrono::milliseconds(200));
         gadget_.bind();
@@ -334,6 +367,7 @@ class Emulator {
   ConfigfsGadget& gadget_;
   int ep_;
   Link& link_;
+  const seek::Layout& l_;
   std::ofstream log_;
   seek::FrameTypes types_;
 };
@@ -347,9 +381,11 @@ int main(int argc, char** argv) {
     const Options o = parse(argc, argv);
     GadgetIdentity id;
     id.vendor_id = seek::kVendor;
-    id.product_id = seek::kCompact;
+    if (o.model != "compact" && o.model != "compactpro") throw std::runtime_error("--model: compact or compactpro");
+    const seek::Layout& layout = o.model == "compact" ? seek::kCompact : seek::kCompactPro;
+    id.product_id = layout.product_id;
     id.manufacturer = "Seek Thermal";
-    id.product = "PIR206 Thermal Camera";
+    id.product = o.model == "compact" ? "PIR206 Thermal Camera" : "Seek Thermal CompactPro (emulated)";
     id.serial = "bolo-hil-emulated";
     ConfigfsGadget gadget(o.name, id);
     gadget.add_function("ffs", o.name);
@@ -357,6 +393,8 @@ int main(int argc, char** argv) {
     ffs.describe({{0xFF, 0xF0, 0, "Seek Thermal", {{true}}}}, true);
     const std::vector<int>& endpoints = ffs.open_endpoints();
     Link link;
+    link.layout = &layout;
+    link.startup = o.model == "compact" ? kCompactStartup : compact_pro_startup();
     std::thread([&] {
       try {
         serve_ep0(ffs, link);

@@ -42,13 +42,14 @@ std::uint16_t FrameTypes::next() {
   return kImage;
 }
 
-Bytes make_frame(std::uint64_t index, std::uint16_t type, std::uint16_t counter, std::uint32_t epoch) {
-  Bytes f(kFrameBytes);
+Bytes make_frame(const Layout& l, std::uint64_t index, std::uint16_t type, std::uint16_t counter,
+                 std::uint32_t epoch) {
+  Bytes f(l.frame_bytes());
   // A drifting warm spot on a gradient with per-pixel hash noise: no two frames or rows alike.
-  const std::uint64_t cx = index % kWidth;
-  const std::uint64_t cy = (index / 2) % kHeight;
-  for (std::uint32_t y = 0; y < kHeight; ++y)
-    for (std::uint32_t x = 0; x < kWidth; ++x) {
+  const std::uint64_t cx = index % l.width;
+  const std::uint64_t cy = (index / 2) % l.height;
+  for (std::uint32_t y = 0; y < l.height; ++y)
+    for (std::uint32_t x = 0; x < l.width; ++x) {
       std::uint64_t v = kShutterLevel;
       if (type == kStartup) {
         v = 8000 + ((x * 7 + y * 13) % 16 == 0 ? 12 : 0);  // mostly 8000: the driver's threshold is 7988
@@ -59,31 +60,32 @@ Bytes make_frame(std::uint64_t index, std::uint16_t type, std::uint16_t counter,
         v = 8000 + 4 * y + (dx * dx + dy * dy < 225 ? 900 : 0) + noise;
       }
       if (type != kStartup) v += offset(x, y, epoch);
-      put(f, y * kWidth + x, static_cast<std::uint16_t>(v));
+      put(f, y * l.width + x, static_cast<std::uint16_t>(v));
     }
   if (type == kStartup)
-    for (const DeadPixel& d : kDeadPixels) put(f, d.y * kWidth + d.x, d.value);
-  put(f, kTypeWord, type);
-  put(f, kCounterWord, counter);
+    for (const DeadPixel& d : l.dead) put(f, d.y * l.width + d.x, d.value);
+  put(f, l.type_word, type);
+  put(f, l.counter_word, counter);
   return f;
 }
 
-std::vector<std::uint16_t> expected_image(const Bytes& image, const Bytes& shutter) {
-  std::vector<std::uint16_t> out(std::size_t{kActiveWidth} * kActiveHeight);
-  for (std::uint32_t y = 0; y < kActiveHeight; ++y)
-    for (std::uint32_t x = 0; x < kActiveWidth; ++x) {
-      const std::uint32_t word = (y + kActiveY) * kWidth + x + kActiveX;
+std::vector<std::uint16_t> expected_image(const Layout& l, const Bytes& image, const Bytes& shutter) {
+  const std::uint32_t w = l.active_width, h = l.active_height;
+  std::vector<std::uint16_t> out(std::size_t{w} * h);
+  for (std::uint32_t y = 0; y < h; ++y)
+    for (std::uint32_t x = 0; x < w; ++x) {
+      const std::uint32_t word = (y + l.active_y) * l.width + x + l.active_x;
       const long v = 0x4000L + get(image, word) - get(shutter, word);
-      out[std::size_t{y} * kActiveWidth + x] = static_cast<std::uint16_t>(std::clamp(v, 0L, 0xFFFFL));
+      out[std::size_t{y} * w + x] = static_cast<std::uint16_t>(std::clamp(v, 0L, 0xFFFFL));
     }
-  for (const DeadPixel& d : kDeadPixels) {
-    const std::uint32_t x = d.x - kActiveX, y = d.y - kActiveY;
-    const std::size_t at = std::size_t{y} * kActiveWidth + x;
+  for (const DeadPixel& d : l.dead) {
+    const std::uint32_t x = d.x - l.active_x, y = d.y - l.active_y;
+    const std::size_t at = std::size_t{y} * w + x;
     std::uint32_t sum = 0, n = 0;
     if (x > 0) sum += out[at - 1], ++n;
-    if (x + 1 < kActiveWidth) sum += out[at + 1], ++n;
-    if (y > 0) sum += out[at - kActiveWidth], ++n;
-    if (y + 1 < kActiveHeight) sum += out[at + kActiveWidth], ++n;
+    if (x + 1 < w) sum += out[at + 1], ++n;
+    if (y > 0) sum += out[at - w], ++n;
+    if (y + 1 < h) sum += out[at + w], ++n;
     out[at] = static_cast<std::uint16_t>(sum / n);
   }
   return out;
