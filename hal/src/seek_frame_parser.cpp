@@ -32,8 +32,7 @@ bool seek_frame_type_known(std::uint16_t type) {
 SeekFrameParser::SeekFrameParser(const SeekModel& model)
     : model_(model),
       bytes_(model.frame_bytes()),
-      words_(model.pixels()),
-      dead_(std::size_t{model.width} * model.image_height()) {}
+      words_(model.pixels()) {}
 
 SeekChunk SeekFrameParser::add_chunk(std::span<const std::uint8_t> chunk) {
   if (chunk.empty()) return SeekChunk::aborted;
@@ -54,15 +53,6 @@ bool SeekFrameParser::parse(std::span<const std::uint8_t> frame, SeekFrameInfo& 
   out.type = words_[model_.type_word];
   out.counter = words_[model_.counter_word];
   out.kind = seek_frame_kind(out.type);
-  const std::size_t image_start = std::size_t{model_.header_rows} * model_.width;
-  const bool startup = out.kind == SeekFrameKind::startup;
-  for (std::size_t i = 0; i < dead_.size(); ++i) {
-    const std::uint16_t v = words_[image_start + i];
-    const bool dead = v == 0x0000 || v == 0xFFFF;
-    out.dead_pixels += dead ? 1u : 0u;
-    if (startup) dead_[i] = dead ? 1 : 0;
-  }
-  if (startup) dead_count_ = out.dead_pixels;
   info = out;
   return true;
 }

@@ -8,19 +8,21 @@ bool ok(const Transfer& t) { return t.status == TransferStatus::ok; }
 }  // namespace
 
 SeekSource::SeekSource(VendorUsbTransport& transport, const SeekModel& model, const SeekSourceConfig& config)
-    : transport_(transport), config_(config), parser_(model), chunk_(model.chunk_bytes) {}
+    : transport_(transport),
+      config_(config),
+      parser_(model),
+      startup_(model),
+      corrector_(model),
+      chunk_(model.chunk_bytes) {}
 
 SeekSource::~SeekSource() {
-  if (started_) {
-    const std::uint8_t idle[2] = {0, 0};
-    transport_.control_out(seek::kSetOperationMode, idle);
-  }
+  if (started_) close_camera();
 }
 
 SourceFormat SeekSource::format() const {
   SourceFormat f;
-  f.width = parser_.model().width;
-  f.height = parser_.model().image_height();
+  f.width = corrector_.crop().width;
+  f.height = corrector_.crop().height;
   f.bits = 16;
   f.frame_period_ns = 1'000'000'000u / parser_.model().max_fps;
   return f;
@@ -32,39 +34,74 @@ ExtraCounters SeekSource::extra_counters() const {
   c.add("calibration_frames", counters_.calibration_frames);
   c.add("startup_frames", counters_.startup_frames);
   c.add("start_failures", counters_.start_failures);
+  c.add("images_before_shutter", counters_.images_before_shutter);
   c.add("counter_jumps", counters_.counter_jumps);
+  c.add("dead_pixels", corrector_.dead_pixels());
   return c;
 }
 
-// The start-up sequence of usb-thermal-cores.md. The factory-settings write/read pairs are not
-// sent: the facts do not give their payloads.
+void SeekSource::close_camera() {
+  for (int i = 0; i < kSeekCloseRepeats; ++i) transport_.control_out(seek::kSetOperationMode, kSeekIdleMode);
+}
+
+TransferStatus SeekSource::send(const SeekControlStep& step) {
+  if (!step.read) return transport_.control_out(step.request, step.data()).status;
+  std::span<std::uint8_t> into{reply_, step.length};
+  if (step.request == seek::kGetFirmwareInfo && step.length == sizeof firmware_) into = firmware_;
+  if (step.request == seek::kReadChipId && step.length == sizeof chip_id_) into = chip_id_;
+  return transport_.control_in(step.request, into).status;
+}
+
+// TARGET_PLATFORM; if refused, the close sequence and TARGET_PLATFORM once more; then the rest,
+// stopping at the first step that fails (as the driver does).
+TransferStatus SeekSource::send_startup_sequence() {
+  const std::span<const SeekControlStep> steps = startup_.steps();
+  TransferStatus s = send(steps[0]);
+  if (s != TransferStatus::ok && s != TransferStatus::disconnected) {
+    close_camera();
+    s = send(steps[0]);
+  }
+  for (std::size_t i = 1; i < steps.size() && s == TransferStatus::ok; ++i) s = send(steps[i]);
+  return s;
+}
+
+// Open as the driver does: the sequence, then the first frame must be the start-up frame (its
+// dead pixels are taken); a frame that does not arrive runs the sequence again, up to
+// kSeekStartAttempts in all. ok, disconnected, error (a step refused, another first frame) or
+// timeout (no start-up frame in any attempt).
 TransferStatus SeekSource::start() {
-  const std::uint8_t platform[1] = {1}, idle[2] = {0, 0}, processing[2] = {8, 0}, run[2] = {1, 0};
-  TransferStatus last = TransferStatus::error;
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    last = transport_.control_out(seek::kTargetPlatform, platform).status;
-    if (last == TransferStatus::disconnected) break;
-    if (last != TransferStatus::ok) {
-      transport_.control_out(seek::kSetOperationMode, idle);  // close, then try once more
+  corrector_.reset();
+  have_counter_ = false;  // a camera that starts counts afresh
+  check_alignment_ = false;
+  for (int attempt = 0; attempt < kSeekStartAttempts; ++attempt) {
+    const TransferStatus sent = send_startup_sequence();
+    if (sent != TransferStatus::ok) {
+      if (sent != TransferStatus::disconnected) ++counters_.start_failures;
+      return sent;
+    }
+    frame_requested_ = false;
+    std::int64_t arrival_ns = 0;
+    Read r = Read::waiting;
+    while (r == Read::waiting) r = read_frame(arrival_ns);
+    if (r == Read::gone) return TransferStatus::disconnected;
+    if (r == Read::lost) {
+      if (!drain()) return TransferStatus::disconnected;
       continue;
     }
-    const TransferStatus steps[] = {
-        transport_.control_out(seek::kSetOperationMode, idle).status,
-        transport_.control_in(seek::kGetFirmwareInfo, firmware_).status,
-        transport_.control_in(seek::kReadChipId, chip_id_).status,
-        transport_.control_out(seek::kSetImageProcessingMode, processing).status,
-        transport_.control_out(seek::kSetOperationMode, run).status};
-    last = TransferStatus::ok;
-    for (TransferStatus s : steps)
-      if (s != TransferStatus::ok && last == TransferStatus::ok) last = s;
-    if (last == TransferStatus::ok) {
-      started_ = true;
-      return last;
+    SeekFrameInfo info;
+    parser_.parse_received(info);
+    if (info.kind != SeekFrameKind::startup) {
+      ++counters_.start_failures;
+      return TransferStatus::error;
     }
-    if (last == TransferStatus::disconnected) break;
+    follow_counter(info);
+    ++counters_.startup_frames;
+    corrector_.take_startup(parser_.words());
+    started_ = true;
+    return TransferStatus::ok;
   }
   ++counters_.start_failures;
-  return last;
+  return TransferStatus::timeout;
 }
 
 bool SeekSource::request_shutter() {
@@ -142,13 +179,19 @@ bool SeekSource::starts_a_frame(const SeekFrameInfo& info) const { return seek_f
 StreamStatus SeekSource::resynchronise() {
   ++stats_.corrupt_transfers;
   ++sequence_;
+  return drain() ? StreamStatus::fault : device_gone();
+}
+
+// Reads and drops what the camera still sends until it is silent (bounded: two frames' worth).
+// False when the device went away meanwhile.
+bool SeekSource::drain() {
   const std::size_t chunks_per_frame = (parser_.model().frame_bytes() + chunk_.size() - 1) / chunk_.size();
   for (std::size_t n = 0; n < 2 * chunks_per_frame; ++n) {
     const Transfer t = transport_.next(chunk_, config_.transfer_timeout_ms);
-    if (t.status == TransferStatus::disconnected) return device_gone();
+    if (t.status == TransferStatus::disconnected) return false;
     if (t.status != TransferStatus::ok) break;  // silent (the wait was the point, not a fault)
   }
-  return StreamStatus::fault;
+  return true;
 }
 
 // Every frame the camera sends (images, shutter and calibration frames) carries the next counter
@@ -188,7 +231,8 @@ StreamStatus SeekSource::stream_frame(fw::LineSink& sink) {
     const TransferStatus s = start();
     if (s == TransferStatus::disconnected) return device_gone();
     if (s != TransferStatus::ok) {
-      ++stats_.corrupt_transfers;  // the camera refused its start-up: no frame this call
+      // A refused step or a wrong first frame; a camera that sent nothing cost its timeouts.
+      if (s == TransferStatus::error) ++stats_.corrupt_transfers;
       return StreamStatus::fault;
     }
   }
@@ -213,13 +257,20 @@ StreamStatus SeekSource::stream_frame(fw::LineSink& sink) {
       case SeekFrameKind::shutter:
         ++counters_.shutter_frames;
         ffc_pending_ = true;
+        corrector_.take_shutter(parser_.words());
         continue;
+      // Only the one at the open gives the dead pixels (as in the driver).
       case SeekFrameKind::startup: ++counters_.startup_frames; continue;
       default: ++counters_.calibration_frames; continue;
     }
+    if (config_.subtract_shutter && !corrector_.has_shutter()) {
+      ++counters_.images_before_shutter;  // the driver too reads on until it has a shutter frame
+      continue;
+    }
+    corrector_.correct(parser_.words(), config_.subtract_shutter);
     fw::FrameHeader header;
-    header.width = parser_.model().width;
-    header.height = parser_.model().image_height();
+    header.width = corrector_.crop().width;
+    header.height = corrector_.crop().height;
     header.sequence = sequence_++;
     header.sequence_valid = true;
     header.timestamp_ns = arrival_ns;
@@ -228,8 +279,7 @@ StreamStatus SeekSource::stream_frame(fw::LineSink& sink) {
     header.ffc = ffc_pending_ ? fw::FfcState::completed : fw::FfcState::none;
     ffc_pending_ = false;
     sink.begin_frame(header);
-    // The image rows lie one after another in the parser's frame: one run.
-    sink.push_lines(0, header.height, parser_.image_row(0).data(), header.width, header.width);
+    sink.push_lines(0, header.height, corrector_.image().data(), header.width, header.width);
     sink.end_frame();
     ++stats_.frames_delivered;
     return StreamStatus::frame;

@@ -479,10 +479,15 @@ std::vector<UsbDeviceEntry> list_known_usb_devices() {
   for (ssize_t i = 0; i < n; ++i) {
     libusb_device_descriptor d{};
     if (libusb_get_device_descriptor(list[i], &d) != 0) continue;
-    for (const Known& k : kKnown)
-      if (k.vid == d.idVendor && k.pid == d.idProduct)
-        out.push_back({d.idVendor, d.idProduct, libusb_get_bus_number(list[i]),
-                       libusb_get_device_address(list[i]), k.what});
+    for (const Known& k : kKnown) {
+      if (k.vid != d.idVendor || k.pid != d.idProduct) continue;
+      std::string what = k.what;
+      for (const SeekModel* m : {&kSeekCompact, &kSeekCompactPro})  // the size usb:seek delivers
+        if (k.vid == kSeekVendorId && k.pid == m->product_id)
+          what += " " + std::to_string(m->crop.width) + "x" + std::to_string(m->crop.height);
+      out.push_back({d.idVendor, d.idProduct, libusb_get_bus_number(list[i]), libusb_get_device_address(list[i]),
+                     what});
+    }
   }
   if (n >= 0) libusb_free_device_list(list, 1);
   libusb_exit(ctx);

@@ -1,7 +1,10 @@
 // HIL test through the project's Seek backend: bolo::hal::SeekSource over LibusbTransport
-// streaming from the Seek Compact emulator. Every delivered 208x156 image must equal, bit for
-// bit and in order, an image frame the emulator sent whole; shutter frames must show up as FFC
-// events, the start-up frame's dead pixels in the dead-pixel map, broken frames in the counters.
+// streaming from the Seek Compact emulator. Every delivered 207x154 image must equal, bit for
+// bit and in order, what the emulator computed for an image frame it sent whole: that frame's
+// active area minus the latest shutter frame sent (0x4000 + image - shutter), its dead pixels
+// filled (seek_frames.hpp, written apart from the HAL). The emulator must have refused no
+// request (its start-up sequence check); shutter frames must show up as FFC events, the
+// start-up frame's dead pixels in the dead-pixel map, broken frames in the counters.
 // On a real camera (no send log to compare with) every image must arrive whole and in sequence:
 // nothing dropped, duplicated, short or corrupt, no disconnect, no timeout once streaming.
 //
@@ -13,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -99,7 +103,7 @@ int stream_real_camera(hal::SeekSource& source, HashingSink& sink, const hal::Se
   expect(st.disconnects == 0, std::to_string(st.disconnects) + " disconnects");
   expect(st.timeouts == startup_timeouts,
          std::to_string(st.timeouts - startup_timeouts) + " timeouts after the first image");
-  expect(source.dead_pixels() < model.width * model.height / 100,
+  expect(source.dead_pixels() < model.crop.pixels() / 100,
          "dead-pixel map marks " + std::to_string(source.dead_pixels()) + " pixels (>= 1 %)");
   std::printf("hil_seek_hal: %s: real Seek %s, %zu images in %.1f s (%.1f/s); shutter frames %llu, dead pixels %u, "
               "start-up timeouts %llu\n",
@@ -108,6 +112,17 @@ int stream_real_camera(hal::SeekSource& source, HashingSink& sink, const hal::Se
               static_cast<unsigned long long>(source.counters().shutter_frames), source.dead_pixels(),
               static_cast<unsigned long long>(startup_timeouts));
   return failures == 0 ? 0 : 1;
+}
+
+// The emulator's "# refused-requests N" line (start-up requests out of order or with a wrong
+// payload); -1 when there is none.
+long refused_requests(const std::string& send_log) {
+  std::ifstream in(send_log);
+  const std::string tag = "# refused-requests ";
+  long refused = -1;
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(tag, 0) == 0) refused = std::stol(line.substr(tag.size()));
+  return refused;
 }
 
 }  // namespace
@@ -198,6 +213,8 @@ int main(int argc, char** argv) {
         break;
       }
     const hal::SourceStats st = source.stats();
+    const long refused = refused_requests(send_log);
+    expect(refused == 0, "the emulator refused " + std::to_string(refused) + " requests (-1: not reported)");
     const std::uint64_t counted = st.timeouts + st.short_transfers + st.corrupt_transfers + st.disconnects;
     expect(counted >= broken, "faults counted " + std::to_string(counted) + " < frames broken " + std::to_string(broken));
     expect(sink.hashes.size() >= min_frames, "fewer than " + std::to_string(min_frames) + " images");
@@ -220,12 +237,13 @@ int main(int argc, char** argv) {
       expect(source.dead_pixels() == want_dead, "dead pixels: got " + std::to_string(source.dead_pixels()) +
                                                     ", want " + std::to_string(want_dead));
     std::printf("hil_seek_hal: %s: SeekSource delivered %zu images in %.1f s (%.0f/s), %llu after FFC; shutter "
-                "frames %llu, dead pixels %u; emulator broke %llu; counted timeouts %llu short %llu corrupt %llu "
+                "frames %llu, dead pixels %u, images before a shutter frame %llu; emulator broke %llu, refused %ld; counted timeouts %llu short %llu corrupt %llu "
                 "disconnects %llu duplicates %llu counter jumps %llu (dropped %llu)\n",
                 failures == 0 ? "PASS" : "FAIL", sink.hashes.size(), seconds,
                 static_cast<double>(sink.hashes.size()) / seconds, static_cast<unsigned long long>(sink.after_ffc),
                 static_cast<unsigned long long>(source.counters().shutter_frames), source.dead_pixels(),
-                static_cast<unsigned long long>(broken), static_cast<unsigned long long>(st.timeouts),
+                static_cast<unsigned long long>(source.counters().images_before_shutter),
+                static_cast<unsigned long long>(broken), refused, static_cast<unsigned long long>(st.timeouts),
                 static_cast<unsigned long long>(st.short_transfers), static_cast<unsigned long long>(st.corrupt_transfers),
                 static_cast<unsigned long long>(st.disconnects), static_cast<unsigned long long>(st.duplicates),
                 static_cast<unsigned long long>(source.counters().counter_jumps),

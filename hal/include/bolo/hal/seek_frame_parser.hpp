@@ -1,14 +1,12 @@
 #pragma once
 // Seek Thermal Compact / CompactPro frames (usb-thermal-cores.md, "Seek Thermal"): assembling a
-// requested frame from bulk chunks, its type and counter, dead pixels. The protocol layer only:
-// no I/O, no exceptions, buffers allocated at construction (board-safe).
+// requested frame from bulk chunks, its type and counter. The protocol layer only: no I/O, no
+// exceptions, buffers allocated at construction (board-safe).
 //
-// A frame is width x height uint16 LE words. The type is word 10 (Compact) or word 2 of the
-// 4-row header (Pro); the counter word 40 (Compact) or word 1 (Pro). Type 3 is an image, 1 a
-// shutter-closed calibration frame (an FFC event), 4 the first frame after start-up: its 0x0000
-// and 0xFFFF pixels are the dead-pixel map. The rows delivered as the image are the rows after
-// the header rows (the Pro's 4; the Compact's metadata words sit inside row 0, which the facts
-// do not place outside the image, so row 0 is delivered as is).
+// A frame is width x height uint16 LE words. The type is word 10 (Compact) or word 2 (Pro); the
+// counter word 40 (Compact) or word 1 (Pro), both in row 0. Type 3 is an image, 1 a
+// shutter-closed calibration frame (an FFC event), 4 the first frame after start-up. The image
+// is the active area (`crop`, the public driver's rectangle); the metadata rows lie outside it.
 
 #include <cstdint>
 #include <span>
@@ -16,22 +14,33 @@
 
 namespace bolo::hal {
 
+enum class SeekFamily : std::uint8_t { compact, compact_pro };  // which start-up sequence
+
+// The active image area inside the raw frame.
+struct SeekCrop {
+  std::uint32_t x, y, width, height;
+  std::uint32_t pixels() const { return width * height; }
+};
+
 struct SeekModel {
   const char* name;
+  SeekFamily family;
   std::uint16_t product_id;
   std::uint32_t width, height;  // the whole frame as transferred
-  std::uint32_t header_rows;    // rows before the image
+  SeekCrop crop;                // what is delivered
   std::uint32_t type_word, counter_word;
   std::uint32_t chunk_bytes;    // bulk read size
   std::uint32_t max_fps;
   std::uint32_t pixels() const { return width * height; }
   std::uint32_t frame_bytes() const { return pixels() * 2; }
-  std::uint32_t image_height() const { return height - header_rows; }
 };
 
 inline constexpr std::uint16_t kSeekVendorId = 0x289d;
-inline constexpr SeekModel kSeekCompact{"compact", 0x0010, 208, 156, 0, 10, 40, 16224, 8};
-inline constexpr SeekModel kSeekCompactPro{"compactpro", 0x0011, 342, 260, 4, 2, 1, 13680, 15};
+// Compact: columns 0..206, rows 1..154; CompactPro: columns 1..320, rows 4..243.
+inline constexpr SeekModel kSeekCompact{"compact", SeekFamily::compact, 0x0010, 208, 156, {0, 1, 207, 154},
+                                        10, 40, 16224, 8};
+inline constexpr SeekModel kSeekCompactPro{"compactpro", SeekFamily::compact_pro, 0x0011, 342, 260,
+                                           {1, 4, 320, 240}, 2, 1, 13680, 15};
 
 enum class SeekFrameKind : std::uint8_t {
   image,                // 3
@@ -60,7 +69,6 @@ struct SeekFrameInfo {
   SeekFrameKind kind = SeekFrameKind::other;
   std::uint16_t type = 0;
   std::uint16_t counter = 0;
-  std::uint32_t dead_pixels = 0;  // 0x0000 / 0xFFFF pixels in this frame's image rows
 };
 
 class SeekFrameParser {
@@ -74,25 +82,18 @@ class SeekFrameParser {
   std::size_t received() const { return have_; }
 
   // Decodes the complete frame (add_chunk returned `complete`), or a frame given whole.
-  // A start-up frame replaces the dead-pixel map. False when `frame` is not exactly one frame.
+  // False when `frame` is not exactly one frame.
   bool parse(std::span<const std::uint8_t> frame, SeekFrameInfo& info);
   bool parse_received(SeekFrameInfo& info) { return parse({bytes_.data(), have_}, info); }
 
-  // The last parsed frame's image rows (header rows excluded), host-endian.
-  std::span<const std::uint16_t> image_row(std::uint32_t row) const {
-    return {&words_[std::size_t{row + model_.header_rows} * model_.width], model_.width};
-  }
-  // 1 = dead, one byte per image pixel, from the last start-up frame (all 0 before one).
-  std::span<const std::uint8_t> dead_map() const { return dead_; }
-  std::uint32_t dead_map_count() const { return dead_count_; }
+  // The last parsed frame, all width x height words (metadata included), host-endian.
+  std::span<const std::uint16_t> words() const { return words_; }
 
  private:
   SeekModel model_;
   std::vector<std::uint8_t> bytes_;
   std::size_t have_ = 0;
   std::vector<std::uint16_t> words_;
-  std::vector<std::uint8_t> dead_;
-  std::uint32_t dead_count_ = 0;
 };
 
 }  // namespace bolo::hal

@@ -1,36 +1,22 @@
 #pragma once
-// Seek Thermal Compact / CompactPro as a FrameSource: the start-up sequence, one frame request
-// per frame, calibration frames consumed (a shutter frame marks the next image as after an FFC,
-// the start-up frame gives the dead-pixel map), images delivered. Runs over a
-// VendorUsbTransport: libusb on a device, a scripted device in tests. Board-safe.
+// Seek Thermal Compact / CompactPro as a FrameSource, driven as the public driver
+// (libseek-thermal) drives it: its start-up sequence (seek_startup.hpp), the start-up frame
+// first (dead pixels), one frame request per frame, the latest shutter frame kept and
+// subtracted from each image, dead pixels filled, the active area delivered (seek_image.hpp).
+// Calibration frames are consumed; a shutter frame marks the next image as after an FFC. Runs
+// over a VendorUsbTransport: libusb on a device, a scripted device in tests. Board-safe.
 
 #include <cstdint>
 #include <vector>
 
 #include "bolo/core/frame_source.hpp"
 #include "bolo/hal/seek_frame_parser.hpp"
+#include "bolo/hal/seek_image.hpp"
+#include "bolo/hal/seek_startup.hpp"
 #include "bolo/hal/usb_transport.hpp"
 
 namespace bolo::hal {
 
-namespace seek {
-// Vendor request codes (usb-thermal-cores.md).
-enum Request : std::uint8_t {
-  kGetErrorCode = 53,
-  kReadChipId = 54,
-  kToggleShutter = 55,
-  kSetOperationMode = 60,
-  kGetOperationMode = 61,
-  kSetImageProcessingMode = 62,
-  kGetFirmwareInfo = 78,
-  kStartGetImageTransfer = 83,
-  kTargetPlatform = 84,
-  kSetFirmwareInfoFeatures = 85,
-  kSetFactorySettingsFeatures = 86,
-  kGetFactorySettings = 88,
-  kResetDevice = 89,
-};
-}  // namespace seek
 
 struct SeekSourceConfig {
   std::uint32_t transfer_timeout_ms = 1000;
@@ -41,13 +27,17 @@ struct SeekSourceConfig {
   std::uint32_t reconnect_timeout_ms = 2000;
   // Frames without an image (boot and calibration frames) before a call gives up with a fault.
   std::uint32_t max_frames_without_image = 64;
+  // Deliver 0x4000 + image - shutter (the driver's output). Off: the raw active area (dead
+  // pixels still filled), delivered from the first image on.
+  bool subtract_shutter = true;
 };
 
 struct SeekCounters {
   std::uint64_t shutter_frames = 0;      // FFC events seen
   std::uint64_t calibration_frames = 0;  // other non-image frames consumed
   std::uint64_t startup_frames = 0;
-  std::uint64_t start_failures = 0;      // start-up sequences that did not complete
+  std::uint64_t start_failures = 0;      // opens that failed (a step refused, no start-up frame)
+  std::uint64_t images_before_shutter = 0;  // consumed: nothing to subtract yet
   // The frame counter moved by other than +1 (a duplicate aside): frames lost on the way (a gap of
   // up to kSeekPlausibleGap also adds to SourceStats::dropped) or a counter surprise.
   std::uint64_t counter_jumps = 0;
@@ -60,7 +50,7 @@ inline constexpr std::uint16_t kSeekPlausibleGap = 64;
 class SeekSource final : public FrameSource {
  public:
   SeekSource(VendorUsbTransport& transport, const SeekModel& model, const SeekSourceConfig& config = {});
-  ~SeekSource() override;  // leaves the camera in operation mode 0
+  ~SeekSource() override;  // the close sequence: the camera left in operation mode 0
   SourceFormat format() const override;
   StreamStatus stream_frame(fw::LineSink& sink) override;
   SourceStats stats() const override { return stats_; }
@@ -70,14 +60,19 @@ class SeekSource final : public FrameSource {
   // Closes the shutter for a calibration (an FFC event the stream then reports).
   bool request_shutter();
   const SeekCounters& counters() const { return counters_; }
-  std::span<const std::uint8_t> dead_map() const { return parser_.dead_map(); }
-  std::uint32_t dead_pixels() const { return parser_.dead_map_count(); }
+  // From the last start-up frame: one byte per active pixel (1 = dead), row by row.
+  std::span<const std::uint8_t> dead_map() const { return corrector_.dead_map(); }
+  std::uint32_t dead_pixels() const { return corrector_.dead_pixels(); }
   std::span<const std::uint8_t> firmware_info() const { return {firmware_, sizeof firmware_}; }
   std::span<const std::uint8_t> chip_id() const { return {chip_id_, sizeof chip_id_}; }
 
  private:
   enum class Read : std::uint8_t { frame, waiting, lost, gone };
   TransferStatus start();
+  TransferStatus send_startup_sequence();
+  TransferStatus send(const SeekControlStep& step);
+  void close_camera();
+  bool drain();
   Transfer request_frame();
   Read read_frame(std::int64_t& arrival_ns);
   Read read_chunks(std::int64_t& arrival_ns);
@@ -90,6 +85,8 @@ class SeekSource final : public FrameSource {
   VendorUsbTransport& transport_;
   SeekSourceConfig config_;
   SeekFrameParser parser_;
+  SeekStartupSequence startup_;
+  SeekImageCorrector corrector_;
   std::vector<std::uint8_t> chunk_;
   bool started_ = false;
   bool connected_ = true;
@@ -102,6 +99,7 @@ class SeekSource final : public FrameSource {
   std::uint16_t previous_counter_ = 0;
   std::uint8_t firmware_[4] = {};
   std::uint8_t chip_id_[12] = {};
+  std::uint8_t reply_[64] = {};  // the other reads of the start-up sequence
   SeekCounters counters_;
   SourceStats stats_;
 };
