@@ -48,7 +48,7 @@ void check_output(const CorrectRequest& o, const fs::path& recording) {
 rec::RecordingInfo corrected_info(const rec::RecordingInfo& input, const CorrectRequest& o, bool live) {
   rec::RecordingInfo info = input;
   std::ostringstream source, notes;
-  source << "bolo correct of " << (live ? "live source " : "") << o.input.string();
+  source << o.tool << " of " << (live ? "live source " : "") << o.input.string();
   if (!input.source.empty()) source << " (source: " << input.source << ")";
   notes << "two-frame ghosting correction (Zhang, Brink, Willis, Eq. 6) with tau_h = "
         << seconds_text(o.tau_h_s) << " s, tau_c = " << seconds_text(o.tau_c_s) << " s";
@@ -61,7 +61,7 @@ rec::RecordingInfo corrected_info(const rec::RecordingInfo& input, const Correct
   if (!input.notes.empty()) notes << ". Original notes: " << input.notes;
   info.source = source.str();
   info.notes = notes.str();
-  nlohmann::json record = {{"tool", "bolo correct"},
+  nlohmann::json record = {{"tool", o.tool},
                            {"version", BOLO_VERSION},
                            {"input", o.input.string()},
                            {"tau_h_s", o.tau_h_s},

@@ -10,6 +10,7 @@
 
 #include "bolo/core/frame_collector.hpp"
 #include "bolo/correct/frame_observer.hpp"
+#include "bolo/core/frame_source.hpp"
 #include "bolo/firmware/pipeline.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/sim/corrector_reference.hpp"
@@ -39,6 +40,9 @@ class Tee final : public fw::LineSink {
   fw::LineSink& b_;
 };
 
+// The firmware pipeline's configuration for frames of `format` with the request's flags.
+fw::PipelineConfig pipeline_config(const Setup& setup, const hal::SourceFormat& format, bool bad_pixels);
+
 class CorrectionChain {
  public:
   // `input` names the recording in errors.
@@ -48,15 +52,20 @@ class CorrectionChain {
 
   // Where the source pushes each frame.
   fw::LineSink& input() { return tee_ ? static_cast<fw::LineSink&>(*tee_) : pipeline_.input(); }
-  // After frame `i` was pushed: appends its corrected pixels to `writer` with `row` and returns
-  // its stats. `timing` holds every frame's.
-  FrameStats finish_frame(std::uint64_t i, const rec::FrameRow& row, std::span<const FrameTiming> timing,
-                          rec::RecordingWriter& writer);
+  // After frame `i` was pushed (with its timing and its predecessor's, none for the first frame):
+  // its stats; with --float the reference has corrected it too.
+  FrameStats finish_frame(std::uint64_t i, const rec::FrameRow& row, const FrameTiming& timing,
+                          const FrameTiming* previous);
+  // The last finished frame as the pipeline corrected it.
+  std::span<const fw::Pixel> pixels() const { return corrected_.pixels(); }
+  // Appends the last finished frame to `writer` with `row`: the pipeline's pixels, or with --float
+  // the reference's.
+  void append(rec::RecordingWriter& writer, const rec::FrameRow& row) const;
 
  private:
   FrameStats pipeline_stats(std::uint64_t i, const FrameTiming& timing);
   // --float: the reference's pixels, gain, carry and saturation replace the pipeline's.
-  void run_reference(std::uint64_t i, const rec::FrameRow& row, std::span<const FrameTiming> timing,
+  void run_reference(const rec::FrameRow& row, const FrameTiming& timing, const FrameTiming* previous,
                      FrameStats& s);
 
   const CorrectRequest& request_;

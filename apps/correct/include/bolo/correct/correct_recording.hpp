@@ -34,6 +34,7 @@ struct CorrectRequest {
   std::optional<double> nominal_fps;           // frame rate for gap detection; default: learned
   std::optional<std::uint64_t> frames;         // at most this many; required for a camera that streams on
   std::uint64_t max_faults = 50;               // a live source's faulted frames in a row before giving up
+  std::string tool = "bolo correct";           // the command recording.json names (source, correction.tool)
 };
 
 struct CorrectResult {
@@ -48,6 +49,10 @@ struct CorrectResult {
 // Runs the correction; the observers see every frame in order. Errors name the flag, file, frame
 // or field (flags as the command line spells them).
 CorrectResult correct_recording(const CorrectRequest& request, std::span<FrameObserver* const> observers);
+
+// The request's flags alone (tau, exposure, readout, nominal fps, frames), as correct_recording
+// checks them before anything is opened; throws Error naming the flag.
+void check_flags(const CorrectRequest& request);
 
 // The seconds as the messages print them (%.9g).
 std::string seconds_text(double seconds);
