@@ -12,8 +12,8 @@ class RecordingSink final : public FrameSink {
   RecordingSink(const std::filesystem::path& dir, const SinkSetup& setup)
       : writer_(dir, setup.info, {setup.overwrite}) {}
   void write(std::span<const std::uint16_t> frame, const rec::FrameRow& row) override { writer_.append(frame, row); }
-  void add_file(const std::filesystem::path& relative, std::string contents) override {
-    writer_.add_file(relative, std::move(contents));
+  void add_file(const std::filesystem::path& relative, const std::string& contents) override {
+    writer_.add_file(relative, contents);
   }
   void finish() override { writer_.commit(); }
 

@@ -38,10 +38,7 @@ class FrameSink {
   // SinkError naming the sink when it cannot take it.
   virtual void write(std::span<const std::uint16_t> frame, const rec::FrameRow& row) = 0;
   // A file beside the frames (capture.json); only a recording keeps one.
-  virtual void add_file(const std::filesystem::path& relative, std::string contents) {
-    (void)relative;
-    (void)contents;
-  }
+  virtual void add_file(const std::filesystem::path& /*relative*/, const std::string& /*contents*/) {}
   // After the last frame: a recording is committed (renamed into place; destroyed without it,
   // nothing is left), a stream flushed.
   virtual void finish() = 0;
