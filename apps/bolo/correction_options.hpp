@@ -1,6 +1,6 @@
 #pragma once
 // The correction's options, which `bolo correct` and `bolo run` share: --tau-h, --tau-c,
-// --exposure, --readout, --bad-pixels, --nominal-fps, --max-faults.
+// --exposure, --readout, --nuc, --bad-pixels, --nominal-fps, --max-faults.
 
 #include <functional>
 

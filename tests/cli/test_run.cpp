@@ -273,3 +273,56 @@ TEST_CASE("run: SIGINT or SIGTERM mid-run leaves a whole, valid recording and ex
   CHECK(entries(tmp.path()) ==
         std::set<std::string>{"rec", "corrected", "ran-SIGINT", "ran-SIGTERM", "stdout", "stderr"});
 }
+
+TEST_CASE("correct and run: --nuc applies each pixel's gain and offset first", "[cli][run][nuc]") {
+  TempDir tmp;
+  SmallRecording::write(tmp / "rec");
+  // The same recording with every pixel 10 counts higher: what a NUC of gain 1, offset 10 makes.
+  {
+    rec::Recording source(tmp / "rec");
+    rec::RecordingWriter writer(tmp / "rec+10", source.info());
+    for (std::uint64_t i = 0; i < source.frame_count(); ++i) {
+      std::vector<std::uint16_t> frame = read_u16_frame(source, i);
+      for (std::uint16_t& p : frame) p = static_cast<std::uint16_t>(p + 10);
+      writer.append(frame, source.rows()[i]);
+    }
+    writer.commit();
+  }
+  constexpr std::uint64_t kW = SmallRecording::kWidth, kH = SmallRecording::kHeight;
+  const auto write_nuc = [&](const std::string& name, std::vector<std::uint64_t> shape, float gain, float offset) {
+    std::vector<float> planes(shape[0] * shape[1] * shape[2], offset);
+    std::fill(planes.begin(), planes.begin() + static_cast<std::ptrdiff_t>(shape[1] * shape[2]), gain);
+    std::ofstream(tmp / name, std::ios::binary) << rec::encode_npy_f4(shape, planes);
+    return (tmp / name).string();
+  };
+  const std::string nuc = write_nuc("nuc.npy", {2, kH, kW}, 1.0F, 10.0F);
+  const std::string rec = (tmp / "rec").string();
+  for (const bool float_output : {false, true}) {
+    INFO("--float " << float_output);
+    const std::vector<std::string> flt = float_output ? std::vector<std::string>{"--float"} : std::vector<std::string>{};
+    const std::string suffix = float_output ? "-float" : "";
+    REQUIRE(run_bolo(with(with({"correct", rec, (tmp / ("nuc-out" + suffix)).string(), "--nuc", nuc, "--no-progress"},
+                               kTiming), flt)).code == 0);
+    REQUIRE(run_bolo(with(with({"correct", (tmp / "rec+10").string(), (tmp / ("plus-out" + suffix)).string(),
+                                "--no-progress"}, kTiming), flt)).code == 0);
+    CHECK(read_text(tmp / ("nuc-out" + suffix) / "frames.npy") == read_text(tmp / ("plus-out" + suffix) / "frames.npy"));
+  }
+  REQUIRE(bolo_run("file:" + rec, "recording:" + (tmp / "run-out").string(), {"--nuc", nuc}).code == 0);
+  CHECK(read_text(tmp / "run-out" / "frames.npy") == read_text(tmp / "plus-out" / "frames.npy"));
+  CHECK(nlohmann::json::parse(read_text(tmp / "run-out" / "recording.json")).at("correction").at("nuc") == nuc);
+  // Refusals name the flag, the file and the pixel; nothing is written.
+  const std::string wide = write_nuc("wide.npy", {2, kH, kW + 1}, 1.0F, 0.0F);
+  CHECK(contains(refused(with({"run", "--device", "file:" + rec, "--sink", "recording:" + (tmp / "x").string(),
+                               "--nuc", wide}, kTiming)),
+                 "--nuc " + wide + ": shape (2, 16, 25), expected (2, 16, 24): each pixel's gain, then its offset"));
+  const std::string hot = write_nuc("hot.npy", {2, kH, kW}, 5.0F, 0.0F);
+  CHECK(contains(refused(with({"correct", rec, (tmp / "x").string(), "--nuc", hot}, kTiming)),
+                 "--nuc " + hot + ": gain at pixel (0, 0): 5 is outside 0 .. 3.99994 (the firmware's Q2.14)"));
+  const std::string far = write_nuc("far.npy", {2, kH, kW}, 1.0F, 40000.0F);
+  CHECK(contains(refused(with({"correct", rec, (tmp / "x").string(), "--nuc", far}, kTiming)),
+                 "--nuc " + far + ": offset at pixel (0, 0): 40000 is outside -32768 .. 32767 counts"));
+  const std::string missing = (tmp / "none.npy").string();
+  CHECK(contains(refused(with({"correct", rec, (tmp / "x").string(), "--nuc", missing}, kTiming)),
+                 "--nuc " + missing + ": cannot open"));
+  CHECK_FALSE(fs::exists(tmp / "x"));
+}

@@ -55,6 +55,7 @@ rec::RecordingInfo corrected_info(const rec::RecordingInfo& input, const Correct
   const char* timing = live ? "the source gives none" : "frames.csv has none";
   if (o.exposure_s) notes << ", exposure " << seconds_text(*o.exposure_s) << " s where " << timing;
   if (o.readout_s) notes << ", readout " << seconds_text(*o.readout_s) << " s where " << timing;
+  if (o.nuc) notes << ", NUC (gain, offset) from " << o.nuc->string();
   if (o.bad_pixels) notes << ", bad pixels replaced";
   notes << (o.float_output ? "; float32 output of the double-precision reference"
                            : "; uint16 output of the fixed-point firmware pipeline");
@@ -70,6 +71,7 @@ rec::RecordingInfo corrected_info(const rec::RecordingInfo& input, const Correct
                            {"bad_pixels", o.bad_pixels}};
   record["exposure_s"] = o.exposure_s ? nlohmann::json(*o.exposure_s) : nlohmann::json(nullptr);
   record["readout_s"] = o.readout_s ? nlohmann::json(*o.readout_s) : nlohmann::json(nullptr);
+  if (o.nuc) record["nuc"] = o.nuc->string();
   if (live) record["live"] = true;
   info.extra["correction"] = record;
   return info;

@@ -7,6 +7,14 @@
 namespace bolo::correct {
 namespace {
 
+fw::PipelineConfig with_nuc(fw::PipelineConfig config, const NucFile& nuc) {
+  if (!nuc.gain_q14.empty()) {
+    config.use_nuc = true;
+    config.nuc = nuc.tables();
+  }
+  return config;
+}
+
 double q24(std::uint32_t value) {
   return std::ldexp(static_cast<double>(value), -int{fw::kCoefficientFractionBits});
 }
@@ -33,10 +41,12 @@ CorrectionChain::CorrectionChain(const fw::PipelineConfig& config, const Correct
                                  std::string input)
     : request_(request),
       input_name_(std::move(input)),
-      arena_(fw::Pipeline::arena_pixels(config)),
+      nuc_(request.nuc ? read_nuc_file(*request.nuc, config.corrector.width, config.corrector.height) : NucFile{}),
+      config_(with_nuc(config, nuc_)),
+      arena_(fw::Pipeline::arena_pixels(config_)),
       corrected_storage_(fw::FrameCollector::storage_pixels(config.corrector.width, config.corrector.height)),
       corrected_(config.corrector.width, config.corrector.height, corrected_storage_),
-      pipeline_(config, arena_, corrected_),
+      pipeline_(config_, arena_, corrected_),
       raw_storage_(fw::FrameCollector::storage_pixels(config.corrector.width, config.corrector.height)),
       raw_(config.corrector.width, config.corrector.height, raw_storage_) {
   if (!request.float_output) return;
@@ -46,6 +56,11 @@ CorrectionChain::CorrectionChain(const fw::PipelineConfig& config, const Correct
     float_bad_storage_.resize(fw::BadPixelStage::storage_pixels(width, height));
     float_bad_pixels_.emplace(config.bad_pixels, float_bad_storage_, raw_);
     reference_input = &*float_bad_pixels_;
+  }
+  if (config_.use_nuc) {  // in front of the bad pixels, as in the pipeline
+    float_nuc_storage_.resize(fw::NucStage::storage_pixels(width));
+    float_nuc_.emplace(width, height, config_.nuc, float_nuc_storage_, *reference_input);
+    reference_input = &*float_nuc_;
   }
   tee_.emplace(pipeline_.input(), *reference_input);
   std::optional<double> nominal_period_s;

@@ -15,6 +15,7 @@
 #include "bolo/recording/recording.hpp"
 #include "bolo/sim/corrector_reference.hpp"
 #include "frame_timing.hpp"
+#include "nuc_file.hpp"
 
 namespace bolo::correct {
 
@@ -70,6 +71,8 @@ class CorrectionChain {
 
   const CorrectRequest& request_;
   std::string input_name_;
+  NucFile nuc_;                  // --nuc: the tables config_ points at
+  fw::PipelineConfig config_;
   std::vector<fw::Pixel> arena_, corrected_storage_;
   fw::FrameCollector corrected_;
   fw::Pipeline pipeline_;
@@ -77,6 +80,8 @@ class CorrectionChain {
   fw::FrameCollector raw_;
   std::vector<fw::Pixel> float_bad_storage_;
   std::optional<fw::BadPixelStage> float_bad_pixels_;
+  std::vector<fw::Pixel> float_nuc_storage_;
+  std::optional<fw::NucStage> float_nuc_;
   std::optional<sim::ReferenceCorrector> reference_;
   std::optional<Tee> tee_;
   std::vector<double> reference_out_;

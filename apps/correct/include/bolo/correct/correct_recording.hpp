@@ -30,6 +30,7 @@ struct CorrectRequest {
   bool float_output = false;         // float32 frames.npy from the double-precision reference
   bool overwrite = false;
   bool bad_pixels = false;
+  std::optional<std::filesystem::path> nuc;    // per-pixel gain and offset applied first (nuc_file.hpp)
   std::optional<std::filesystem::path> stats;  // per-frame statistics CSV
   std::optional<double> nominal_fps;           // frame rate for gap detection; default: learned
   std::optional<std::uint64_t> frames;         // at most this many; required for a camera that streams on
