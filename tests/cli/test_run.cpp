@@ -82,6 +82,15 @@ TEST_CASE("run: the real FLIR ONE transfer log into a recording equals bolo corr
   CHECK(raw.out == npy_payload(tmp / "corrected" / "frames.npy"));
 }
 
+TEST_CASE("run: the real lepton3-possum recording (file:) into a recording equals bolo correct's",
+          "[cli][run][real]") {
+  const fs::path dir = shared_recording("lepton3-possum");
+  if (dir.empty()) return;
+  TempDir tmp;
+  run_equals_correct("file:" + dir.string(), tmp);
+  CHECK(rec::Recording(tmp / "ran").frame_count() == 160);
+}
+
 TEST_CASE("run: a transfer log with a fault, into a recording and to raw:-", "[cli][run]") {
   TempDir tmp;
   write_flirone_log(tmp / "log", 10, {5});
