@@ -18,6 +18,8 @@
 
 #include "../hal/flirone_frames.hpp"
 #include "bolo/hal/frame_sink.hpp"
+#include "bolo/hal/source_registry.hpp"
+#include "bolo/run/run_pipeline.hpp"
 #include "cli_test_support.hpp"
 
 extern char** environ;
@@ -168,6 +170,45 @@ TEST_CASE("run: the v4l2 sink refuses what is not a V4L2 output device, naming i
   setup.info.height = 16;
   CHECK_THROWS_WITH(hal::open_sink("v4l2:" + file, setup), "v4l2:" + file + ": " + file + ": not a V4L2 device");
   CHECK(entries(tmp.path()) == std::set<std::string>{"rec", "plain-file"});
+}
+
+// A camera that has stopped sending: every attempt times out.
+class SilentSource final : public hal::FrameSource {
+ public:
+  hal::SourceFormat format() const override { return {.width = 4, .height = 2}; }
+  hal::StreamStatus stream_frame(fw::LineSink&) override {
+    ++stats_.timeouts;
+    return hal::StreamStatus::fault;
+  }
+  hal::SourceStats stats() const override { return stats_; }
+
+ private:
+  hal::SourceStats stats_;
+};
+
+TEST_CASE("run: a stop asked for while the source times out ends the run, nothing written", "[cli][run][signal]") {
+  hal::SourceBackend silent;
+  silent.scheme = "silent-test";
+  silent.summary = "a camera that sends nothing (tests)";
+  silent.open = [](const std::string&, const hal::SourceOptions&) {
+    return std::make_unique<hal::OpenedSource>(std::make_unique<SilentSource>(), "silent");
+  };
+  hal::register_source(silent);
+  TempDir tmp;
+  run::RunRequest request;
+  request.input = "silent-test";
+  request.sink = "recording:" + (tmp / "out").string();
+  request.tau_h_s = request.tau_c_s = 0.012;
+  int asked = 0;
+  std::ostringstream out, status;
+  // The stop comes after a few timeouts, long before --max-faults (50) would give up.
+  const run::RunResult result =
+      run::run_pipeline(request, {}, out, status, [&asked] { return ++asked > 3 ? SIGINT : 0; });
+  CHECK(result.stopped_by == SIGINT);
+  CHECK(result.correction.frames == 0);
+  CHECK(result.correction.skipped == 3);
+  CHECK_FALSE(result.written);
+  CHECK(entries(tmp.path()).empty());
 }
 
 TEST_CASE("run: help names the sinks, the raw format and a GStreamer pipeline", "[cli][run][help]") {

@@ -80,6 +80,7 @@ SourceCorrection::Next SourceCorrection::next() {
   const hal::FrameReader::Result r = m.reader.next(m.stamp);
   if (r == hal::FrameReader::Result::ended) return Next::ended;
   if (r == hal::FrameReader::Result::gave_up) return Next::gave_up;
+  if (r == hal::FrameReader::Result::stopped) return Next::stopped;
   const std::uint64_t i = m.frames;
   const FrameTiming* previous = i == 0 ? nullptr : &m.previous_timing;
   if (i != 0) m.previous_timing = m.timing;
@@ -91,6 +92,8 @@ SourceCorrection::Next SourceCorrection::next() {
   ++m.frames;
   return Next::frame;
 }
+
+void SourceCorrection::set_stop(std::function<bool()> stop) { impl_->reader.set_stop(std::move(stop)); }
 
 std::span<const std::uint16_t> SourceCorrection::pixels() const { return impl_->chain.pixels(); }
 const rec::FrameRow& SourceCorrection::row() const { return impl_->row; }

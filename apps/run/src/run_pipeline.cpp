@@ -85,6 +85,8 @@ RunResult run_pipeline(const RunRequest& request, std::span<correct::FrameObserv
     fail("--sink ", e.what());
   }
   const bool recording_sink = sink_spec.backend.scheme == "recording";
+  // A stop asked for while the source is silent (a camera that stopped sending) ends the run too.
+  correction.set_stop([&stop_requested] { return stop_requested() != 0; });
 
   RunResult result;
   for (correct::FrameObserver* observer : observers) observer->on_begin(request.frames.value_or(0));
@@ -94,6 +96,7 @@ RunResult run_pipeline(const RunRequest& request, std::span<correct::FrameObserv
   while (!request.frames || correction.frames() < *request.frames) {
     if ((result.stopped_by = stop_requested()) != 0) break;
     const correct::SourceCorrection::Next next = correction.next();
+    if (next == correct::SourceCorrection::Next::stopped) break;
     if (next == correct::SourceCorrection::Next::ended) {
       result.source_ended = true;
       break;

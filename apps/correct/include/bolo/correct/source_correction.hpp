@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -29,11 +30,12 @@ class SourceCorrection {
   SourceCorrection(const SourceCorrection&) = delete;
   SourceCorrection& operator=(const SourceCorrection&) = delete;
 
-  enum class Next { frame, ended, gave_up };
+  enum class Next { frame, ended, gave_up, stopped };
   // Reads and corrects the next whole frame: `frame`; `ended` when the source has no more;
-  // `gave_up` after more than request.max_faults faulted frames in a row. Throws Error when a
-  // frame's timing cannot be corrected.
+  // `gave_up` after more than request.max_faults faulted frames in a row; `stopped` when `stop`
+  // (set_stop) said so after a faulted frame. Throws Error when a frame's timing cannot be corrected.
   Next next();
+  void set_stop(std::function<bool()> stop);
 
   // The last corrected frame: the pipeline's pixels, its frames.csv row, its stats, and when its
   // first line arrived from the source (the frame's dequeue).
