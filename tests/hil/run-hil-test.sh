@@ -70,6 +70,11 @@ export BOLO_HIL_UVC_FRAMES="${BOLO_HIL_UVC_FRAMES:-$clean_frames}"
 if grep -q "usb_f_uvc bulk build" "$scenario"; then
   "$repo/toolchain/vm/uvc-gadget.sh" "$arch" >/dev/null || echo "run-hil-test: uvc-gadget build failed; the UVC scenario will skip" >&2
 fi
+# v4l2loopback for `bolo run --sink v4l2:` (uvc.sh), built once and cached; without it that step
+# skips.
+if grep -q "v4l2loopback" "$scenario"; then
+  "$repo/toolchain/vm/v4l2loopback.sh" "$arch" >/dev/null || echo "run-hil-test: v4l2loopback build failed; the bolo run step will skip" >&2
+fi
 args=(--arch "$arch" --scenario "$scenario")
 [ -n "$capture" ] && args+=(--file "$capture")
 # The recording made from the same capture, for `bolo capture` to reproduce in the VM.
