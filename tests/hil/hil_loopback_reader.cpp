@@ -8,6 +8,7 @@
 // Reads until no frame came for --idle-ms (3000) after the first one; passes when at least N
 // frames were read and every one matched.
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
