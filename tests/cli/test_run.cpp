@@ -177,6 +177,7 @@ class SilentSource final : public hal::FrameSource {
  public:
   hal::SourceFormat format() const override { return {.width = 4, .height = 2}; }
   hal::StreamStatus stream_frame(fw::LineSink&) override {
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));  // a device's timeout, shortened
     ++stats_.timeouts;
     return hal::StreamStatus::fault;
   }
@@ -186,7 +187,7 @@ class SilentSource final : public hal::FrameSource {
   hal::SourceStats stats_;
 };
 
-TEST_CASE("run: a stop asked for while the source times out ends the run, nothing written", "[cli][run][signal]") {
+TEST_CASE("run: a source that times out still reports each second, and a stop ends the run, nothing written", "[cli][run][signal]") {
   hal::SourceBackend silent;
   silent.scheme = "silent-test";
   silent.summary = "a camera that sends nothing (tests)";
@@ -207,6 +208,8 @@ TEST_CASE("run: a stop asked for while the source times out ends the run, nothin
   CHECK(result.stopped_by == SIGINT);
   CHECK(result.correction.frames == 0);
   CHECK(result.correction.skipped == 3);
+  // Silent for over a second: a status line all the same.
+  CHECK(contains(status.str(), "run 1 s: 0.0 fps, no frame, faults 3, carry-over breaks 0 (0 frames)"));
   CHECK_FALSE(result.written);
   CHECK(entries(tmp.path()).empty());
 }

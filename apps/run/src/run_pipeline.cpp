@@ -85,14 +85,18 @@ RunResult run_pipeline(const RunRequest& request, std::span<correct::FrameObserv
     fail("--sink ", e.what());
   }
   const bool recording_sink = sink_spec.backend.scheme == "recording";
-  // A stop asked for while the source is silent (a camera that stopped sending) ends the run too.
-  correction.set_stop([&stop_requested] { return stop_requested() != 0; });
 
   RunResult result;
   for (correct::FrameObserver* observer : observers) observer->on_begin(request.frames.value_or(0));
   const Clock::time_point start = Clock::now();
   RunStatus run_status(status, start);
   RealTimePace pace;
+  // A source that has gone silent still gets its status line, and a stop asked for meanwhile ends
+  // the run.
+  correction.set_stop([&] {
+    run_status.on_fault(correction.skipped(), Clock::now());
+    return stop_requested() != 0;
+  });
   while (!request.frames || correction.frames() < *request.frames) {
     if ((result.stopped_by = stop_requested()) != 0) break;
     const correct::SourceCorrection::Next next = correction.next();

@@ -40,18 +40,26 @@ void RunStatus::on_frame(const correct::FrameStats& stats, Clock::duration laten
   ++total_frames_;
   breaks_ += stats.carry_over != fw::CarryOver::applied;
   latencies_.push_back(latency);
+  report_if_due(skipped_total, now);
+}
+
+void RunStatus::on_fault(std::uint64_t skipped_total, Clock::time_point now) { report_if_due(skipped_total, now); }
+
+void RunStatus::report_if_due(std::uint64_t skipped_total, Clock::time_point now) {
   const Clock::duration elapsed = now - second_start_;
   if (elapsed < std::chrono::seconds(1)) return;
-  const auto middle = latencies_.begin() + static_cast<std::ptrdiff_t>(latencies_.size() / 2);
-  std::nth_element(latencies_.begin(), middle, latencies_.end());
-  const Clock::duration median = *middle;
-  const Clock::duration max = *std::max_element(latencies_.begin(), latencies_.end());
+  std::string latency = "no frame";
+  if (!latencies_.empty()) {
+    const auto middle = latencies_.begin() + static_cast<std::ptrdiff_t>(latencies_.size() / 2);
+    std::nth_element(latencies_.begin(), middle, latencies_.end());
+    latency = "latency median " + milliseconds_text(*middle) + " max " +
+              milliseconds_text(*std::max_element(latencies_.begin(), latencies_.end()));
+  }
   char fps[32];
   std::snprintf(fps, sizeof fps, "%.1f", static_cast<double>(frames_) / std::chrono::duration<double>(elapsed).count());
-  out_ << "run " << std::chrono::duration_cast<std::chrono::seconds>(now - start_).count() << " s: " << fps
-       << " fps, latency median " << milliseconds_text(median) << " max " << milliseconds_text(max) << ", faults "
-       << skipped_total - skipped_at_start_ << ", carry-over breaks " << breaks_ << " (" << total_frames_
-       << " frames)" << std::endl;
+  out_ << "run " << std::chrono::duration_cast<std::chrono::seconds>(now - start_).count() << " s: " << fps << " fps, "
+       << latency << ", faults " << skipped_total - skipped_at_start_ << ", carry-over breaks " << breaks_ << " ("
+       << total_frames_ << " frames)" << std::endl;
   second_start_ = now;
   latencies_.clear();
   frames_ = breaks_ = 0;

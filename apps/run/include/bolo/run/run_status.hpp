@@ -38,8 +38,12 @@ class RunStatus {
   // the second's line when a second has passed since the previous one.
   void on_frame(const correct::FrameStats& stats, Clock::duration latency, std::uint64_t skipped_total,
                 Clock::time_point now);
+  // After a faulted frame: the same, so that a source that has gone silent still reports.
+  void on_fault(std::uint64_t skipped_total, Clock::time_point now);
 
  private:
+  void report_if_due(std::uint64_t skipped_total, Clock::time_point now);
+
   std::ostream& out_;
   Clock::time_point start_, second_start_;
   std::vector<Clock::duration> latencies_;  // this second's
