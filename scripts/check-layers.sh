@@ -5,7 +5,7 @@
 #   1  bolo_core
 #   2  firmware stages (bolo_firmware, bolo_vo) | HAL board parts (bolo_hal, bolo_hal_raw,
 #      bolo_hal_faults, bolo_hal_protocols, bolo_recording): neither side depends on the other
-#   3  host HAL (bolo_hal_devices, bolo_hal_player, bolo_hal_sources)
+#   3  host HAL (bolo_hal_devices, bolo_hal_player, bolo_hal_sources, bolo_hal_sinks)
 #   4  sim libraries (bolo_sim, bolo_scene, bolo_effects, bolo_diagnose, bolo_odometry)
 #   5  any other target: the CLI, benchmarks, tests, fuzz targets, firmware/examples
 # Imported targets (a::b) and library files are outside the project and not checked; a new
@@ -35,7 +35,7 @@ awk '
     if (t == "bolo_core") return 1
     if (t == "bolo_firmware" || t == "bolo_vo") return 2
     if (t ~ /^bolo_hal(_raw|_faults|_protocols)?$/ || t == "bolo_recording") return 2
-    if (t ~ /^bolo_hal_(devices|player|sources)$/) return 3
+    if (t ~ /^bolo_hal_(devices|player|sources|sinks)$/) return 3
     if (t ~ /^bolo_(sim|scene|effects|diagnose|odometry)$/) return 4
     if (t ~ /::|^\/|^-/) return -1  # imported targets, library files, flags: not the project'"'"'s
     return 5

@@ -22,7 +22,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                                            add_render_command(app), add_simulate_command(app),
                                            add_capture_command(app), add_devices_command(app),
                                            add_diagnose_command(app), add_odometry_command(app),
-                                           add_evaluate_command(app)};
+                                           add_evaluate_command(app), add_run_command(app, err)};
     app.footer(kExitCodesHelp);  // after the commands: each has its own footer
     // CLI11 would only say "A subcommand is required" for a mistyped command: name it.
     if (argc > 1 && argv[1][0] != '-') {

@@ -6,6 +6,7 @@
 
 #include "bolo/commands.hpp"
 #include "bolo/correct/correction_summary.hpp"
+#include "bolo/correction_options.hpp"
 #include "bolo/errors.hpp"
 #include "bolo/progress.hpp"
 #include "bolo/registry.hpp"
@@ -45,9 +46,6 @@ int run_correct(const CorrectOptions& options, std::ostream& out) {
 
 Command add_correct_command(CLI::App& parent) {
   auto o = std::make_shared<CorrectOptions>();
-  auto exposure = std::make_shared<double>(0.0);
-  auto readout = std::make_shared<double>(0.0);
-  auto nominal_fps = std::make_shared<double>(0.0);
   auto stats = std::make_shared<std::string>();
   auto frames = std::make_shared<std::uint64_t>(0);
   CLI::App* app = add_command(
@@ -74,35 +72,20 @@ Command add_correct_command(CLI::App& parent) {
       ->required();
   app->add_option("OUT", o->output, "Output recording folder (must not exist unless --overwrite)")
       ->required();
-  app->add_option("--tau-h", o->tau_h_s, "Heating time constant tau_h, seconds (e.g. 0.012)")
-      ->required();
-  app->add_option("--tau-c", o->tau_c_s, "Cooling time constant tau_c, seconds (e.g. 0.012)")
-      ->required();
-  CLI::Option* exposure_opt = app->add_option(
-      "--exposure", *exposure, "Exposure (heating) time t_e, seconds, for frames with an empty exposure_s");
-  CLI::Option* readout_opt = app->add_option(
-      "--readout", *readout, "Readout (cooling) time t_r, seconds, for frames with an empty readout_s");
+  const std::function<void()> take_correction_options = add_correction_options(*app, *o);
   app->add_flag("--float", o->float_output,
                 "Write float32 frames.npy computed by the double-precision reference instead");
   app->add_flag("--overwrite", o->overwrite, "Replace OUT (and the --stats file) if they exist");
-  app->add_flag("--bad-pixels", o->bad_pixels,
-                "Replace stuck pixels (reading the 0 or 2^bits-1 rail) by the mean of their 3x3 neighbours first");
   CLI::Option* stats_opt = app->add_option(
       "--stats", *stats,
       "Write per-frame statistics CSV: frame, carry_over reason, coefficient status, gain, carry\n"
       "coefficient (a*g), saturated low/high pixel counts, bad pixels replaced");
-  CLI::Option* fps_opt = app->add_option(
-      "--nominal-fps", *nominal_fps,
-      "Frame rate for time-gap detection (default: learned from the recent t_s intervals)");
   app->add_option("--frames", *frames, "Correct at most N frames (required for a camera that streams on)")
       ->check(CLI::PositiveNumber);
-  app->add_option("--max-faults", o->max_faults, "A live source's faulted frames in a row before giving up (default 50)");
   app->add_flag("--no-progress", [o](std::int64_t) { o->progress = false; },
                 "Never draw the progress bar (it is drawn only when stderr is a terminal)");
   return {app, [=](std::ostream& out) {
-            if (exposure_opt->count()) o->exposure_s = *exposure;
-            if (readout_opt->count()) o->readout_s = *readout;
-            if (fps_opt->count()) o->nominal_fps = *nominal_fps;
+            take_correction_options();
             if (stats_opt->count()) o->stats = fs::path(*stats);
             if (*frames != 0) o->frames = *frames;
             return run_correct(*o, out);

@@ -47,5 +47,7 @@ Command add_devices_command(CLI::App& parent);   // cmd_devices.cpp
 Command add_diagnose_command(CLI::App& parent);  // cmd_diagnose.cpp
 Command add_odometry_command(CLI::App& parent);  // cmd_odometry.cpp
 Command add_evaluate_command(CLI::App& parent);  // cmd_evaluate.cpp
+// Its status lines and summary go to `err`: its stdout may carry frames (raw:-).
+Command add_run_command(CLI::App& parent, std::ostream& err);  // cmd_run.cpp
 
 }  // namespace bolo::cli

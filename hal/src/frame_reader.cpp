@@ -45,6 +45,7 @@ FrameReader::Result FrameReader::next(fw::LineSink& sink) {
     }
     ++skipped_;
     if (++in_a_row > max_faults_) return Result::gave_up;
+    if (stop_ && stop_()) return Result::stopped;
   }
 }
 

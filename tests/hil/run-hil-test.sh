@@ -70,6 +70,12 @@ export BOLO_HIL_UVC_FRAMES="${BOLO_HIL_UVC_FRAMES:-$clean_frames}"
 if grep -q "usb_f_uvc bulk build" "$scenario"; then
   "$repo/toolchain/vm/uvc-gadget.sh" "$arch" >/dev/null || echo "run-hil-test: uvc-gadget build failed; the UVC scenario will skip" >&2
 fi
+# v4l2loopback for `bolo run --sink v4l2:` (uvc.sh), built once and cached; without it that step
+# skips. x86-64 only: the arm64 VM checks what differs by architecture, and the loopback's V4L2
+# path is the one uvcvideo's step there already takes (its cross build is untried).
+if [ "$arch" = x86_64 ] && grep -q "v4l2loopback" "$scenario"; then
+  "$repo/toolchain/vm/v4l2loopback.sh" "$arch" >/dev/null || echo "run-hil-test: v4l2loopback build failed; the bolo run step will skip" >&2
+fi
 args=(--arch "$arch" --scenario "$scenario")
 [ -n "$capture" ] && args+=(--file "$capture")
 # The recording made from the same capture, for `bolo capture` to reproduce in the VM.

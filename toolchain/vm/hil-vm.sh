@@ -83,6 +83,12 @@ if [ -n "$extra_gpio_sim" ]; then
   cp "$extra_gpio_sim" "$root/lib/modules/"
   echo gpio-sim.ko >>"$root/etc/modules"
 fi
+# v4l2loopback (toolchain/vm/v4l2loopback.sh), where built: its one dependency, videodev, is
+# packed above (uvcvideo's).
+if [ -f "$cache/$arch/v4l2loopback/v4l2loopback.ko" ]; then
+  cp "$cache/$arch/v4l2loopback/v4l2loopback.ko" "$root/lib/modules/"
+  echo v4l2loopback.ko >>"$root/etc/modules"
+fi
 
 # Programs, data and the shared libraries the programs need.
 for f in "${files[@]}"; do cp -r "$f" "$root/hil/"; done

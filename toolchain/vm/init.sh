@@ -15,6 +15,8 @@ for m in $(cat /etc/modules); do
   # of memory).
   case "$m" in
     vivid.ko) args="n_devs=1 node_types=0x1 input_types=0x0" ;;
+    # One loopback node at a fixed number, for `bolo run --sink v4l2:/dev/video42` (uvc.sh).
+    v4l2loopback.ko) args="devices=1 video_nr=42 max_buffers=8" ;;
     *) args="" ;;
   esac
   insmod "/lib/modules/$m" $args || echo "HIL-WARN insmod $m failed"

@@ -11,10 +11,9 @@
 #include <cstdio>
 #include <vector>
 
-#include "bolo/hal/frame_reader.hpp"
+#include "bolo/correct/source_correction.hpp"
 #include "bolo/hal/recording_player.hpp"
 #include "bolo/hal/source_registry.hpp"
-#include "bolo/recording/frame_row_header.hpp"
 #include "corrected_output.hpp"
 #include "correction_chain.hpp"
 #include "fail.hpp"
@@ -25,29 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-// The flags, checked and in the firmware's units.
-struct Setup {
-  fw::TimeConstants tau;
-  Defaults exposure, readout;
-  std::uint32_t nominal_period_ns = 0;
-};
-
-fw::PipelineConfig pipeline_config(const Setup& setup, const hal::SourceFormat& format, bool bad_pixels) {
-  fw::PipelineConfig config;
-  config.corrector.width = format.width;
-  config.corrector.height = format.height;
-  config.corrector.tau = setup.tau;
-  config.corrector.default_exposure_ns = setup.exposure.ns;
-  config.corrector.default_readout_ns = setup.readout.ns;
-  config.corrector.nominal_frame_period_ns = setup.nominal_period_ns;
-  config.use_bad_pixels = bad_pixels;
-  const std::uint32_t bits = format.bits;
-  config.bad_pixels.stuck_high = static_cast<fw::Pixel>(bits >= 16 || bits == 0 ? 0xFFFFu : (1u << bits) - 1u);
-  config.bad_pixels.width = format.width;
-  config.bad_pixels.height = format.height;
-  return config;
-}
 
 // Stats first (atomic), then the recording; if the commit fails, the stats go too.
 void commit(const CorrectRequest& o, const std::vector<FrameStats>& stats, rec::RecordingWriter& writer) {
@@ -103,7 +79,8 @@ CorrectResult correct_recording_folder(const CorrectRequest& o, const Setup& set
   for (std::uint64_t i = 0; i < timing.size(); ++i) {
     if (source->stream_frame(chain.input()) != hal::StreamStatus::frame)
       fail(o.input.string(), ": frame ", i, ": the player delivered no frame");
-    const FrameStats s = chain.finish_frame(i, recording.rows()[i], timing, writer);
+    const FrameStats s = chain.finish_frame(i, recording.rows()[i], timing[i], i == 0 ? nullptr : &timing[i - 1]);
+    chain.append(writer, recording.rows()[i]);
     if (!scene.empty()) {
       player.read_scene(i, scene);
       writer.append_scene(scene);
@@ -119,7 +96,7 @@ CorrectResult correct_recording_folder(const CorrectRequest& o, const Setup& set
 
 // A live source: what it knows of itself goes into recording.json, its fault counters into
 // capture.json (as `bolo capture` writes them); frames.csv from each frame's header.
-CorrectResult correct_live_source(const CorrectRequest& o, const Setup& setup, const hal::SourceSpec& spec,
+CorrectResult correct_live_source(const CorrectRequest& o, const hal::SourceSpec& spec,
                                   std::span<FrameObserver* const> observers) {
   const std::string name = o.input.string();
   if (!spec.backend.finite && !o.frames) fail("--frames: required for a live camera (", name, ")");
@@ -130,39 +107,35 @@ CorrectResult correct_live_source(const CorrectRequest& o, const Setup& setup, c
   } catch (const hal::SourceError& e) {
     fail(e.what());
   }
-  CorrectionChain chain(pipeline_config(setup, source->format(), o.bad_pixels), o, name);
-  rec::RecordingInfo info = hal::recording_info_of(*source);
-  info.notes = "t_s from the device's clock, relative to the first frame";
-  rec::RecordingWriter writer(o.output, corrected_info(info, o, true),
+  SourceCorrection correction(o, *source);
+  rec::RecordingWriter writer(o.output, correction.corrected_info(),
                               {o.overwrite, o.float_output ? rec::DType::f4 : rec::DType::u2});
-  hal::FrameReader reader(*source, o.max_faults);
-  rec::RowClock clock;
-  std::vector<FrameTiming> timing;
   std::vector<FrameStats> stats;
   for (FrameObserver* observer : observers) observer->on_begin(o.frames.value_or(0));
   const auto start = Clock::now();
-  for (std::uint64_t i = 0; !o.frames || i < *o.frames; ++i) {
-    const hal::FrameReader::Result r = reader.next(chain.input());
-    if (r == hal::FrameReader::Result::ended) break;
-    if (r == hal::FrameReader::Result::gave_up)
-      fail(name, ": gave up after ", o.max_faults, " faults in a row, ", i, " frames corrected, nothing written (",
-           hal::fault_text(*source), ")");
-    timing.push_back(timing_from_header(reader.header(), setup.exposure, setup.readout, name, i));
-    check_coefficients_at(timing, i, setup.tau, o, name, "frame header");
-    deliver(observers, chain.finish_frame(i, clock.row(reader.header(), i), timing, writer), stats);
+  while (!o.frames || correction.frames() < *o.frames) {
+    const SourceCorrection::Next next = correction.next();
+    if (next == SourceCorrection::Next::ended) break;
+    if (next == SourceCorrection::Next::gave_up)
+      fail(name, ": gave up after ", o.max_faults, " faults in a row, ", correction.frames(),
+           " frames corrected, nothing written (", correction.faults(), ")");
+    correction.append(writer);
+    deliver(observers, correction.stats(), stats);
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  if (timing.empty()) fail(name, ": delivered no frames, nothing written");
-  writer.add_file("capture.json", hal::source_record(name, *source, clock.not_increasing()).dump(2) + "\n");
+  if (correction.frames() == 0) fail(name, ": delivered no frames, nothing written");
+  writer.add_file("capture.json", correction.capture_json());
   commit(o, stats, writer);
-  CorrectResult result{timing.size(), seconds};
+  CorrectResult result{correction.frames(), seconds};
   result.live = true;
-  result.faults = hal::fault_text(*source);
-  result.skipped = reader.skipped();
+  result.faults = correction.faults();
+  result.skipped = correction.skipped();
   return result;
 }
 
 }  // namespace
+
+void check_flags(const CorrectRequest& request) { (void)checked_setup(request); }
 
 std::string seconds_text(double seconds) {
   char buffer[64];
@@ -173,16 +146,7 @@ std::string seconds_text(double seconds) {
 CorrectResult correct_recording(const CorrectRequest& request, std::span<FrameObserver* const> observers) {
   CorrectRequest o = request;
   if (!o.output.empty() && !o.output.has_filename()) o.output = o.output.parent_path();  // "out/"
-  Setup setup;
-  setup.tau = {flag_ns("--tau-h", o.tau_h_s), flag_ns("--tau-c", o.tau_c_s)};
-  if (o.exposure_s) setup.exposure = {o.exposure_s, flag_ns("--exposure", *o.exposure_s)};
-  if (o.readout_s) setup.readout = {o.readout_s, flag_ns("--readout", *o.readout_s)};
-  if (o.nominal_fps) {
-    if (!std::isfinite(*o.nominal_fps) || !(*o.nominal_fps > 0.25) || *o.nominal_fps > 1e6)
-      fail("--nominal-fps ", seconds_text(*o.nominal_fps), ": must be a frame rate between 0.25 and 1e6");
-    setup.nominal_period_ns = static_cast<std::uint32_t>(std::lround(1e9 / *o.nominal_fps));
-  }
-  if (o.frames && *o.frames == 0) fail("--frames 0: must be at least 1");
+  const Setup setup = checked_setup(o);
   hal::SourceSpec spec;
   try {
     spec = hal::parse_source_spec(o.input.string());
@@ -190,7 +154,7 @@ CorrectResult correct_recording(const CorrectRequest& request, std::span<FrameOb
     fail(e.what());
   }
   if (spec.backend.scheme == "file") return correct_recording_folder(o, setup, observers);
-  return correct_live_source(o, setup, spec, observers);
+  return correct_live_source(o, spec, observers);
 }
 
 }  // namespace bolo::correct

@@ -48,20 +48,21 @@ void check_output(const CorrectRequest& o, const fs::path& recording) {
 rec::RecordingInfo corrected_info(const rec::RecordingInfo& input, const CorrectRequest& o, bool live) {
   rec::RecordingInfo info = input;
   std::ostringstream source, notes;
-  source << "bolo correct of " << (live ? "live source " : "") << o.input.string();
+  source << o.tool << " of " << (live ? "live source " : "") << o.input.string();
   if (!input.source.empty()) source << " (source: " << input.source << ")";
   notes << "two-frame ghosting correction (Zhang, Brink, Willis, Eq. 6) with tau_h = "
         << seconds_text(o.tau_h_s) << " s, tau_c = " << seconds_text(o.tau_c_s) << " s";
   const char* timing = live ? "the source gives none" : "frames.csv has none";
   if (o.exposure_s) notes << ", exposure " << seconds_text(*o.exposure_s) << " s where " << timing;
   if (o.readout_s) notes << ", readout " << seconds_text(*o.readout_s) << " s where " << timing;
+  if (o.nuc) notes << ", NUC (gain, offset) from " << o.nuc->string();
   if (o.bad_pixels) notes << ", bad pixels replaced";
   notes << (o.float_output ? "; float32 output of the double-precision reference"
                            : "; uint16 output of the fixed-point firmware pipeline");
   if (!input.notes.empty()) notes << ". Original notes: " << input.notes;
   info.source = source.str();
   info.notes = notes.str();
-  nlohmann::json record = {{"tool", "bolo correct"},
+  nlohmann::json record = {{"tool", o.tool},
                            {"version", BOLO_VERSION},
                            {"input", o.input.string()},
                            {"tau_h_s", o.tau_h_s},
@@ -70,6 +71,7 @@ rec::RecordingInfo corrected_info(const rec::RecordingInfo& input, const Correct
                            {"bad_pixels", o.bad_pixels}};
   record["exposure_s"] = o.exposure_s ? nlohmann::json(*o.exposure_s) : nlohmann::json(nullptr);
   record["readout_s"] = o.readout_s ? nlohmann::json(*o.readout_s) : nlohmann::json(nullptr);
+  if (o.nuc) record["nuc"] = o.nuc->string();
   if (live) record["live"] = true;
   info.extra["correction"] = record;
   return info;

@@ -10,10 +10,12 @@
 
 #include "bolo/core/frame_collector.hpp"
 #include "bolo/correct/frame_observer.hpp"
+#include "bolo/core/frame_source.hpp"
 #include "bolo/firmware/pipeline.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/sim/corrector_reference.hpp"
 #include "frame_timing.hpp"
+#include "nuc_file.hpp"
 
 namespace bolo::correct {
 
@@ -39,6 +41,9 @@ class Tee final : public fw::LineSink {
   fw::LineSink& b_;
 };
 
+// The firmware pipeline's configuration for frames of `format` with the request's flags.
+fw::PipelineConfig pipeline_config(const Setup& setup, const hal::SourceFormat& format, bool bad_pixels);
+
 class CorrectionChain {
  public:
   // `input` names the recording in errors.
@@ -48,19 +53,26 @@ class CorrectionChain {
 
   // Where the source pushes each frame.
   fw::LineSink& input() { return tee_ ? static_cast<fw::LineSink&>(*tee_) : pipeline_.input(); }
-  // After frame `i` was pushed: appends its corrected pixels to `writer` with `row` and returns
-  // its stats. `timing` holds every frame's.
-  FrameStats finish_frame(std::uint64_t i, const rec::FrameRow& row, std::span<const FrameTiming> timing,
-                          rec::RecordingWriter& writer);
+  // After frame `i` was pushed (with its timing and its predecessor's, none for the first frame):
+  // its stats; with --float the reference has corrected it too.
+  FrameStats finish_frame(std::uint64_t i, const rec::FrameRow& row, const FrameTiming& timing,
+                          const FrameTiming* previous);
+  // The last finished frame as the pipeline corrected it.
+  std::span<const fw::Pixel> pixels() const { return corrected_.pixels(); }
+  // Appends the last finished frame to `writer` with `row`: the pipeline's pixels, or with --float
+  // the reference's.
+  void append(rec::RecordingWriter& writer, const rec::FrameRow& row) const;
 
  private:
   FrameStats pipeline_stats(std::uint64_t i, const FrameTiming& timing);
   // --float: the reference's pixels, gain, carry and saturation replace the pipeline's.
-  void run_reference(std::uint64_t i, const rec::FrameRow& row, std::span<const FrameTiming> timing,
+  void run_reference(const rec::FrameRow& row, const FrameTiming& timing, const FrameTiming* previous,
                      FrameStats& s);
 
   const CorrectRequest& request_;
   std::string input_name_;
+  NucFile nuc_;                  // --nuc: the tables config_ points at
+  fw::PipelineConfig config_;
   std::vector<fw::Pixel> arena_, corrected_storage_;
   fw::FrameCollector corrected_;
   fw::Pipeline pipeline_;
@@ -68,6 +80,8 @@ class CorrectionChain {
   fw::FrameCollector raw_;
   std::vector<fw::Pixel> float_bad_storage_;
   std::optional<fw::BadPixelStage> float_bad_pixels_;
+  std::vector<fw::Pixel> float_nuc_storage_;
+  std::optional<fw::NucStage> float_nuc_;
   std::optional<sim::ReferenceCorrector> reference_;
   std::optional<Tee> tee_;
   std::vector<double> reference_out_;

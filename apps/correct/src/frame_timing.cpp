@@ -18,6 +18,20 @@ std::uint32_t flag_ns(const char* flag, double seconds) {
   return static_cast<std::uint32_t>(ns);
 }
 
+Setup checked_setup(const CorrectRequest& o) {
+  Setup setup;
+  setup.tau = {flag_ns("--tau-h", o.tau_h_s), flag_ns("--tau-c", o.tau_c_s)};
+  if (o.exposure_s) setup.exposure = {o.exposure_s, flag_ns("--exposure", *o.exposure_s)};
+  if (o.readout_s) setup.readout = {o.readout_s, flag_ns("--readout", *o.readout_s)};
+  if (o.nominal_fps) {
+    if (!std::isfinite(*o.nominal_fps) || !(*o.nominal_fps > 0.25) || *o.nominal_fps > 1e6)
+      fail("--nominal-fps ", seconds_text(*o.nominal_fps), ": must be a frame rate between 0.25 and 1e6");
+    setup.nominal_period_ns = static_cast<std::uint32_t>(std::lround(1e9 / *o.nominal_fps));
+  }
+  if (o.frames && *o.frames == 0) fail("--frames 0: must be at least 1");
+  return setup;
+}
+
 namespace {
 
 // One timing field of one frame: the cell's value wins, the flag fills in where the cell is empty
@@ -82,16 +96,17 @@ FrameTiming timing_from_header(const fw::FrameHeader& header, const Defaults& ex
   return t;
 }
 
-void check_coefficients_at(std::span<const FrameTiming> timing, std::size_t i, fw::TimeConstants tau,
-                           const CorrectRequest& o, const std::string& where, const char* field) {
+void check_coefficients_at(const FrameTiming* previous, const FrameTiming& current, std::uint64_t frame,
+                           fw::TimeConstants tau, const CorrectRequest& o, const std::string& where,
+                           const char* field) {
   fw::CorrectorCoefficients c;
   const fw::CoefficientStatus status =
-      i == 0 ? fw::compute_gain_only(tau, timing[i].exposure_ns, c)
-             : fw::compute_coefficients(tau, timing[i].exposure_ns, timing[i - 1].readout_ns, c);
+      previous == nullptr ? fw::compute_gain_only(tau, current.exposure_ns, c)
+                          : fw::compute_coefficients(tau, current.exposure_ns, previous->readout_ns, c);
   if (status == fw::CoefficientStatus::ok) return;
   std::ostringstream what;
-  what << where << ": frame " << i << ": no usable coefficients (" << fw::to_string(status) << ") for exposure "
-       << seconds_text(timing[i].exposure_s) << " s (" << (timing[i].exposure_from_flag ? "--exposure" : field)
+  what << where << ": frame " << frame << ": no usable coefficients (" << fw::to_string(status) << ") for exposure "
+       << seconds_text(current.exposure_s) << " s (" << (current.exposure_from_flag ? "--exposure" : field)
        << ") with --tau-h " << seconds_text(o.tau_h_s) << " --tau-c " << seconds_text(o.tau_c_s);
   if (status == fw::CoefficientStatus::gain_out_of_range)
     what << ": exposure / tau_h must be at least ~0.004 (gain 1/(1-exp(-t_e/tau_h)) below 256)";
@@ -101,7 +116,7 @@ void check_coefficients_at(std::span<const FrameTiming> timing, std::size_t i, f
 void check_coefficients(const std::vector<FrameTiming>& timing, fw::TimeConstants tau,
                         const CorrectRequest& o, const fs::path& csv) {
   for (std::size_t i = 0; i < timing.size(); ++i)
-    check_coefficients_at(timing, i, tau, o, csv.string(), "field exposure_s");
+    check_coefficients_at(i == 0 ? nullptr : &timing[i - 1], timing[i], i, tau, o, csv.string(), "field exposure_s");
 }
 
 }  // namespace bolo::correct

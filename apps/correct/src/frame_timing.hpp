@@ -31,6 +31,15 @@ struct Defaults {
 // A time given on the command line, as firmware nanoseconds: finite, > 0, within uint32 ns.
 std::uint32_t flag_ns(const char* flag, double seconds);
 
+// The request's flags, checked and in the firmware's units.
+struct Setup {
+  fw::TimeConstants tau;
+  Defaults exposure, readout;
+  std::uint32_t nominal_period_ns = 0;
+};
+// Throws Error naming the flag (--tau-h, --exposure, --nominal-fps, --frames) as typed.
+Setup checked_setup(const CorrectRequest& request);
+
 // Per frame: the frames.csv value (as the player's header has it) wins, the flag fills in.
 std::vector<FrameTiming> resolve_timing(const rec::Recording& recording,
                                         std::span<const fw::FrameHeader> headers,
@@ -44,9 +53,10 @@ FrameTiming timing_from_header(const fw::FrameHeader& header, const Defaults& ex
 
 void check_coefficients(const std::vector<FrameTiming>& timing, fw::TimeConstants tau,
                         const CorrectRequest& request, const std::filesystem::path& csv);
-// Frame i's coefficients (with frame i-1's readout); errors name `where` and, for a value not
-// from a flag, `field` ("field exposure_s").
-void check_coefficients_at(std::span<const FrameTiming> timing, std::size_t i, fw::TimeConstants tau,
-                           const CorrectRequest& request, const std::string& where, const char* field);
+// Frame `frame`'s coefficients (with the previous frame's readout; none for the first frame);
+// errors name `where` and, for a value not from a flag, `field` ("field exposure_s").
+void check_coefficients_at(const FrameTiming* previous, const FrameTiming& current, std::uint64_t frame,
+                           fw::TimeConstants tau, const CorrectRequest& request, const std::string& where,
+                           const char* field);
 
 }  // namespace bolo::correct

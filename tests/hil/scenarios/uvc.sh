@@ -8,7 +8,8 @@
 # duplicate, silence; 4) unplug/replug (2 % of 300 frames); 5) where the CLI is built and the
 # recording is there: `bolo capture --device v4l2:/dev/videoN` of the recording played once must
 # hold exactly its pixels; 6) the real-camera check (`hil_uvc_hal --real`, no send log): passes a
-# clean stream, fails one with short frames.
+# clean stream, fails one with short frames; 7) where v4l2loopback is built, `bolo run` from the
+# camera into it, read back bit for bit against `bolo correct` of the recording.
 # BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 3000 on x86-64, 2000 on arm64; 10000 for the endurance run) sets the clean run's length; the fault
 # run streams a quarter of it.
 # device: v4l2
@@ -100,6 +101,39 @@ if [ -x ./bolo ] && [ -n "$recording" ]; then
   fi
   touch "/tmp/$name.finished"
   wait $emulator
+  echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+fi
+# 7) `bolo run` from the emulated camera into a v4l2loopback output node (/dev/video42,
+# toolchain/vm/v4l2loopback.sh), read back through its capture side by hil_loopback_reader: every
+# frame read equals, bit for bit, the frame `bolo correct` makes of the recording with the same
+# flags (--nominal-fps 0.26: no time-gap breaks from the VM's jitter); then SIGINT stops the run,
+# which must exit 0.
+if [ -x ./bolo ] && [ -x ./hil_loopback_reader ] && [ -n "$recording" ]; then
+  name=uvc_run_loopback
+  echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
+  if [ ! -e /dev/video42 ]; then
+    echo "HIL-STEP $name: no v4l2loopback node /dev/video42 (toolchain/vm/v4l2loopback.sh not built): skipped"
+  else
+    flags="--tau-h 0.012 --tau-c 0.012 --exposure 0.01 --readout 0.1 --nominal-fps 0.26"
+    ./bolo correct ./lepton3-possum /tmp/expected $flags --no-progress >/dev/null || failed=1
+    ./uvc_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" --done "/tmp/$name.done" \
+      --finished "/tmp/$name.finished" $recording --frames 160 --fps 9 &
+    emulator=$!
+    node=""
+    for i in $(seq 100); do node="$(host_node)" && break; sleep 0.1; done
+    if [ -z "$node" ]; then
+      echo "HIL-STEP $name: no uvcvideo node of the emulator"; failed=1
+    else
+      ./bolo run --device "v4l2:$node" --sink v4l2:/dev/video42 $flags 2>"/tmp/$name.err" &
+      runner=$!
+      ./hil_loopback_reader --device /dev/video42 --expected /tmp/expected --min-frames 120 || failed=1
+      kill -INT $runner
+      wait $runner || { echo "HIL-STEP $name: bolo run did not exit 0 after SIGINT"; failed=1; }
+      cat "/tmp/$name.err"
+    fi
+    touch "/tmp/$name.finished"
+    wait $emulator
+  fi
   echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
 fi
 exit $failed

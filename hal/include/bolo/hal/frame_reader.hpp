@@ -6,6 +6,7 @@
 // Host code.
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -19,7 +20,7 @@ namespace bolo::hal {
 
 class FrameReader {
  public:
-  enum class Result { frame, ended, gave_up };
+  enum class Result { frame, ended, gave_up, stopped };
 
   FrameReader(FrameSource& source, std::uint64_t max_faults) : source_(source), max_faults_(max_faults) {}
 
@@ -27,6 +28,9 @@ class FrameReader {
   // `gave_up` after more than max_faults faulted or incomplete frames in a row. A skipped frame
   // may have left part of itself in `sink` (a stage then sees an incomplete predecessor).
   Result next(fw::LineSink& sink);
+  // Asked after each faulted frame: true makes `next` return `stopped` instead of trying again (a
+  // stop requested while a silent camera times out). Unset: never.
+  void set_stop(std::function<bool()> stop) { stop_ = std::move(stop); }
   // The header of the last frame `next` delivered.
   const fw::FrameHeader& header() const { return tracker_.header; }
   std::uint64_t frames() const { return frames_; }
@@ -49,6 +53,7 @@ class FrameReader {
 
   FrameSource& source_;
   std::uint64_t max_faults_;
+  std::function<bool()> stop_;
   Tracker tracker_;
   std::uint64_t frames_ = 0, skipped_ = 0;
 };

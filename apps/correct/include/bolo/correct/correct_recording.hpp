@@ -30,10 +30,12 @@ struct CorrectRequest {
   bool float_output = false;         // float32 frames.npy from the double-precision reference
   bool overwrite = false;
   bool bad_pixels = false;
+  std::optional<std::filesystem::path> nuc;    // per-pixel gain and offset applied first (nuc_file.hpp)
   std::optional<std::filesystem::path> stats;  // per-frame statistics CSV
   std::optional<double> nominal_fps;           // frame rate for gap detection; default: learned
   std::optional<std::uint64_t> frames;         // at most this many; required for a camera that streams on
   std::uint64_t max_faults = 50;               // a live source's faulted frames in a row before giving up
+  std::string tool = "bolo correct";           // the command recording.json names (source, correction.tool)
 };
 
 struct CorrectResult {
@@ -48,6 +50,10 @@ struct CorrectResult {
 // Runs the correction; the observers see every frame in order. Errors name the flag, file, frame
 // or field (flags as the command line spells them).
 CorrectResult correct_recording(const CorrectRequest& request, std::span<FrameObserver* const> observers);
+
+// The request's flags alone (tau, exposure, readout, nominal fps, frames), as correct_recording
+// checks them before anything is opened; throws Error naming the flag.
+void check_flags(const CorrectRequest& request);
 
 // The seconds as the messages print them (%.9g).
 std::string seconds_text(double seconds);

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Builds v4l2loopback.ko for the HIL VM's kernel out of tree (Debian's kernel does not ship it),
+# cached in $BOLO_HIL_CACHE/<arch>/v4l2loopback/v4l2loopback.ko, which hil-vm.sh then packs and
+# loads (one device, /dev/video42: `bolo run --sink v4l2:` writes it, a V4L2 capture reads it).
+# Sources: Debian's v4l2loopback-dkms package (apt-get download, nothing installed), built
+# against the matching linux-headers/kbuild packages unpacked into the cache as for gpio-sim.
+#
+# For aarch64 the module is cross-built (kernel-cache.sh: hil_module_make_args).
+#
+#   v4l2loopback.sh [x86_64|aarch64]
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+arch="${1:-x86_64}"
+cache="${BOLO_HIL_CACHE:-$HOME/.cache/bolo-hil}"
+# shellcheck source=kernel-cache.sh
+source "$here/kernel-cache.sh"
+hil_module_make_args "$arch" || exit 2
+kernel_dir="$(hil_kernel_dir "$arch" "$cache")"
+kver="$(cat "$kernel_dir/version")"  # e.g. 6.1.0-56-amd64
+out="$cache/$arch/v4l2loopback"
+if [ -f "$out/v4l2loopback.ko" ] && [ "$(cat "$out/kver" 2>/dev/null)" = "$kver" ]; then
+  echo "$out/v4l2loopback.ko"
+  exit 0
+fi
+
+root="$cache/$arch/kbuild-v4l2loopback-$kver"
+rm -rf "$root" "$out"
+mkdir -p "$root" "$out"
+headers="$(hil_kbuild_tree "$arch" "$cache" "$kver" "$root")"
+rm -f "$root"/usr/src/linux-source-*.tar.xz  # not needed here
+hil_fetch_deb v4l2loopback-dkms "$root/dkms" "$cache" >&2
+src="$(ls -d "$root"/dkms/usr/src/v4l2loopback-*/ | head -1)"
+[ -f "$src/v4l2loopback.c" ] || { echo "v4l2loopback: no v4l2loopback.c in the v4l2loopback-dkms package" >&2; exit 1; }
+cp "$src"/*.c "$src"/*.h "$out/"
+printf 'obj-m := v4l2loopback.o\n' >"$out/Kbuild"
+make -s -C "$headers" M="$out" "${HIL_MAKE_ARGS[@]}" modules >&2
+echo "$kver" >"$out/kver"
+rm -rf "$root"  # the unpacked headers/kbuild; the .debs stay in the cache
+echo "$out/v4l2loopback.ko"
