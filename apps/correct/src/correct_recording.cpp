@@ -91,7 +91,10 @@ CorrectResult correct_recording_folder(const CorrectRequest& o, const Setup& set
   if (recording.camera()) writer.set_camera(*recording.camera());
   if (fs::exists(dir / "poses.tum")) writer.add_file("poses.tum", read_whole_file(dir / "poses.tum"));
   commit(o, stats, writer);
-  return {timing.size(), seconds};
+  CorrectResult result;
+  result.frames = timing.size();
+  result.seconds = seconds;
+  return result;
 }
 
 // A live source: what it knows of itself goes into recording.json, its fault counters into
@@ -126,7 +129,9 @@ CorrectResult correct_live_source(const CorrectRequest& o, const hal::SourceSpec
   if (correction.frames() == 0) fail(name, ": delivered no frames, nothing written");
   writer.add_file("capture.json", correction.capture_json());
   commit(o, stats, writer);
-  CorrectResult result{correction.frames(), seconds};
+  CorrectResult result;
+  result.frames = correction.frames();
+  result.seconds = seconds;
   result.live = true;
   result.faults = correction.faults();
   result.skipped = correction.skipped();
