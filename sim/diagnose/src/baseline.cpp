@@ -149,13 +149,20 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   // a factor of the gain, held at tau_c; otherwise it is searched for (below).
   const bool fit_tau_h = exposure_varies(d);
   double tau_c = 0.012, tau_h = 0.012;
+  // With the timing varying from frame to frame the searches score with the timing shift in the
+  // model (fit_sse_with_shift): there a tau_c standing in for motion shows as a global offset
+  // fluctuation. With one timing throughout they score on gain and offset, as before: the shift
+  // then only trades with tau_c within the transients, and the refit after a finding, compared
+  // over every pixel (stuck ones included), is sensitive to the small change in tau_c.
+  const bool timing_varies = fit_tau_h || varies(d.readout_s);
+  auto sse = [&] { return timing_varies ? fit_sse_with_shift(d, sim, use) : fit_gain_offset(d, sim, use).sse; };
   auto cost = [&](double log_tau) {
     two_frame(d, std::exp(log_tau), fit_tau_h ? tau_h : std::exp(log_tau), sim);
-    return fit_sse_with_shift(d, sim, use);
+    return sse();
   };
   auto cost_tau_h = [&](double log_tau_h) {
     two_frame(d, tau_c, std::exp(log_tau_h), sim);
-    return fit_sse_with_shift(d, sim, use);
+    return sse();
   };
   // Pixels far off the model (stuck, dead) would pull gain and tau: a first fit at a typical
   // tau finds them, and the fit proper leaves them out (they stay in the data for dead_pixels).
