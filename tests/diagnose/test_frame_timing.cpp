@@ -82,16 +82,19 @@ TEST_CASE("simulate refuses a timing jitter outside 0..0.1", "[diagnose][timing]
   }
 }
 
-TEST_CASE("motion within the exposure does not pull tau_c when the timing is jittered", "[diagnose][timing]") {
-  // Written here, not by `bolo simulate`: a smooth pattern panning 0.6 pixels a frame, sampled at
-  // 8 sub-steps within each exposure and integrated with the pixel's response (the two-frame
-  // model of ../shared/docs/diagnosis.md with the input varying within the exposure), exposure
-  // and readout jittered by 0.3 % and logged. Motion within the exposure reads a little late, and
-  // a shorter tau_c (less carry from the frame before) reads late too: the tau search must score
-  // with the timing shift in the model, or tau_c comes out short and the readout's jitter leaves
-  // a global offset fluctuation behind.
-  constexpr int W = 64, H = 48, N = 150, K = 8;
-  constexpr double tau_h = 0.011, tau_c = 0.011, te0 = 0.012, tr0 = 1.0 / 30 - te0, jitter = 0.003;
+namespace {
+
+// Written here, not by `bolo simulate`: a smooth pattern panning 0.6 pixels a frame, sampled at
+// 8 sub-steps within each exposure and integrated with the pixel's response (the two-frame model
+// of ../shared/docs/diagnosis.md with the input varying within the exposure), exposure and
+// readout jittered by 0.3 % and logged, white noise of 1 count. `stuck` pixels keep their first
+// reading.
+constexpr int kPanW = 64, kPanH = 48, kPanN = 150;
+constexpr double kPanTau = 0.011;
+
+fs::path write_panning_recording(const TempDir& tmp, const std::string& name, const std::set<std::size_t>& stuck = {}) {
+  constexpr int W = kPanW, H = kPanH, N = kPanN, K = 8;
+  constexpr double tau_h = kPanTau, tau_c = kPanTau, te0 = 0.012, tr0 = 1.0 / 30 - te0, jitter = 0.003;
   constexpr double pi = 3.14159265358979;
   auto scene = [](double x, double y, double t) {
     const double u = x + 18.0 * t, v = y + 7.0 * t;  // pixels per second
@@ -103,8 +106,7 @@ TEST_CASE("motion within the exposure does not pull tau_c when the timing is jit
   auto jittered = [&](double nominal) { return nominal * (1 + jitter * std::clamp(normal(rng), -3.0, 3.0)); };
   const double kappa = (1 - std::exp(-te0 / tau_h)) / (1 - std::exp(-tr0 / tau_c));  // steady-state gain
 
-  TempDir tmp;
-  const fs::path rec = tmp / "pan";
+  const fs::path rec = tmp / name;
   rec::RecordingInfo info;
   info.sensor = "hand-made two-frame sensor";
   info.width = W, info.height = H, info.bits = 14, info.fps = 30.0;
@@ -128,7 +130,8 @@ TEST_CASE("motion within the exposure does not pull tau_c when the timing is jit
         mean_input[p] = static_cast<float>(sum / K);
         if (n == 0) state[p] = mean_input[p] * kappa;  // settled: the camera ran before frame 0
         state[p] = state[p] * carry + heat;
-        counts[p] = static_cast<std::uint16_t>(std::lround(state[p] / kappa + normal(rng)));
+        const auto reading = static_cast<std::uint16_t>(std::lround(state[p] / kappa + normal(rng)));
+        if (n == 0 || !stuck.count(p)) counts[p] = reading;
       }
     rec::FrameRow row;
     row.index = std::uint64_t(n), row.t_s = t, row.exposure_s = exposure, row.readout_s = readout, row.ffc = false;
@@ -138,9 +141,31 @@ TEST_CASE("motion within the exposure does not pull tau_c when the timing is jit
     previous_readout = readout;
   }
   writer.commit();
+  return rec;
+}
 
-  const nlohmann::json d = diagnose(rec, tmp / "pan.d");
+}  // namespace
+
+TEST_CASE("motion within the exposure does not pull tau_c when the timing is jittered", "[diagnose][timing]") {
+  // Motion within the exposure reads a little late, and a shorter tau_c (less carry from the
+  // frame before) reads late too: the tau search must score with the timing shift in the model,
+  // or tau_c comes out short (10.2 ms for 11 here) and the readout's jitter leaves a global offset
+  // fluctuation behind.
+  TempDir tmp;
+  const nlohmann::json d = diagnose(write_panning_recording(tmp, "pan"), tmp / "pan.d");
   INFO(d["baseline"].dump(1));
-  CHECK(d["baseline"]["params"]["tau_c_s"].get<double>() == Approx(tau_c).epsilon(0.03));
-  CHECK(d["baseline"]["params"]["tau_h_s"].get<double>() == Approx(tau_h).epsilon(0.05));
+  CHECK(d["baseline"]["params"]["tau_c_s"].get<double>() == Approx(kPanTau).epsilon(0.03));
+  CHECK(d["baseline"]["params"]["tau_h_s"].get<double>() == Approx(kPanTau).epsilon(0.05));
+}
+
+TEST_CASE("pixels frozen in a panning scene are found as dead pixels", "[diagnose][concealed]") {
+  // A pixel stuck at its first reading: its mean residual is small (the pan passes both ways
+  // around its value) but it is off the model in every frame.
+  TempDir tmp;
+  const std::set<std::size_t> stuck = {5 * kPanW + 9, 20 * kPanW + 40, 37 * kPanW + 22};
+  const nlohmann::json d = diagnose(write_panning_recording(tmp, "stuck", stuck), tmp / "stuck.d");
+  INFO(d["findings"].dump());
+  const nlohmann::json* f = finding(d, "dead_pixels");
+  REQUIRE(f);
+  CHECK((*f)["params"]["count"] == 3);
 }
