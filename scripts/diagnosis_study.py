@@ -271,7 +271,7 @@ def write_docs(rows):
     L = []
     L.append("# Diagnosis study: concealed effects, null data, real recordings\n")
     L.append(summary(rows) + "\n")
-    if rows.get("independent"): L += independent_block(rows["independent"])
+    if rows.get("independent"): L += independent_block(rows["independent"], rows.get("independent_note"))
     L.append("Regenerate with `scripts/diagnosis-study.sh` (builds `bolo`, runs every case below with `bolo simulate` "
              "and `bolo diagnose`, rewrites this page and `docs/diagnosis-injection-recovery.svg`). Truth comes from "
              "`truth/effects.json`, which only this study reads; `bolo diagnose` never does.\n")
@@ -344,11 +344,15 @@ independent_block = independent.block
 if __name__ == "__main__" and "--independent-only" in sys.argv:
     # Only the second generator's cases: its block of the page is replaced (inserted after the
     # summary the first time), the rest of the page kept; the method text is refreshed.
+    # With --docs-only the section is rendered again from study.json (its "independent_note", a
+    # hand-written sentence on what the numbers were measured with, included).
     path = os.path.join(WORK, "study.json")
     rows = json.load(open(path)) if os.path.exists(path) else {}
-    rows["independent"] = run_independent(rows.get("independent"))
-    with open(path, "w") as f: json.dump(rows, f, indent=1)
-    independent.splice(os.path.join(DOCS, "diagnosis-study.md"), rows["independent"], method_text())
+    if "--docs-only" not in sys.argv:
+        rows["independent"] = run_independent(rows.get("independent"))
+        with open(path, "w") as f: json.dump(rows, f, indent=1)
+    independent.splice(os.path.join(DOCS, "diagnosis-study.md"), rows["independent"], method_text(),
+                       rows.get("independent_note"))
 elif __name__ == "__main__":
     # Partial reruns (the rest of study.json kept): --docs-only, --real-only, --concealed-only.
     if any(a in sys.argv for a in ("--docs-only", "--real-only", "--concealed-only")):
