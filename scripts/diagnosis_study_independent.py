@@ -10,7 +10,7 @@ GENERATOR = os.path.join(HERE, "study", "independent_generator.py")
 EFFECTS = ["offset_fpn", "column_fpn", "row_fpn", "shading", "gain_fpn", "fpa_drift", "ffc_step",
            "thermal_memory", "tau_temperature", "tau_spread", "rolling_readout", "crosstalk",
            "nonlinearity", "temporal_filter", "dead_pixels", "frame_duplication", "agc"]
-NULL_KINDS = {"mean_change": "scene mean changes by 150-400 counts while the FPA warms 1-2.4 K",
+NULL_KINDS = {"mean_change": "scene mean changes by 150-400 counts while the FPA warms 0.2-0.5 K",
               "pan_hot_entry": "slow pan (1-2.5 px/s) and a hot object (+2000-3500) entering",
               "shutter": "two flagged shutter events (0.3 s gaps), offset correction exact"}
 OOC_KINDS = {"interference": "drifting diagonal sinusoidal stripes, 1 sigma",
@@ -162,7 +162,7 @@ def block(results, note=None):
              "after a global gain and offset (the AGC: in its own output noise). Dead pixels: 4 (2 at 0.5); "
              "repeats: every 20th frame (40th). Each recording is checked with `bolo info`; its truth is "
              "`truth/effects.json`. Regenerate this section alone: `scripts/diagnosis-study.sh --independent-only` "
-             "(~40 min on one core; `--quick`: 96x72, one seed).\n")
+             "(~1 h on one core of a loaded machine; `--resume` keeps finished runs; `--quick`: 96x72, one seed).\n")
     L.append("| effect | found, a=1 | found, a=0.5 | other findings (runs) | median param. error | "
              "held-out RMS before -> after (noise floor) |")
     L.append("|---|---|---|---|---|---|")

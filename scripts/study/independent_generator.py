@@ -544,7 +544,8 @@ def generate(out, case, a, seed, w, h, n, substeps=6, ffc_unknown=False):
     flags = ["" if ffc_unknown else ("1" if i in events else "0") for i in range(n)]
     if ffc_unknown:
         truth["ffc_column"] = "empty (unknown) in every frame"
-    info = (f"case {case}, amplitude {a:g} noise sigma, seed {seed}; exposure and readout jittered by "
+    size = "" if kind == "null" else f", amplitude {a:g} noise sigma"
+    info = (f"case {case}{size}, seed {seed}; exposure and readout jittered by "
             f"{timing.jitter:.1%} (logged), {substeps} sub-steps per exposure")
     write_recording(out, frames, chain.scene_frames(), timing, fpa, housing, flags, info, truth)
 
