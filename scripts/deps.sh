@@ -9,6 +9,7 @@ packages=(
   g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user
   clang libclang-rt-14-dev llvm clang-tidy cppcheck
   qemu-system-x86 qemu-system-arm busybox-static kmod cpio patch  # HIL VMs (docs/hil.md; patch: uvc-gadget.sh)
+  python3-numpy  # scripts/study/independent_generator.py (the diagnosis study's second generator)
 )
 
 # The arm64 HIL VM's kernel and libraries are fetched as arm64 packages (apt-get download).

@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """The diagnosis study (docs/diagnosis-study.md): concealed, null and injection-recovery cases made
-with `bolo simulate`, diagnosed with `bolo diagnose`, scored against truth/effects.json (which only
-this script reads), and the real recordings. Standard library only.
+with `bolo simulate`, cases made by a second generator that shares no code with bolo
+(scripts/study/independent_generator.py, which needs NumPy: run with BOLO_NUMPY_PYTHON or this
+interpreter), all diagnosed with `bolo diagnose` and scored against truth/effects.json (which only
+this script reads), and the real recordings. The study itself uses the standard library only.
 
-usage: scripts/diagnosis_study.py BOLO WORKDIR DOCS [--quick]
+usage: scripts/diagnosis_study.py BOLO WORKDIR DOCS [--quick] [--independent-only [--resume]] [--no-independent]
 """
 import json, math, os, subprocess, sys, time
 
@@ -147,6 +149,8 @@ def main():
         rows["null"].append({"seed": 200 + s, "preset": "street drive, 4 sub-steps",
                              "findings": [f["effect"] for f in d["findings"]], "unexplained": len(d["unexplained"])})
     run_concealed(rows, seeds, times)
+    if "--no-independent" not in sys.argv:
+        rows["independent"] = run_independent(rows.get("independent"))
     run_curves_and_real(rows, seeds, times)
 
 def run_concealed(rows, seeds, times):
@@ -267,6 +271,7 @@ def write_docs(rows):
     L = []
     L.append("# Diagnosis study: concealed effects, null data, real recordings\n")
     L.append(summary(rows) + "\n")
+    if rows.get("independent"): L += independent_block(rows["independent"], rows.get("independent_note"))
     L.append("Regenerate with `scripts/diagnosis-study.sh` (builds `bolo`, runs every case below with `bolo simulate` "
              "and `bolo diagnose`, rewrites this page and `docs/diagnosis-injection-recovery.svg`). Truth comes from "
              "`truth/effects.json`, which only this study reads; `bolo diagnose` never does.\n")
@@ -323,11 +328,32 @@ def write_docs(rows):
         if not d["findings"] and not d["unexplained"]: L.append("* nothing found")
         L.append("")
     L.append(f"\nMedian `bolo diagnose` time per study recording: {rows['median_seconds']:.2f} s.\n")
-    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "diagnosis_study_method.md")) as f:
-        method = f.read()
-    with open(os.path.join(DOCS, "diagnosis-study.md"), "w") as f: f.write("\n".join(L) + "\n" + method)
+    with open(os.path.join(DOCS, "diagnosis-study.md"), "w") as f: f.write("\n".join(L) + "\n" + method_text())
 
-if __name__ == "__main__":
+def method_text():
+    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "diagnosis_study_method.md")) as f:
+        return f.read()
+
+import diagnosis_study_independent as independent  # noqa: E402 (beside this script)
+
+def run_independent(previous):
+    return independent.run(BOLO, WORK, QUICK, previous, "--resume" in sys.argv)
+
+independent_block = independent.block
+
+if __name__ == "__main__" and "--independent-only" in sys.argv:
+    # Only the second generator's cases: its block of the page is replaced (inserted after the
+    # summary the first time), the rest of the page kept; the method text is refreshed.
+    # With --docs-only the section is rendered again from study.json (its "independent_note", a
+    # hand-written sentence on what the numbers were measured with, included).
+    path = os.path.join(WORK, "study.json")
+    rows = json.load(open(path)) if os.path.exists(path) else {}
+    if "--docs-only" not in sys.argv:
+        rows["independent"] = run_independent(rows.get("independent"))
+        with open(path, "w") as f: json.dump(rows, f, indent=1)
+    independent.splice(os.path.join(DOCS, "diagnosis-study.md"), rows["independent"], method_text(),
+                       rows.get("independent_note"))
+elif __name__ == "__main__":
     # Partial reruns (the rest of study.json kept): --docs-only, --real-only, --concealed-only.
     if any(a in sys.argv for a in ("--docs-only", "--real-only", "--concealed-only")):
         with open(os.path.join(WORK, "study.json")) as f: rows = json.load(f)

@@ -2,9 +2,14 @@
 // where the readout is missing): a recording whose timing wanders by a fraction of a percent is
 // a null, not a global offset fluctuation of several noise sigmas.
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <random>
 #include <set>
+#include <span>
 #include <sstream>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -75,4 +80,92 @@ TEST_CASE("simulate refuses a timing jitter outside 0..0.1", "[diagnose][timing]
     CHECK(contains(r.err, "--timing-jitter: must be 0..0.1"));
     CHECK(!fs::exists(tmp / "j"));
   }
+}
+
+namespace {
+
+// Written here, not by `bolo simulate`: a smooth pattern panning 0.6 pixels a frame, sampled at
+// 8 sub-steps within each exposure and integrated with the pixel's response (the two-frame model
+// of ../shared/docs/diagnosis.md with the input varying within the exposure), exposure and
+// readout jittered by 0.3 % and logged, white noise of 1 count. `stuck` pixels keep their first
+// reading.
+constexpr int kPanW = 64, kPanH = 48, kPanN = 150;
+constexpr double kPanTau = 0.011;
+
+fs::path write_panning_recording(const TempDir& tmp, const std::string& name, const std::set<std::size_t>& stuck = {}) {
+  constexpr int W = kPanW, H = kPanH, N = kPanN, K = 8;
+  constexpr double tau_h = kPanTau, tau_c = kPanTau, te0 = 0.012, tr0 = 1.0 / 30 - te0, jitter = 0.003;
+  constexpr double pi = 3.14159265358979;
+  auto scene = [](double x, double y, double t) {
+    const double u = x + 18.0 * t, v = y + 7.0 * t;  // pixels per second
+    return 6000 + 300 * std::sin(2 * pi * u / 17) * std::cos(2 * pi * v / 23) +
+           200 * std::sin(2 * pi * (0.7 * u - 0.4 * v) / 11);
+  };
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  auto jittered = [&](double nominal) { return nominal * (1 + jitter * std::clamp(normal(rng), -3.0, 3.0)); };
+  const double kappa = (1 - std::exp(-te0 / tau_h)) / (1 - std::exp(-tr0 / tau_c));  // steady-state gain
+
+  const fs::path rec = tmp / name;
+  rec::RecordingInfo info;
+  info.sensor = "hand-made two-frame sensor";
+  info.width = W, info.height = H, info.bits = 14, info.fps = 30.0;
+  rec::RecordingWriter writer(rec, info);
+  std::vector<double> state(W * H, 0.0);
+  std::vector<float> mean_input(W * H);
+  std::vector<std::uint16_t> counts(W * H);
+  double t = 0, previous_readout = tr0;
+  for (int n = 0; n < N; ++n) {
+    const double exposure = jittered(te0), readout = jittered(tr0);
+    const double keep = std::exp(-exposure / K / tau_h), carry = std::exp(-previous_readout / tau_c);
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        double heat = 0, sum = 0;
+        for (int k = 0; k < K; ++k) {
+          const double u = scene(x, y, t + (k + 0.5) * exposure / K);
+          heat = heat * keep + u * (1 - keep);
+          sum += u;
+        }
+        const std::size_t p = std::size_t(y) * W + x;
+        mean_input[p] = static_cast<float>(sum / K);
+        if (n == 0) state[p] = mean_input[p] * kappa;  // settled: the camera ran before frame 0
+        state[p] = state[p] * carry + heat;
+        const auto reading = static_cast<std::uint16_t>(std::lround(state[p] / kappa + normal(rng)));
+        if (n == 0 || !stuck.count(p)) counts[p] = reading;
+      }
+    rec::FrameRow row;
+    row.index = std::uint64_t(n), row.t_s = t, row.exposure_s = exposure, row.readout_s = readout, row.ffc = false;
+    writer.append(std::span<const std::uint16_t>(counts), row);
+    writer.append_scene(mean_input);
+    t += exposure + readout;
+    previous_readout = readout;
+  }
+  writer.commit();
+  return rec;
+}
+
+}  // namespace
+
+TEST_CASE("motion within the exposure does not pull tau_c when the timing is jittered", "[diagnose][timing]") {
+  // Motion within the exposure reads a little late, and a shorter tau_c (less carry from the
+  // frame before) reads late too: the tau search must score with the timing shift in the model,
+  // or tau_c comes out short (10.2 ms for 11 here) and the readout's jitter leaves a global offset
+  // fluctuation behind.
+  TempDir tmp;
+  const nlohmann::json d = diagnose(write_panning_recording(tmp, "pan"), tmp / "pan.d");
+  INFO(d["baseline"].dump(1));
+  CHECK(d["baseline"]["params"]["tau_c_s"].get<double>() == Approx(kPanTau).epsilon(0.03));
+  CHECK(d["baseline"]["params"]["tau_h_s"].get<double>() == Approx(kPanTau).epsilon(0.05));
+}
+
+TEST_CASE("pixels frozen in a panning scene are found as dead pixels", "[diagnose][concealed]") {
+  // A pixel stuck at its first reading: its mean residual is small (the pan passes both ways
+  // around its value) but it is off the model in every frame.
+  TempDir tmp;
+  const std::set<std::size_t> stuck = {5 * kPanW + 9, 20 * kPanW + 40, 37 * kPanW + 22};
+  const nlohmann::json d = diagnose(write_panning_recording(tmp, "stuck", stuck), tmp / "stuck.d");
+  INFO(d["findings"].dump());
+  const nlohmann::json* f = finding(d, "dead_pixels");
+  REQUIRE(f);
+  CHECK((*f)["params"]["count"] == 3);
 }

@@ -84,6 +84,41 @@ LinearFit fit_gain_offset(const DiagnoseData& d, const std::vector<float>& sim, 
   return f;
 }
 
+// The residual of a least-squares fit of the recording on [sim, 1, sim's central frame difference]:
+// gain, offset and the timing shift of motion within an exposure, as the final fit (fit_two_frame,
+// below) has them. The tau searches score with it: scored on gain and offset alone, tau_c stood
+// in for motion within the exposure (a shorter tau_c also reads a moving scene later) and came
+// out up to 10 % short on a panning scene, and a readout jittered from frame to frame then left
+// a global offset fluctuation the baseline lacked. (The exposure offset stays out: beside it
+// tau_h, which the searches also set, is nearly degenerate.)
+double fit_sse_with_shift(const DiagnoseData& d, const std::vector<float>& sim, const std::vector<std::uint8_t>& use) {
+  const std::size_t P = d.shape.pixels();
+  Eigen::Matrix3d xtx = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d xty = Eigen::Vector3d::Zero();
+  double yy = 0;
+  // Centred on a typical reading: the sums stay small beside the residual they are to resolve.
+  const double centre = d.recorded.empty() ? 0.0 : d.recorded[d.recorded.size() / 2];
+  Eigen::Vector3d x(0, 1, 0);
+  for (int n = 0; n < d.shape.n; ++n) {
+    const bool inner = n > 0 && n + 1 < d.shape.n;
+    for (std::size_t p = 0; p < P; ++p) {
+      const std::size_t i = std::size_t(n) * P + p;
+      if (!d.valid[i] || !use[p]) continue;
+      x[0] = sim[i] - centre;
+      x[2] = inner ? 0.5 * (double(sim[i + P]) - sim[i - P]) : 0.0;
+      const double y = d.recorded[i] - centre;
+      xtx.selfadjointView<Eigen::Lower>().rankUpdate(x);
+      xty += x * y;
+      yy += y * y;
+    }
+  }
+  xtx = xtx.selfadjointView<Eigen::Lower>();
+  const Eigen::Vector3d beta = xtx.ldlt().solve(xty);
+  // The final fit's own guard: a shift beyond half a frame is no timing; the plain fit stands.
+  if (!beta.allFinite() || beta[0] == 0 || std::fabs(beta[2] / beta[0]) > 0.5) return fit_gain_offset(d, sim, use).sse;
+  return std::max(0.0, yy - beta.dot(xty));
+}
+
 // The minimum of cost(log tau) on [lo, hi]: a coarse grid, then golden section inside the best bracket.
 template <typename Cost>
 double log_search(Cost cost, double lo, double hi) {
@@ -114,13 +149,20 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   // a factor of the gain, held at tau_c; otherwise it is searched for (below).
   const bool fit_tau_h = exposure_varies(d);
   double tau_c = 0.012, tau_h = 0.012;
+  // With the timing varying from frame to frame the searches score with the timing shift in the
+  // model (fit_sse_with_shift): there a tau_c standing in for motion shows as a global offset
+  // fluctuation. With one timing throughout they score on gain and offset, as before: the shift
+  // then only trades with tau_c within the transients, and the refit after a finding, compared
+  // over every pixel (stuck ones included), is sensitive to the small change in tau_c.
+  const bool timing_varies = fit_tau_h || varies(d.readout_s);
+  auto sse = [&] { return timing_varies ? fit_sse_with_shift(d, sim, use) : fit_gain_offset(d, sim, use).sse; };
   auto cost = [&](double log_tau) {
     two_frame(d, std::exp(log_tau), fit_tau_h ? tau_h : std::exp(log_tau), sim);
-    return fit_gain_offset(d, sim, use).sse;
+    return sse();
   };
   auto cost_tau_h = [&](double log_tau_h) {
     two_frame(d, tau_c, std::exp(log_tau_h), sim);
-    return fit_gain_offset(d, sim, use).sse;
+    return sse();
   };
   // Pixels far off the model (stuck, dead) would pull gain and tau: a first fit at a typical
   // tau finds them, and the fit proper leaves them out (they stay in the data for dead_pixels).

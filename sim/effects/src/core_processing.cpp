@@ -240,21 +240,26 @@ class DeadPixelsCandidate final : public Candidate {
   std::unique_ptr<FittedEffect> fit(const std::vector<char>& train) const override {
     const DiagnoseData& d = *data_;
     const std::size_t P = d.shape.pixels();
-    std::vector<double> sy(P, 0), syy(P, 0), sr(P, 0), cnt(P, 0);
+    std::vector<double> sy(P, 0), syy(P, 0), sr(P, 0), srr(P, 0), cnt(P, 0);
     for (int n = 0; n < d.shape.n; ++n) {
       if (!train[n]) continue;
       const float *y = d.frame(d.recorded, n), *r = d.frame(*residual_, n);
-      for (std::size_t p = 0; p < P; ++p) { sy[p] += y[p]; syy[p] += double(y[p]) * y[p]; sr[p] += r[p]; cnt[p] += 1; }
+      for (std::size_t p = 0; p < P; ++p) {
+        sy[p] += y[p]; syy[p] += double(y[p]) * y[p]; sr[p] += r[p]; srr[p] += double(r[p]) * r[p]; cnt[p] += 1;
+      }
     }
-    std::vector<double> sd(P), mr(P);
+    std::vector<double> sd(P), mr(P), sdr(P);
     for (std::size_t p = 0; p < P; ++p) {
       if (cnt[p] < 2) return nullptr;
       const double m = sy[p] / cnt[p];
       sd[p] = std::sqrt(std::max(0.0, syy[p] / cnt[p] - m * m));
       mr[p] = sr[p] / cnt[p];
+      sdr[p] = std::sqrt(std::max(0.0, srr[p] / cnt[p] - mr[p] * mr[p]));
     }
     std::vector<double> tmp = sd;
     const double typical_sd = median_in_place(tmp);
+    tmp = sdr;
+    const double typical_sdr = median_in_place(tmp);
     tmp = mr;
     const double centre = median_in_place(tmp);
     for (double& v : tmp) v = std::fabs(v - centre);
@@ -263,9 +268,12 @@ class DeadPixelsCandidate final : public Candidate {
     std::vector<float> value;
     for (std::size_t p = 0; p < P; ++p) {
       // Frozen while the sensor has noise, and reading far from what the model expects (a
-      // pixel of a static, noise-free region would be frozen too, but not off the model).
+      // pixel of a static, noise-free region would be frozen too, but not off the model): on
+      // average, or, in a moving scene, frame by frame (a pixel frozen at some reading of a
+      // panning scene is off the model in every frame while its mean residual stays small, and
+      // 10 x typical_sd, the readings' spread, which a pan makes hundreds of counts, hid it).
       const bool frozen = typical_sd > 0.5 && sd[p] < 0.05 * typical_sd;
-      const bool off = std::fabs(mr[p] - centre) > 10 * typical_sd + 25 * spread;
+      const bool off = std::fabs(mr[p] - centre) > 10 * typical_sd + 25 * spread || sdr[p] > 10 * typical_sdr + 1e-9;
       if (frozen && off) { pixels.push_back(p); value.push_back(float(sy[p] / cnt[p])); }
     }
     if (pixels.empty() || pixels.size() > P / 20) return nullptr;
