@@ -12,17 +12,10 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 arch="${1:-x86_64}"
-cache="${BOLO_HIL_CACHE:-$HOME/.cache/bolo-hil}"
 # shellcheck source=kernel-cache.sh
 source "$here/kernel-cache.sh"
-hil_module_make_args "$arch" || exit 2
-kernel_dir="$(hil_kernel_dir "$arch" "$cache")"
-kver="$(cat "$kernel_dir/version")"  # e.g. 6.1.0-56-amd64
-out="$cache/$arch/gpio-sim"
-if [ -f "$out/gpio-sim.ko" ] && [ "$(cat "$out/kver" 2>/dev/null)" = "$kver" ]; then
-  echo "$out/gpio-sim.ko"
-  exit 0
-fi
+hil_module_start "$arch" gpio-sim
+hil_module_cached gpio-sim.ko kver && exit 0
 
 series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"  # 6.1
 root="$cache/$arch/kbuild-$kver"

@@ -112,7 +112,7 @@ hil_copy_libraries() {
   done
 }
 
-# For out-of-tree modules of the VM's kernel (gpio-sim.sh, uvc-gadget.sh): sets HIL_MAKE_ARGS to
+# For out-of-tree modules of the VM's kernel (gpio-sim.sh, uvc-gadget.sh, v4l2loopback.sh): sets HIL_MAKE_ARGS to
 # what kbuild needs for ARCH (for aarch64 a cross build: the arm64 headers with the host's amd64
 # kbuild tools and Debian's aarch64-linux-gnu-gcc, the GCC 12 the kernel was built with).
 hil_module_make_args() {
@@ -124,6 +124,26 @@ hil_module_make_args() {
       HIL_MAKE_ARGS=(ARCH=arm64 CROSS_COMPILE=aarch64-linux-gnu-) ;;
     *) echo "hil-vm: unknown architecture '$1' (x86_64 or aarch64)" >&2; return 2 ;;
   esac
+}
+
+# The common start of an out-of-tree module script (gpio-sim.sh, uvc-gadget.sh, v4l2loopback.sh)
+# for ARCH: sets cache (BOLO_HIL_CACHE), HIL_MAKE_ARGS, kver (the VM kernel's version), out
+# ($cache/ARCH/NAME, the module's folder) and stamp (kver, then EXTRA if given: what a cached
+# module must have been built for). Called as a plain command, so that set -e stops on its errors.
+hil_module_start() {
+  local arch="$1" name="$2" extra="${3:-}"
+  cache="${BOLO_HIL_CACHE:-$HOME/.cache/bolo-hil}"
+  hil_module_make_args "$arch" || exit 2
+  local kernel_dir
+  kernel_dir="$(hil_kernel_dir "$arch" "$cache")"
+  kver="$(cat "$kernel_dir/version")"  # e.g. 6.1.0-56-amd64
+  out="$cache/$arch/$name"
+  stamp="$kver${extra:+ $extra}"
+}
+
+# Prints out/MODULE and succeeds when it is cached with hil_module_start's stamp in out/STAMP_FILE.
+hil_module_cached() {
+  [ -f "$out/$1" ] && [ "$(cat "$out/$2" 2>/dev/null)" = "$stamp" ] && echo "$out/$1"
 }
 
 # Unpacks the kbuild tree for kernel KVER of ARCH into ROOT (the flavour's headers, the common

@@ -15,20 +15,11 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 arch="${1:-x86_64}"
-cache="${BOLO_HIL_CACHE:-$HOME/.cache/bolo-hil}"
+patch_file="$here/uvc-gadget-bulk.patch"
 # shellcheck source=kernel-cache.sh
 source "$here/kernel-cache.sh"
-hil_module_make_args "$arch" || exit 2
-kernel_dir="$(hil_kernel_dir "$arch" "$cache")"
-kver="$(cat "$kernel_dir/version")"  # e.g. 6.1.0-56-amd64
-patch_file="$here/uvc-gadget-bulk.patch"
-out="$cache/$arch/uvc-gadget"
-stamp="$kver $(sha256sum "$patch_file" | cut -c1-16)"
-if [ -f "$out/usb_f_uvc.ko" ] && [ "$(cat "$out/stamp" 2>/dev/null)" = "$stamp" ]; then
-  echo "$out/usb_f_uvc.ko"
-  exit 0
-fi
-
+hil_module_start "$arch" uvc-gadget "$(sha256sum "$patch_file" | cut -c1-16)"
+hil_module_cached usb_f_uvc.ko stamp && exit 0
 series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"  # 6.1
 root="$cache/$arch/kbuild-uvc-$kver"
 rm -rf "$root" "$out"

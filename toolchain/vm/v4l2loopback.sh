@@ -11,17 +11,10 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 arch="${1:-x86_64}"
-cache="${BOLO_HIL_CACHE:-$HOME/.cache/bolo-hil}"
 # shellcheck source=kernel-cache.sh
 source "$here/kernel-cache.sh"
-hil_module_make_args "$arch" || exit 2
-kernel_dir="$(hil_kernel_dir "$arch" "$cache")"
-kver="$(cat "$kernel_dir/version")"  # e.g. 6.1.0-56-amd64
-out="$cache/$arch/v4l2loopback"
-if [ -f "$out/v4l2loopback.ko" ] && [ "$(cat "$out/kver" 2>/dev/null)" = "$kver" ]; then
-  echo "$out/v4l2loopback.ko"
-  exit 0
-fi
+hil_module_start "$arch" v4l2loopback
+hil_module_cached v4l2loopback.ko kver && exit 0
 
 root="$cache/$arch/kbuild-v4l2loopback-$kver"
 rm -rf "$root" "$out"
