@@ -74,6 +74,10 @@ host_node() {
   done
   return 1
 }
+# The emulator's node once uvcvideo has bound it (up to 10 s), or empty.
+wait_host_node() {
+  for _ in $(seq 100); do host_node && return 0; sleep 0.1; done
+}
 
 if [ -x ./bolo ] && [ -n "$recording" ]; then
   name=uvc_capture
@@ -82,8 +86,7 @@ if [ -x ./bolo ] && [ -n "$recording" ]; then
   ./uvc_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" --done "/tmp/$name.done" \
     --finished "/tmp/$name.finished" $recording --frames 160 --fps 30 &
   emulator=$!
-  node=""
-  for i in $(seq 100); do node="$(host_node)" && break; sleep 0.1; done
+  node="$(wait_host_node)"
   if [ -z "$node" ]; then
     echo "HIL-STEP $name: no uvcvideo node of the emulator"; failed=1
   elif ./bolo capture --device "v4l2:$node" --out /tmp/uvc-rec --frames 160 --no-progress; then
@@ -119,8 +122,7 @@ if [ -x ./bolo ] && [ -x ./hil_loopback_reader ] && [ -n "$recording" ]; then
     ./uvc_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" --done "/tmp/$name.done" \
       --finished "/tmp/$name.finished" $recording --frames 160 --fps 9 &
     emulator=$!
-    node=""
-    for i in $(seq 100); do node="$(host_node)" && break; sleep 0.1; done
+    node="$(wait_host_node)"
     if [ -z "$node" ]; then
       echo "HIL-STEP $name: no uvcvideo node of the emulator"; failed=1
     else
