@@ -16,7 +16,7 @@
 #include "bolo/hal/source_registry.hpp"
 #include "corrected_output.hpp"
 #include "correction_chain.hpp"
-#include "fail.hpp"
+#include "bolo/correct/fail.hpp"
 #include "frame_timing.hpp"
 
 namespace bolo::correct {

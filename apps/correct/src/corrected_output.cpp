@@ -4,7 +4,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "fail.hpp"
+#include "bolo/correct/fail.hpp"
 
 namespace bolo::correct {
 namespace fs = std::filesystem;

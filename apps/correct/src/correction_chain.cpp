@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "fail.hpp"
+#include "bolo/correct/fail.hpp"
 
 namespace bolo::correct {
 namespace {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "fail.hpp"
+#include "bolo/correct/fail.hpp"
 
 namespace bolo::correct {
 namespace fs = std::filesystem;

@@ -4,7 +4,7 @@
 #include <optional>
 
 #include "bolo/recording/recording.hpp"
-#include "fail.hpp"
+#include "bolo/correct/fail.hpp"
 
 namespace bolo::correct {
 

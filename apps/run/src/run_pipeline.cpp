@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <thread>
 
+#include "bolo/correct/fail.hpp"
 #include "bolo/correct/source_correction.hpp"
 #include "bolo/hal/frame_sink.hpp"
 #include "bolo/hal/source_registry.hpp"
@@ -19,12 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-template <typename... Parts>
-[[noreturn]] void fail(const Parts&... parts) {
-  std::ostringstream message;
-  (message << ... << parts);
-  throw correct::Error(message.str());
-}
+using correct::fail;
 
 // --device takes a scheme always, as for `bolo capture`: a bare word is more likely a mistyped device.
 constexpr hal::SourceOptions kDeviceOptions{.bare_path_is_recording = false};
