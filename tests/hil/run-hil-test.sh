@@ -48,6 +48,9 @@ if [ -n "${BOLO_HIL_DEVICE:-}" ]; then
   exit $?
 fi
 
+vm_arch="$(sed -n 's/^# vm-arch: //p' "$scenario")"
+[ -z "$vm_arch" ] || [ "$vm_arch" = "$arch" ] ||
+  skip "this scenario's VM run is $vm_arch only (docs/hil.md); on a board, BOLO_HIL_DEVICE runs it on a real camera"
 qemu=qemu-system-x86_64
 [ "$arch" = aarch64 ] && qemu=qemu-system-aarch64
 command -v "$qemu" >/dev/null || skip "$qemu is not installed (scripts/deps.sh installs it)"

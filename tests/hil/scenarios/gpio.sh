@@ -6,6 +6,7 @@
 # over, shutter pulses toggle the output line (read back through the sim's `value`) and mark the
 # next frame as an FFC frame. 2) `bolo devices` lists the chip with its label and line count.
 # Skipped without the module, or without both programs.
+# vm-arch: x86_64
 # device: gpio
 # real: hil_gpio_camera --device "$BOLO_HIL_DEVICE" --gpio "$BOLO_HIL_GPIO" --frames "${BOLO_HIL_GPIO_FRAMES:-300}"
 grep -q '^gpio_sim ' /proc/modules || { echo "no gpio-sim module in this VM" >/tmp/skip-reason; exit 77; }
