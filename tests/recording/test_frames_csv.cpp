@@ -66,9 +66,40 @@ TEST_CASE("frames.csv: write then read gives back exactly the same rows", "[csv]
     CHECK(back[i].fpa_temp_c == rows[i].fpa_temp_c);
     CHECK(back[i].housing_temp_c == rows[i].housing_temp_c);
   }
+  // Row by row, the same bytes.
+  const auto streamed = tmp / "streamed.csv";
+  {
+    rec::FramesCsvWriter writer(streamed);
+    for (const rec::FrameRow& row : rows) writer.append(row);
+    CHECK(writer.rows() == rows.size());
+    writer.finish();
+  }
+  CHECK(test::read_bytes(streamed) == text);
   // Header only: zero frames.
   rec::write_frames_csv(file, {});
   CHECK(rec::read_frames_csv(file).empty());
+}
+
+TEST_CASE("frames.csv: the row-by-row writer refuses a bad row before writing it", "[csv][bad-input]") {
+  test::TempDir tmp;
+  const auto file = tmp / "frames.csv";
+  rec::FramesCsvWriter writer(file, tmp / "shown.csv");
+  rec::FrameRow row;
+  row.t_s = 1.0;
+  writer.append(row);
+  row.index = 1;
+  row.t_s = 0.5;  // going back in time
+  CHECK(error_of([&] { writer.append(row); }) == (tmp / "shown.csv").string() + ": frame 1: field t_s: not monotonic (0.5 after 1)");
+  row.t_s.reset();  // unknown, then later than the last known one
+  writer.append(row);
+  row.index = 2;
+  row.t_s = 0.75;
+  CHECK(contains(error_of([&] { writer.append(row); }), "frame 2: field t_s: not monotonic"));
+  row.t_s = 2.0;
+  writer.append(row);
+  writer.finish();
+  CHECK(rec::read_frames_csv(file).size() == 3);
+  CHECK(contains(error_of([&] { writer.append(row); }), "append after finish()"));
 }
 
 TEST_CASE("frames.csv: CRLF line ends, a BOM, spaces and trailing blank lines are accepted", "[csv]") {

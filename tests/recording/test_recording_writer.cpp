@@ -24,6 +24,22 @@ TEST_CASE("writer: an abandoned writer leaves nothing behind", "[writer]") {
   CHECK(test::folder_entries(tmp.path()).empty());
 }
 
+TEST_CASE("writer: frames.csv is written as frames arrive, not held until commit", "[writer]") {
+  // An endless `bolo run --sink recording:` must not grow with the frames it has written.
+  test::TempDir tmp;
+  rec::RecordingWriter writer(tmp / "rec", test::fixture_info());
+  constexpr std::uint64_t kFrames = 5000;
+  for (std::uint64_t i = 0; i < kFrames; ++i) writer.append(flat(15, 1), test::fixture_row(i));
+  const auto entries = test::folder_entries(tmp.path());
+  REQUIRE(entries.size() == 1);
+  std::ifstream csv(tmp.path() / entries[0] / "frames.csv");
+  std::string text((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
+  // Before commit, all but the rows still in the stream's buffer (a few kB) are in the file.
+  CHECK(std::count(text.begin(), text.end(), '\n') > static_cast<std::ptrdiff_t>(kFrames * 9 / 10));
+  writer.commit();
+  CHECK(rec::Recording(tmp / "rec").frame_count() == kFrames);
+}
+
 TEST_CASE("writer: a failed run leaves nothing behind", "[writer][bad-input]") {
   test::TempDir tmp;
   const auto dir = tmp / "rec";

@@ -1,6 +1,8 @@
 // frames.csv: one row per frame, strictly validated.
 
+#include <cerrno>
 #include <charconv>
+#include <cstring>
 #include <string_view>
 
 #include "bolo/recording/recording.hpp"
@@ -136,29 +138,75 @@ std::vector<FrameRow> read_frames_csv(const std::filesystem::path& file) {
   return rows;
 }
 
+namespace {
+
+void append_row(std::string& text, const FrameRow& row) {
+  text += std::to_string(row.index);
+  text += ',';
+  append_number(text, row.t_s);
+  text += ',';
+  append_number(text, row.exposure_s);
+  text += ',';
+  append_number(text, row.readout_s);
+  text += ',';
+  if (row.ffc) text += *row.ffc ? '1' : '0';
+  text += ',';
+  append_number(text, row.fpa_temp_c);
+  text += ',';
+  append_number(text, row.housing_temp_c);
+  text += '\n';
+}
+
+// The validator as it stands after `rows` rows whose last time stamp was `last_t`.
+detail::RowValidator validator_after(const std::filesystem::path& file, const std::optional<double>& last_t) {
+  detail::RowValidator validator(file);
+  if (last_t) validator.seed(*last_t);
+  return validator;
+}
+
+}  // namespace
+
 void write_frames_csv(const std::filesystem::path& file, std::span<const FrameRow> rows) {
   detail::RowValidator validator(file);
   std::string text(kHeader);
   text += '\n';
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    const FrameRow& row = rows[i];
-    validator.check(row, i);
-    text += std::to_string(row.index);
-    text += ',';
-    append_number(text, row.t_s);
-    text += ',';
-    append_number(text, row.exposure_s);
-    text += ',';
-    append_number(text, row.readout_s);
-    text += ',';
-    if (row.ffc) text += *row.ffc ? '1' : '0';
-    text += ',';
-    append_number(text, row.fpa_temp_c);
-    text += ',';
-    append_number(text, row.housing_temp_c);
-    text += '\n';
+    validator.check(rows[i], i);
+    append_row(text, rows[i]);
   }
   write_file_atomically(file, text);
+}
+
+FramesCsvWriter::FramesCsvWriter(const std::filesystem::path& file, std::filesystem::path shown_as)
+    : path_(file), shown_as_(shown_as.empty() ? file : std::move(shown_as)) {
+  out_.open(file, std::ios::binary | std::ios::trunc);
+  if (!out_) fail(shown_as_, std::string("cannot create: ") + std::strerror(errno));
+  out_ << kHeader << '\n';
+  if (!out_) fail(shown_as_, "write failed");
+}
+
+FramesCsvWriter::~FramesCsvWriter() = default;
+
+void FramesCsvWriter::check(const FrameRow& row) const {
+  if (finished_) fail(shown_as_, "append after finish()");
+  validator_after(shown_as_, last_t_).check(row, rows_);
+}
+
+void FramesCsvWriter::append(const FrameRow& row) {
+  check(row);
+  std::string text;
+  append_row(text, row);
+  out_.write(text.data(), static_cast<std::streamsize>(text.size()));
+  if (!out_) fail_frame(shown_as_, rows_, {}, "write failed");
+  if (row.t_s) last_t_ = row.t_s;
+  ++rows_;
+}
+
+void FramesCsvWriter::finish() {
+  if (finished_) fail(shown_as_, "finish() called twice");
+  finished_ = true;
+  out_.close();
+  if (!out_) fail(shown_as_, "write failed while finishing");
 }
 
 }  // namespace bolo::rec

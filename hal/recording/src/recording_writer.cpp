@@ -45,17 +45,18 @@ RecordingWriter::RecordingWriter(fs::path dir, RecordingInfo info, Options optio
       folder_(open_folder(dir_, info, options.overwrite)),
       info_(std::move(info)),
       options_(options),
-      frames_(folder_.path() / "frames.npy", options.frames_dtype, info_.height, info_.width) {}
+      frames_(folder_.path() / "frames.npy", options.frames_dtype, info_.height, info_.width),
+      rows_(folder_.path() / "frames.csv", dir_ / "frames.csv") {}
 
 RecordingWriter::~RecordingWriter() = default;
 
 namespace {
 
 // Checks one frame and its row before anything is written; returns the row as it will be stored.
-FrameRow checked_row(const fs::path& dir, const RecordingInfo& info, const std::vector<FrameRow>& rows,
+FrameRow checked_row(const fs::path& dir, const RecordingInfo& info, const FramesCsvWriter& rows,
                      std::size_t pixels, const FrameRow& row, bool committed) {
   if (committed) fail(dir, "append after commit()");
-  const std::uint64_t n = rows.size();
+  const std::uint64_t n = rows.rows();
   const std::uint64_t expected = std::uint64_t{info.width} * info.height;
   if (pixels != expected)
     detail::fail_frame(dir / "frames.npy", n, {},
@@ -63,13 +64,7 @@ FrameRow checked_row(const fs::path& dir, const RecordingInfo& info, const std::
                            " (" + detail::size_string(info.height, info.width) + ")");
   FrameRow stored = row;
   stored.index = n;  // frames.csv's index is the row number
-  detail::RowValidator validator(dir / "frames.csv");
-  for (auto it = rows.rbegin(); it != rows.rend(); ++it)
-    if (it->t_s) {
-      validator.seed(*it->t_s);
-      break;
-    }
-  validator.check(stored, n);
+  rows.check(stored);
   return stored;
 }
 
@@ -78,7 +73,7 @@ FrameRow checked_row(const fs::path& dir, const RecordingInfo& info, const std::
 void RecordingWriter::append(std::span<const std::uint16_t> frame, const FrameRow& row) {
   const FrameRow stored = checked_row(dir_, info_, rows_, frame.size(), row, folder_.committed());
   frames_.append(frame);
-  rows_.push_back(stored);
+  rows_.append(stored);
 }
 
 void RecordingWriter::append(std::span<const float> frame, const FrameRow& row) {
@@ -86,7 +81,7 @@ void RecordingWriter::append(std::span<const float> frame, const FrameRow& row) 
   if (options_.frames_dtype != DType::f4)
     fail(dir_ / "frames.npy", "float frames need Options::frames_dtype = DType::f4");
   frames_.append(frame);
-  rows_.push_back(stored);
+  rows_.append(stored);
 }
 
 void RecordingWriter::append_scene(std::span<const float> scene) {
@@ -127,12 +122,12 @@ void RecordingWriter::commit() {
   if (folder_.committed()) fail(dir_, "commit() called twice");
   frames_.finish();
   if (scene_) {
-    if (scene_->frames() != rows_.size())
+    if (scene_->frames() != rows_.rows())
       fail(dir_ / "scene.npy", std::to_string(scene_->frames()) + " scene frames for " +
-                                   std::to_string(rows_.size()) + " frames");
+                                   std::to_string(rows_.rows()) + " frames");
     scene_->finish();
   }
-  write_frames_csv(folder_.path() / "frames.csv", rows_);
+  rows_.finish();
   write_recording_json(folder_.path() / "recording.json", info_);
   if (camera_) write_file_atomically(folder_.path() / "camera.json", camera_->dump(2) + "\n");
   for (const auto& [relative, contents] : extra_files_) {

@@ -58,6 +58,28 @@ void write_recording_json(const std::filesystem::path& file, const RecordingInfo
 // strictly increasing t_s, non-negative exposure/readout, ffc in {0,1,empty}.
 std::vector<FrameRow> read_frames_csv(const std::filesystem::path& file);
 void write_frames_csv(const std::filesystem::path& file, std::span<const FrameRow> rows);
+// frames.csv one row at a time (a recording of any length in constant memory); finish() closes it.
+// Each row is validated as write_frames_csv validates it (index = row number, t_s increasing).
+class FramesCsvWriter {
+ public:
+  // `shown_as` names the file in messages (the destination, when `file` is in a temporary folder).
+  explicit FramesCsvWriter(const std::filesystem::path& file, std::filesystem::path shown_as = {});
+  ~FramesCsvWriter();
+  FramesCsvWriter(const FramesCsvWriter&) = delete;
+  FramesCsvWriter& operator=(const FramesCsvWriter&) = delete;
+  // Throws Error naming the file, frame and field if `row` cannot be the next row; writes nothing.
+  void check(const FrameRow& row) const;
+  void append(const FrameRow& row);
+  void finish();
+  std::uint64_t rows() const { return rows_; }
+
+ private:
+  std::filesystem::path path_, shown_as_;
+  std::ofstream out_;
+  std::uint64_t rows_ = 0;
+  std::optional<double> last_t_;
+  bool finished_ = false;
+};
 
 enum class DType { u2, f4 };
 
@@ -164,7 +186,7 @@ class RecordingWriter {
   // Any further file in the recording (poses.tum, truth/...), written at commit. Relative path.
   void add_file(const std::filesystem::path& relative, std::string contents);
   void commit();
-  std::uint64_t frames() const { return rows_.size(); }
+  std::uint64_t frames() const { return rows_.rows(); }
 
  private:
   std::filesystem::path dir_;
@@ -173,7 +195,7 @@ class RecordingWriter {
   Options options_;
   NpyStackWriter frames_;
   std::optional<NpyStackWriter> scene_;
-  std::vector<FrameRow> rows_;
+  FramesCsvWriter rows_;
   std::optional<nlohmann::json> camera_;
   std::vector<std::pair<std::filesystem::path, std::string>> extra_files_;
 };
