@@ -832,7 +832,7 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
         std::string::npos);
   edit_camera("k1", -1.5);
   CHECK(refused({"odometry", nocam.string(), "--out", (tmp / "c").string()})
-            .find("camera.json: fields k1, k2, p1, p2: the radial distortion (k1, k2) folds back inside the image") !=
+            .find("camera.json: distortion coefficients: the radial distortion (k1..k6) folds back inside the image") !=
         std::string::npos);
   // 10.4 ir without timing
   {

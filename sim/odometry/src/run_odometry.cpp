@@ -50,7 +50,7 @@ struct Input {
   }
 };
 
-// camera.json as the recording format defines it (a pinhole with Brown-Conrady distortion).
+// camera.json as the recording format defines it (a pinhole with OpenCV's rational distortion).
 sim::scene::Camera read_camera(const Input& input) {
   if (input.live) throw Error(input.name + ": a live source has no camera.json (give --hfov DEG)");
   const fs::path file = input.dir / "camera.json";
@@ -74,7 +74,7 @@ PinholeRemap pinhole_remap(const OdometryOptions& options, const Input& input) {
   try {
     return PinholeRemap(camera);
   } catch (const std::invalid_argument& e) {
-    throw Error((input.dir / "camera.json").string() + ": fields k1, k2, p1, p2: " + e.what());
+    throw Error((input.dir / "camera.json").string() + ": distortion coefficients: " + e.what());
   }
 }
 
