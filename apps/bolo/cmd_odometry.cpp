@@ -53,6 +53,9 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   if (o.max_keyframes < 2 || o.max_keyframes > vo::kMaxKeyframes)
     fail("--max-keyframes: must be within 2..", vo::kMaxKeyframes, ", got ", o.max_keyframes);
   options.max_keyframes = o.max_keyframes;
+  if (o.reverse && (options.photometric == vo::Photometric::ir || options.photometric == vo::Photometric::ir_loop))
+    fail("--reverse: the ir modes' carry-over runs forward in time (use none or affine)");
+  options.reverse = o.reverse;
   options.overwrite = o.overwrite;
   if (o.frames) options.max_frames = *o.frames;
   Progress progress("odometry", 0, o.progress);
@@ -112,7 +115,7 @@ Command add_odometry_command(CLI::App& parent) {
       parent, "odometry", "Monocular direct visual odometry with a microbolometer photometric model",
       "Runs the on-board VO (firmware/vo: direct sparse odometry, frame-to-keyframe alignment,\n"
       "epipolar depth search, sliding-window bundle adjustment) over a recording with camera.json\n"
-      "(a lens with distortion k1, k2, p1, p2: the frames are resampled onto a pinhole first) or\n"
+      "(a lens with distortion, OpenCV's k1..k6, p1, p2: the frames are resampled onto a pinhole first) or\n"
       "over any other source of `bolo capture --help` (a camera, a transfer log: see below),\n"
       "and writes to DIR: trajectory.tum (camera-to-world, per posed frame), stats.csv (per frame:\n"
       "state, tracked points, keyframe flag, residual, tau estimates, time), points.ply (keyframe\n"
@@ -190,6 +193,9 @@ Command add_odometry_command(CLI::App& parent) {
                 "Keep the scale a look-around leaves the map with (by default, after a fast turn that takes the map "
                 "out of view, the new view's map is scaled so that the camera's speed after the turn is its speed "
                 "before: docs/odometry-study.md)");
+  app->add_flag("--reverse", o->reverse,
+                "Run the frames last to first (none, affine); trajectory.tum keeps the frames' times, so "
+                "`bolo evaluate FORWARD --truth REVERSED/trajectory.tum` compares the two runs");
   app->add_flag("--overwrite", o->overwrite, "Replace DIR if it exists");
   app->add_flag("--no-progress", [o](std::int64_t) { o->progress = false; }, "Never draw the progress bar");
   return {app, [o](std::ostream& out) { return run_odometry(*o, out); }};

@@ -266,7 +266,7 @@ Command add_simulate_command(CLI::App& parent) {
                   "3D scenes: N x N rays per pixel, averaged (the pixel's area; 1 = one ray through its centre, aliased), 1 to 8")
       ->check(not_negative())->capture_default_str();
   app->add_option("--distortion", o->distortion,
-                  "3D scenes: lens distortion K1[,K2[,P1[,P2]]] (Brown-Conrady, as camera.json records it; "
+                  "3D scenes: lens distortion K1[,K2[,P1[,P2[,K3[,K4,K5,K6]]]]] (OpenCV's order and rational model, as camera.json records it; "
                   "e.g. -0.2,0.04 for a barrel lens)")
       ->delimiter(',');
   app->add_option("--effect", o->effects, "Catalogue effect ID[:KEY=VALUE,...]; repeatable");

@@ -113,6 +113,7 @@ struct OdometryOptions {
   std::string retirement = "spread";
   bool no_scale_bridge = false;
   std::uint32_t max_keyframes = 8;
+  bool reverse = false;
   bool overwrite = false;
   bool progress = true;
 };

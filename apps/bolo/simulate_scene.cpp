@@ -66,8 +66,11 @@ SimulatedScene make_simulated_scene(const std::string& scene_name, const std::st
   if (trajectory->scene() != scene_name && scene_name != "checker")
     fail("--trajectory ", path, ": laid out for the ", trajectory->scene(), " scene, not ", scene_name);
   sim::scene::Camera camera(info.width, info.height, kHorizontalFovDeg);
-  if (distortion.size() > 4) fail("--distortion: at most 4 values (k1,k2,p1,p2), got ", distortion.size());
-  double* const coefficient[4] = {&camera.k1, &camera.k2, &camera.p1, &camera.p2};
+  // OpenCV's order, as cv::calibrateCamera writes the coefficients.
+  double* const coefficient[8] = {&camera.k1, &camera.k2, &camera.p1, &camera.p2,
+                                  &camera.k3, &camera.k4, &camera.k5, &camera.k6};
+  if (distortion.size() > 8)
+    fail("--distortion: at most 8 values (k1,k2,p1,p2,k3,k4,k5,k6), got ", distortion.size());
   for (std::size_t k = 0; k < distortion.size(); ++k) {
     if (!std::isfinite(distortion[k])) fail("--distortion: value ", k + 1, " is not finite");
     *coefficient[k] = distortion[k];

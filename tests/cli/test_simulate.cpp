@@ -110,8 +110,8 @@ TEST_CASE("simulate refuses bad options", "[cli][simulate][refusal]") {
            {{"--preset", "nosuch"}, "--preset nosuch"},
            {{"--scene", "nosuch"}, "--scene nosuch"},
            {{"--distortion", "-0.2"}, "--distortion: the demo scene is a flat pattern without a lens"},
-           {{"--scene", "street", "--distortion", "-1.5"}, "--distortion: the radial distortion (k1, k2) folds back"},
-           {{"--scene", "street", "--distortion", "0.1,0,0,0,0.1"}, "--distortion: at most 4 values"},
+           {{"--scene", "street", "--distortion", "-1.5"}, "--distortion: the radial distortion (k1..k6) folds back"},
+           {{"--scene", "street", "--distortion", "0.1,0,0,0,0.1,0,0,0,0.1"}, "--distortion: at most 8 values"},
        }) {
     std::vector<std::string> argv = {"simulate", (tmp / "x").string()};
     argv.insert(argv.end(), args.begin(), args.end());

@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
@@ -116,4 +118,82 @@ TEST_CASE("barrel distortion pulls the image edge inwards", "[scene][camera]") {
   REQUIRE(barrel);
   CHECK(barrel->x() < undistorted->x());
   CHECK(barrel->x() > c.cx);
+}
+
+namespace {
+
+// The Optris PI450's calibration in ../shared/data/real/optris-pi450-handheld/camera.json
+// (cv::calibrateCamera's rational model, 382 x 288).
+Camera optris_pi450() {
+  Camera c;
+  c.width = 382, c.height = 288;
+  c.fx = 377.32227553759276, c.fy = 378.27518590799593;
+  c.cx = 190.98670415464665, c.cy = 148.90328824683087;
+  c.k1 = -0.19666214082095448, c.k2 = -1.8316527667010765;
+  c.p1 = 4.14886277407486e-05, c.p2 = -0.0004457029653203337;
+  c.k3 = 5.431916500757228, c.k4 = 0.2761986355556445, c.k5 = -2.4816640836747377, c.k6 = 6.667848761560231;
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("rational distortion: points computed outside this code", "[scene][camera]") {
+  const Camera c = optris_pi450();
+  // Off the axes, every term at work: OpenCV's formula evaluated by `bc -l` at 30 digits.
+  const auto off_axis = c.project({0.3, -0.2, 1.0});
+  REQUIRE(off_axis);
+  CHECK(off_axis->x() == Approx(298.158517254606244856).margin(1e-9));
+  CHECK(off_axis->y() == Approx(77.262402839952014802).margin(1e-9));
+  // On the x axis (y = 0) the formula is, in closed form,
+  //   xd = x (1 + k1 x^2 + k2 x^4 + k3 x^6) / (1 + k4 x^2 + k5 x^4 + k6 x^6) + 3 p2 x^2,  yd = p1 x^2.
+  for (const double x : {-0.6, -0.25, 0.1, 0.45, 0.7}) {
+    const double x2 = x * x;
+    const double radial = (1 + c.k1 * x2 + c.k2 * x2 * x2 + c.k3 * x2 * x2 * x2) /
+                          (1 + c.k4 * x2 + c.k5 * x2 * x2 + c.k6 * x2 * x2 * x2);
+    const Eigen::Vector2d d = c.distort({x, 0.0});
+    CHECK(d.x() == Approx(x * radial + 3 * c.p2 * x2).margin(1e-15));
+    CHECK(d.y() == Approx(c.p1 * x2).margin(1e-15));
+  }
+  // The denominator matters: the numerator alone puts the same point elsewhere by pixels.
+  Camera numerator_only = c;
+  numerator_only.k4 = numerator_only.k5 = numerator_only.k6 = 0;
+  CHECK((*numerator_only.project({0.3, -0.2, 1.0}) - *off_axis).norm() > 1.0);
+}
+
+TEST_CASE("rational distortion: undistort inverts distort over the Optris image (< 1e-6 px)", "[scene][camera]") {
+  const Camera c = optris_pi450();
+  REQUIRE(bolo::sim::scene::distortion_problem(c) == nullptr);
+  double worst = 0.0;
+  for (double v = -0.5; v <= 287.5; v += 0.5)
+    for (double u = -0.5; u <= 381.5; u += 0.5) {
+      const Eigen::Vector2d d((u - c.cx) / c.fx, (v - c.cy) / c.fy);
+      const Eigen::Vector2d back = c.distort(c.undistort(d));
+      worst = std::max(worst, std::hypot(c.fx * (back.x() - d.x()), c.fy * (back.y() - d.y())));
+    }
+  INFO("worst " << worst << " px");
+  CHECK(worst < 1e-6);
+}
+
+TEST_CASE("rational distortion: camera.json's k3..k6, and lenses that cannot be inverted", "[scene][camera]") {
+  const Camera c = optris_pi450();
+  const nlohmann::json j = c.to_json();
+  CHECK(j.size() == 13);
+  CHECK(j.at("k6").get<double>() == c.k6);
+  nlohmann::json written = j;
+  written["distortion_model"] = "opencv-rational (k1 k2 p1 p2 k3 k4 k5 k6)";  // as OpenCV tools note it
+  const Camera back = Camera::from_json(nlohmann::json::parse(written.dump()), 382, 288);
+  CHECK(back.k3 == c.k3);
+  CHECK(back.k4 == c.k4);
+  CHECK(back.k5 == c.k5);
+  CHECK(back.k6 == c.k6);
+  CHECK(back.distorted());
+  CHECK_FALSE(Camera(382, 288, 50.0).distorted());
+  CHECK(Camera(382, 288, 50.0).to_json().size() == 9);  // Brown-Conrady files stay as they were
+  CHECK_THROWS_WITH(Camera::from_json(nlohmann::json::parse(R"({"fx":100,"fy":100,"cx":1,"cy":2,"k5":"x"})"), 4, 4),
+                    Catch::Contains("field k5 is not a number"));
+  // The Optris lens read as Brown-Conrady only (k3..k6 dropped) folds inside the image.
+  Camera truncated = c;
+  truncated.k3 = truncated.k4 = truncated.k5 = truncated.k6 = 0;
+  REQUIRE(bolo::sim::scene::distortion_problem(truncated) != nullptr);
+  CHECK(std::string(bolo::sim::scene::distortion_problem(truncated)).find("folds back") != std::string::npos);
 }

@@ -79,6 +79,17 @@ TEST_CASE("pinhole remap: a barrel lens's frames match the pinhole's view", "[vo
   CHECK(worst_error(remap, c, 2) < 3);
 }
 
+TEST_CASE("pinhole remap: a lens with OpenCV's rational model (the Optris PI450's coefficients)", "[vo][remap]") {
+  // Read as Brown-Conrady alone (k1, k2) this lens folds inside the image; the denominator
+  // (k4..k6) keeps it one-to-one and barrel.
+  sim::scene::Camera c = lens(-0.19666214082095448, -1.8316527667010765, 4.14886277407486e-05, -0.0004457029653203337);
+  c.k3 = 5.431916500757228, c.k4 = 0.2761986355556445, c.k5 = -2.4816640836747377, c.k6 = 6.667848761560231;
+  const odo::PinholeRemap remap(c);
+  CHECK_FALSE(remap.identity());
+  CHECK(remap.focal_scale() == 1.0);
+  CHECK(worst_error(remap, c, 2) < 3);
+}
+
 TEST_CASE("pinhole remap: a pincushion lens gets a longer focal length and stays inside the frame", "[vo][remap]") {
   const sim::scene::Camera c = lens(0.15, 0.0, 0.002, -0.001);
   const odo::PinholeRemap remap(c);

@@ -37,7 +37,7 @@ PinholeRemap::PinholeRemap(const sim::scene::Camera& c) : width_(c.width), heigh
   if (c.width < 2 || c.height < 2) throw std::invalid_argument("the image must be at least 2 x 2 pixels");
   pinhole_.fx = static_cast<float>(c.fx), pinhole_.fy = static_cast<float>(c.fy);
   pinhole_.cx = static_cast<float>(c.cx), pinhole_.cy = static_cast<float>(c.cy);
-  if (c.k1 == 0.0 && c.k2 == 0.0 && c.p1 == 0.0 && c.p2 == 0.0) return;
+  if (!c.distorted()) return;
   if (const char* why = sim::scene::distortion_problem(c)) throw std::invalid_argument(why);
   const std::uint32_t w = c.width, h = c.height;
   // The distortion is one-to-one over the image, so the output's border reaches farthest out.

@@ -50,7 +50,7 @@ struct Input {
   }
 };
 
-// camera.json as the recording format defines it (a pinhole with Brown-Conrady distortion).
+// camera.json as the recording format defines it (a pinhole with OpenCV's rational distortion).
 sim::scene::Camera read_camera(const Input& input) {
   if (input.live) throw Error(input.name + ": a live source has no camera.json (give --hfov DEG)");
   const fs::path file = input.dir / "camera.json";
@@ -74,7 +74,7 @@ PinholeRemap pinhole_remap(const OdometryOptions& options, const Input& input) {
   try {
     return PinholeRemap(camera);
   } catch (const std::invalid_argument& e) {
-    throw Error((input.dir / "camera.json").string() + ": fields k1, k2, p1, p2: " + e.what());
+    throw Error((input.dir / "camera.json").string() + ": distortion coefficients: " + e.what());
   }
 }
 
@@ -175,6 +175,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   const std::vector<rec::FrameRow>& rows = *input.rows;
   const std::uint64_t frames = std::min<std::uint64_t>(rows.size(), options.max_frames.value_or(rows.size()));
   const bool ir = options.photometric == vo::Photometric::ir || options.photometric == vo::Photometric::ir_loop;
+  if (ir && options.reverse) throw Error(input.name + ": the ir modes' carry-over runs forward in time (reverse: none or affine)");
   const fs::path& csv = input.csv;
   for (std::uint64_t i = 0; i < frames; ++i)
     if (!rows[i].t_s) throw Error(csv.string() + ": frame " + std::to_string(i) + ": t_s is empty (the VO needs frame times)");
@@ -253,22 +254,28 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   summary.focal_scale = remap.focal_scale();
   double vo_seconds = 0;
   bool held_before = false;
+  // The frame fed i-th, and the time the VO gets for it (mirrored when reversed, so it increases).
+  const auto frame_of = [&](std::uint64_t i) { return options.reverse ? frames - 1 - i : i; };
+  const auto vo_time = [&](std::uint64_t j) {
+    return options.reverse ? *rows[0].t_s + *rows[frames - 1].t_s - *rows[j].t_s : *rows[j].t_s;
+  };
   for (std::uint64_t i = 0; i < frames; ++i) {
+    const std::uint64_t j = frame_of(i), before = i > 0 ? frame_of(i - 1) : j;
     if (remap.identity()) {
-      input.read(i, raw);
+      input.read(j, raw);
     } else {
-      input.read(i, distorted);
+      input.read(j, distorted);
       remap.apply(distorted, raw);
     }
-    const rec::FrameRow& row = rows[i];
+    const rec::FrameRow& row = rows[j];
     vo::FrameInput in;
     in.raw = raw;
-    in.t_s = *row.t_s;
-    in.exposure_s = timing[i].exposure_s;
-    in.readout_prev_s = i > 0 ? timing[i - 1].readout_s : 0.0;
-    in.shutter_event = i > 0 && row.ffc.value_or(false);
-    in.chain_broken = i == 0 || in.shutter_event ||
-                      (period > 0 && *row.t_s - *rows[i - 1].t_s > 1.5 * period);
+    in.t_s = vo_time(j);
+    in.exposure_s = timing[j].exposure_s;
+    in.readout_prev_s = i > 0 ? timing[before].readout_s : 0.0;
+    // A shutter event lies between a frame and the one before it in time, whichever is fed first.
+    in.shutter_event = i > 0 && rows[std::max(j, before)].ffc.value_or(false);
+    in.chain_broken = i == 0 || in.shutter_event || (period > 0 && in.t_s - vo_time(before) > 1.5 * period);
     // A repeated frame is skipped by the VO; the corrector does not see it either, so the frame
     // sequence it gets has a gap and it restarts its carry-over chain after it.
     const bool repeated = !in.chain_broken && raw == previous_raw;
@@ -279,7 +286,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
       // The row's header with the timing resolved above (assumed where frames.csv has none).
       fw::FrameHeader header = rec::header_from_row(row, w, h, csv);
       header.exposure_ns = to_ns(in.exposure_s);
-      header.readout_ns = to_ns(timing[i].readout_s);
+      header.readout_ns = to_ns(timing[j].readout_s);
       corrector.begin_frame(header);
       for (std::uint32_t y = 0; y < h; ++y) corrector.push_line(y, fw::LineView(raw.data() + std::size_t{y} * w, w));
       corrector.end_frame();
@@ -307,7 +314,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     held_before = r.centre_held;
     char line[256];
     std::snprintf(line, sizeof line, "%llu,%.9f,%s,%u,%d,%.4f,%.6f,%.6f,%.3f\n",
-                  static_cast<unsigned long long>(i), *row.t_s, vo::to_string(r.state), r.tracked_points,
+                  static_cast<unsigned long long>(j), *row.t_s, vo::to_string(r.state), r.tracked_points,
                   r.keyframe ? 1 : 0, static_cast<double>(r.residual_rms), r.tau.h, r.tau.c, ms);
     stats << line;
     if (options.progress) options.progress(i + 1, frames);
@@ -325,7 +332,9 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
 
   std::string tum = "# bolo odometry: " + std::string(vo::to_string(options.photometric)) +
                     " (t tx ty tz qx qy qz qw, camera-to-world)\n";
-  for (const StampedPose& p : trajectory) tum += tum_line(p);
+  std::vector<StampedPose> by_time = trajectory;  // a reversed run's poses come last to first
+  std::sort(by_time.begin(), by_time.end(), [](const StampedPose& a, const StampedPose& b) { return a.t < b.t; });
+  for (const StampedPose& p : by_time) tum += tum_line(p);
   write_text(folder.path() / "trajectory.tum", tum);
   write_text(folder.path() / "stats.csv", stats.str());
   write_text(folder.path() / "points.ply", ply_text(points));
@@ -346,6 +355,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   nlohmann::json bridges_json = nlohmann::json::array();
   for (const auto& [from, to] : summary.scale_bridges) bridges_json.push_back({{"from_t_s", from}, {"to_t_s", to}});
   nlohmann::json j = {{"photometric", vo::to_string(options.photometric)},
+                      {"reverse", options.reverse},
                       {"frames", summary.frames},
                       {"posed", summary.posed},
                       {"lost", summary.lost},

@@ -28,22 +28,44 @@ double Camera::vfov_deg() const {
   return 2.0 * std::atan(0.5 * static_cast<double>(height) / fy) * 180.0 / std::numbers::pi;
 }
 
+bool Camera::distorted() const {
+  for (const double k : {k1, k2, k3, k4, k5, k6, p1, p2})
+    if (k != 0.0) return true;
+  return false;
+}
+
+namespace {
+
+// The rational radial factor at r2 = x^2 + y^2 and its derivative with respect to r2.
+struct Radial {
+  double factor, d_r2;
+};
+Radial radial_at(const Camera& c, double r2) {
+  const double num = 1.0 + r2 * (c.k1 + r2 * (c.k2 + r2 * c.k3));
+  const double den = 1.0 + r2 * (c.k4 + r2 * (c.k5 + r2 * c.k6));
+  const double d_num = c.k1 + r2 * (2.0 * c.k2 + 3.0 * r2 * c.k3);
+  const double d_den = c.k4 + r2 * (2.0 * c.k5 + 3.0 * r2 * c.k6);
+  return {num / den, (d_num * den - num * d_den) / (den * den)};
+}
+
+}  // namespace
+
 Eigen::Vector2d Camera::distort(const Eigen::Vector2d& n) const {
   const double x = n.x(), y = n.y();
   const double r2 = x * x + y * y;
-  const double rad = 1.0 + r2 * (k1 + k2 * r2);
+  const double rad = radial_at(*this, r2).factor;
   return {x * rad + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
           y * rad + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y};
 }
 
 Eigen::Vector2d Camera::undistort(const Eigen::Vector2d& d) const {
-  if (k1 == 0.0 && k2 == 0.0 && p1 == 0.0 && p2 == 0.0) return d;
+  if (!distorted()) return d;
   Eigen::Vector2d x = d;
   for (int it = 0; it < 60; ++it) {
     const double u = x.x(), v = x.y();
-    const double r2 = u * u + v * v;
-    const double rad = 1.0 + r2 * (k1 + k2 * r2);
-    const double drad = 2.0 * (k1 + 2.0 * k2 * r2);  // d rad / d(u) = drad * u
+    const Radial r = radial_at(*this, u * u + v * v);
+    const double rad = r.factor;
+    const double drad = 2.0 * r.d_r2;  // d rad / d(u) = drad * u
     Eigen::Matrix2d j;
     j(0, 0) = rad + u * drad * u + 2.0 * p1 * v + 6.0 * p2 * u;
     j(0, 1) = u * drad * v + 2.0 * p1 * u + 2.0 * p2 * v;
@@ -68,8 +90,10 @@ Eigen::Vector3d Camera::unproject(const Eigen::Vector2d& px) const {
 }
 
 nlohmann::json Camera::to_json() const {
-  return nlohmann::json{{"model", "pinhole"}, {"fx", fx}, {"fy", fy}, {"cx", cx}, {"cy", cy},
-                        {"k1", k1},           {"k2", k2}, {"p1", p1}, {"p2", p2}};
+  nlohmann::json j{{"model", "pinhole"}, {"fx", fx}, {"fy", fy}, {"cx", cx}, {"cy", cy},
+                   {"k1", k1},           {"k2", k2}, {"p1", p1}, {"p2", p2}};
+  if (k3 != 0.0 || k4 != 0.0 || k5 != 0.0 || k6 != 0.0) j["k3"] = k3, j["k4"] = k4, j["k5"] = k5, j["k6"] = k6;
+  return j;
 }
 
 Camera Camera::from_json(const nlohmann::json& j, std::uint32_t w, std::uint32_t h) {
@@ -99,6 +123,10 @@ Camera Camera::from_json(const nlohmann::json& j, std::uint32_t w, std::uint32_t
   c.k2 = number("k2", false);
   c.p1 = number("p1", false);
   c.p2 = number("p2", false);
+  c.k3 = number("k3", false);
+  c.k4 = number("k4", false);
+  c.k5 = number("k5", false);
+  c.k6 = number("k6", false);
   c.validate();
   return c;
 }
@@ -107,26 +135,27 @@ void Camera::validate() const {
   if (width == 0 || height == 0) throw std::invalid_argument("camera: size must be non-zero");
   if (!(fx > 0.0) || !(fy > 0.0) || !std::isfinite(fx) || !std::isfinite(fy))
     throw std::invalid_argument("camera: focal lengths fx, fy must be positive and finite");
-  for (double v : {cx, cy, k1, k2, p1, p2})
-    if (!std::isfinite(v)) throw std::invalid_argument("camera: cx, cy, k1, k2, p1, p2 must be finite");
+  for (double v : {cx, cy, k1, k2, k3, k4, k5, k6, p1, p2})
+    if (!std::isfinite(v)) throw std::invalid_argument("camera: cx, cy and the distortion coefficients must be finite");
 }
 
 const char* distortion_problem(const Camera& c) {
-  if (c.k1 == 0.0 && c.k2 == 0.0 && c.p1 == 0.0 && c.p2 == 0.0) return nullptr;
-  // The farthest corner's distorted radius; the radial factor must keep growing until it is
-  // reached (a fold inside the image maps two directions onto one pixel).
+  if (!c.distorted()) return nullptr;
+  // The farthest corner's distorted radius; r times the radial factor must keep growing until it
+  // is reached (a fold inside the image maps two directions onto one pixel; past a pole of the
+  // denominator the radius turns negative, a fold too).
   double corner = 0.0;
   for (const double u : {-0.5, c.width - 0.5})
     for (const double v : {-0.5, c.height - 0.5})
       corner = std::max(corner, std::hypot((u - c.cx) / c.fx, (v - c.cy) / c.fy));
-  const auto radial = [&](double r) { return r * (1.0 + r * r * (c.k1 + c.k2 * r * r)); };
+  const auto radial = [&](double r) { return r * radial_at(c, r * r).factor; };
   constexpr double kStep = 1e-3, kMaxRadius = 20.0;  // ~174 degrees across
   double r = 0.0, previous = 0.0;
   while (previous < corner * 1.05) {
     r += kStep;
     const double now = radial(r);
-    if (!(now > previous)) return "the radial distortion (k1, k2) folds back inside the image";
-    if (r > kMaxRadius) return "the distortion (k1, k2) needs a field of view beyond 174 degrees";
+    if (!(now > previous)) return "the radial distortion (k1..k6) folds back inside the image";
+    if (r > kMaxRadius) return "the distortion (k1..k6) needs a field of view beyond 174 degrees";
     previous = now;
   }
   // Tangential terms: the inverse must converge and the Jacobian stay positive over the image.

@@ -1,5 +1,5 @@
 #pragma once
-// Resamples the frames of a camera with lens distortion (camera.json's k1, k2, p1, p2) onto an
+// Resamples the frames of a camera with lens distortion (camera.json's k1..k6, p1, p2) onto an
 // undistorted pinhole, the only camera model the VO core takes. Each output pixel's ray is
 // distorted into the source image and read there with Keys' cubic. The resampling is linear in the
 // frame, so the two-frame carry-over model (raw_i = alpha raw_{i-1} + beta u) holds on the

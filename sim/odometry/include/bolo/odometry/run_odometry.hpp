@@ -41,6 +41,10 @@ struct OdometryOptions {
   vo::Retirement retirement = vo::VoConfig{}.retirement;
   bool scale_bridge = vo::VoConfig{}.scale_bridge;  // vo::VoConfig::scale_bridge
   std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;  // sliding window, 2..8
+  // The frames last to first (a check of the geometry without ground truth: the trajectory is
+  // written at the frames' own times, to be compared with the forward run's); none and affine only,
+  // since the carry-over runs forward in time.
+  bool reverse = false;
   bool overwrite = false;
   std::optional<std::uint64_t> max_frames;
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
