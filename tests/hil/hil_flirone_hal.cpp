@@ -22,6 +22,7 @@
 
 #include "bolo/hal/flirone_source.hpp"
 #include "bolo/hal/usb_libusb.hpp"
+#include "real_stream.hpp"
 #include "send_log.hpp"
 #include "emulators/fnv1a.hpp"
 
@@ -86,22 +87,11 @@ class TimedTransport final : public hal::BulkInTransport {
 // image are the camera's start-up and are only reported; the core exports some frames twice
 // (same counter, the shared capture has them), so duplicates are reported, not failed.
 int stream_real_camera(hal::FlirOneSource& source, HashingSink& sink, std::uint64_t frames) {
-  const auto start = Clock::now();
-  auto last_progress = start;
-  std::optional<hal::SourceStats> at_first_image;
-  while (sink.hashes.size() < frames) {
-    const std::size_t before = sink.hashes.size();
-    source.stream_frame(sink);
-    if (sink.hashes.size() != before) {
-      last_progress = Clock::now();
-      if (!at_first_image) at_first_image = source.stats();
-    } else if (Clock::now() - last_progress > std::chrono::seconds(15)) {
-      break;
-    }
-  }
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const bolo::hil::RealStreamRun run =
+      bolo::hil::stream_real(source, sink, frames, [&] { return sink.hashes.size(); });
+  const double seconds = run.seconds;
   const hal::SourceStats st = source.stats();
-  const std::uint64_t startup_timeouts = at_first_image ? at_first_image->timeouts : st.timeouts;
+  const std::uint64_t startup_timeouts = run.startup_timeouts(st);
   const auto malformed = static_cast<std::uint64_t>(std::count(sink.hashes.begin(), sink.hashes.end(), 0u));
   int failures = 0;
   auto expect = [&](bool ok, const std::string& what) {

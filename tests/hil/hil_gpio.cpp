@@ -28,6 +28,7 @@
 
 #include "bolo/hal/gpio_lines.hpp"
 #include "bolo/hal/gpio_synced_source.hpp"
+#include "header_sink.hpp"
 
 namespace {
 
@@ -118,14 +119,6 @@ class CollectingLines final : public hal::GpioLines {
   std::size_t taken_ = 0;
 };
 
-class HeaderSink final : public fw::LineSink {
- public:
-  void begin_frame(const fw::FrameHeader& h) override { header = h; }
-  void push_line(std::uint32_t, fw::LineView) override {}
-  void end_frame() override {}
-  fw::FrameHeader header;
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -163,7 +156,7 @@ int main(int argc, char** argv) {
     CollectingLines gpio(gpiod);
     TickSource ticks;
     hal::GpioSyncedSource source(ticks, gpio);
-    HeaderSink sink;
+    bolo::hil::HeaderSink sink;
     expect(read_attr(shutter_value) == "0", "shutter line not low after the request");
 
     const int imminent_from = frames / 3, imminent_to = frames / 3 + 10;

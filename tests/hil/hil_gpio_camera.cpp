@@ -16,20 +16,9 @@
 #include "bolo/hal/gpio_synced_source.hpp"
 #include "bolo/hal/source_registry.hpp"
 #include "gpio_camera_check.hpp"
-
-namespace {
+#include "header_sink.hpp"
 
 using namespace bolo;
-
-class HeaderSink final : public fw::LineSink {
- public:
-  void begin_frame(const fw::FrameHeader& h) override { header = h; }
-  void push_line(std::uint32_t, fw::LineView) override {}
-  void end_frame() override {}
-  fw::FrameHeader header;
-};
-
-}  // namespace
 
 int main(int argc, char** argv) {
   std::string device, gpio;
@@ -58,7 +47,7 @@ int main(int argc, char** argv) {
     bolo::hil::GpioCameraPlan plan;
     plan.sync = config.sync_line >= 0;
     std::vector<bolo::hil::GpioCameraFrame> seen;
-    HeaderSink sink;
+    bolo::hil::HeaderSink sink;
     std::size_t faults_in_a_row = 0;
     while (seen.size() < frames) {
       if (config.shutter_line >= 0 && !plan.shutter_before && seen.size() == frames / 2) {

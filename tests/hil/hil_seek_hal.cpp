@@ -26,6 +26,7 @@
 
 #include "bolo/hal/seek_source.hpp"
 #include "bolo/hal/usb_libusb.hpp"
+#include "real_stream.hpp"
 #include "send_log.hpp"
 #include "emulators/fnv1a.hpp"
 
@@ -65,24 +66,13 @@ class HashingSink final : public fw::LineSink {
 // the camera's start-up (it boots, then calibrates) and are only reported.
 int stream_real_camera(hal::SeekSource& source, HashingSink& sink, const hal::SeekModel& model,
                        std::uint64_t frames) {
-  const auto start = Clock::now();
-  auto last_progress = start;
-  std::optional<hal::SourceStats> at_first_image;
-  while (sink.hashes.size() < frames) {
-    const std::size_t before = sink.hashes.size();
-    source.stream_frame(sink);
-    if (sink.hashes.size() != before) {
-      last_progress = Clock::now();
-      if (!at_first_image) at_first_image = source.stats();
-    } else if (Clock::now() - last_progress > std::chrono::seconds(15)) {
-      break;
-    }
-  }
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const bolo::hil::RealStreamRun run =
+      bolo::hil::stream_real(source, sink, frames, [&] { return sink.hashes.size(); });
+  const double seconds = run.seconds;
   const hal::SourceStats st = source.stats();
   std::uint64_t repeated = 0;  // a sensor's noise makes two equal images in a row a duplicate
   for (std::size_t i = 1; i < sink.hashes.size(); ++i) repeated += sink.hashes[i] == sink.hashes[i - 1] ? 1 : 0;
-  const std::uint64_t startup_timeouts = at_first_image ? at_first_image->timeouts : st.timeouts;
+  const std::uint64_t startup_timeouts = run.startup_timeouts(st);
   int failures = 0;
   auto expect = [&](bool ok, const std::string& what) {
     if (!ok) {
