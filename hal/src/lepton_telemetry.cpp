@@ -108,6 +108,9 @@ LeptonFrameCounter::Step LeptonFrameCounter::forward_by(std::uint32_t step) {
 // Behind the highest: a frame not delivered yet is late, one delivered already a repeat.
 LeptonFrameCounter::Step LeptonFrameCounter::behind_by(std::uint32_t step) {
   if (stride_ == 0) return step > kLeptonMaxStride ? Step::jump : Step::late;
+  // Less than a stride behind: the stride was learned over a gap (two frames swapped at the
+  // start), so this frame lies between delivered ones; rounding would take it for one of them.
+  if (step < stride_) return Step::late;
   const std::uint32_t frames = (step + stride_ / 2) / stride_;
   if (frames >= kLeptonCounterWindow) return Step::jump;  // beyond the window (and the 64 bits that keep it)
   const std::uint64_t bit = std::uint64_t{1} << frames;
