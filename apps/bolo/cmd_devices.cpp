@@ -1,4 +1,4 @@
-// bolo devices: what the HAL finds on this machine: V4L2 nodes offering Y16, USB devices with
+// bolo devices: what the HAL finds on this machine: V4L2 nodes offering Y16 (or GREY/YUYV/UYVY), USB devices with
 // a known VID:PID, gpiochips, and which backends this build has.
 
 #include <iomanip>
@@ -28,15 +28,24 @@ std::string hex4(unsigned v) {
 #endif
 
 int run_devices(bool json, std::ostream& out) {
-  const auto v4l2 = hal::list_v4l2_y16_devices();
+  const auto v4l2 = hal::list_v4l2_devices();
   nlohmann::json j = {{"v4l2", nlohmann::json::array()}, {"usb", nlohmann::json::array()},
                       {"gpio", nlohmann::json::array()},
                       {"backends", {{"v4l2", true}, {"usb", hal::usb_backend_available()},
                                     {"gpio", hal::gpio_backend_available()}}}};
+  const auto size_list = [](const hal::V4l2Sizes& sizes) {
+    nlohmann::json list = nlohmann::json::array();
+    for (auto [w, h] : sizes) list.push_back(std::to_string(w) + "x" + std::to_string(h));
+    return list;
+  };
   for (const auto& d : v4l2) {
-    nlohmann::json sizes = nlohmann::json::array();
-    for (auto [w, h] : d.y16_sizes) sizes.push_back(std::to_string(w) + "x" + std::to_string(h));
-    j["v4l2"].push_back({{"device", "v4l2:" + d.path}, {"card", d.card}, {"driver", d.driver}, {"y16", sizes}});
+    // "formats" keeps the order the source tries them in (an array: JSON objects are sorted).
+    nlohmann::json formats = nlohmann::json::array();
+    for (const auto& f : d.formats)
+      formats.push_back({{"format", hal::v4l2_pixels_name(f.pixels)}, {"sizes", size_list(f.sizes)},
+                         {"tone_mapped", hal::tone_mapped(f.pixels)}});
+    j["v4l2"].push_back({{"device", "v4l2:" + d.path}, {"card", d.card}, {"driver", d.driver},
+                         {"y16", size_list(d.sizes(hal::V4l2Pixels::y16))}, {"formats", formats}});
   }
 #if defined(BOLO_HAVE_LIBUSB)
   for (const auto& d : hal::list_known_usb_devices())
@@ -52,12 +61,17 @@ int run_devices(bool json, std::ostream& out) {
     out << j.dump(2) << "\n";
     return kExitOk;
   }
-  out << "V4L2 (Y16):\n";
+  out << "V4L2 (Y16 counts; GREY, YUYV, UYVY: 8-bit tone-mapped):\n";
   if (j["v4l2"].empty()) out << "  none found\n";
   for (const auto& d : j["v4l2"]) {
     out << "  " << d["device"].get<std::string>() << "  " << d["card"].get<std::string>() << " ("
-        << d["driver"].get<std::string>() << ")  Y16";
-    for (const auto& s : d["y16"]) out << " " << s.get<std::string>();
+        << d["driver"].get<std::string>() << ")";
+    const char* separator = " ";
+    for (const auto& f : d["formats"]) {
+      out << separator << " " << f["format"].get<std::string>();
+      for (const auto& s : f["sizes"]) out << " " << s.get<std::string>();
+      separator = ";";
+    }
     out << "\n";
   }
   out << "USB:\n";
@@ -89,9 +103,9 @@ Command add_devices_command(CLI::App& parent) {
   auto json = std::make_shared<bool>(false);
   CLI::App* app = add_command(
       parent, "devices", "List cameras and GPIO chips the HAL can use",
-      "Lists V4L2 capture nodes that offer Y16 (with their sizes), USB devices with a known\n"
-      "VID:PID (FLIR ONE Pro, Seek Thermal, PureThermal, Boson control), and gpiochips, each\n"
-      "with the --device string `bolo capture` takes. A backend this build was configured\n"
+      "Lists V4L2 capture nodes that offer Y16 (the core's counts) or the 8-bit tone-mapped GREY,\n"
+      "YUYV, UYVY (with their sizes), USB devices with a known VID:PID (FLIR ONE Pro, Seek Thermal,\n"
+      "PureThermal, Boson control), and gpiochips, each with the --device string `bolo capture` takes. A backend this build was configured\n"
       "without (no libusb-1.0 / libgpiod) is reported as compiled out.");
   app->add_flag("--json", *json, "Print JSON instead of text");
   return {app, [=](std::ostream& out) { return run_devices(*json, out); }};

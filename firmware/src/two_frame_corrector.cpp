@@ -71,7 +71,7 @@ CarryOver TwoFrameCorrector::judge_predecessor(const FrameHeader& header) const 
   if (previous_.width != header.width || previous_.height != header.height)
     return CarryOver::format_change;
   if (!previous_complete_) return CarryOver::previous_incomplete;
-  if (header.ffc == FfcState::completed) return CarryOver::ffc_event;
+  if (shutter_event(header.ffc)) return CarryOver::ffc_event;
   if (header.sequence_valid && previous_.sequence_valid &&
       header.sequence != previous_.sequence + 1)
     return CarryOver::sequence_gap;

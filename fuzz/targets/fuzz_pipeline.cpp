@@ -48,7 +48,7 @@ struct Driver {
     h.timestamp_valid = (mode & 32) != 0 || in.flag();
     h.exposure_ns = in.u32();
     h.readout_ns = in.u32();
-    h.ffc = static_cast<fw::FfcState>(in.u8() % 4);  // 3: not an enumerator
+    h.ffc = static_cast<fw::FfcState>(in.u8() % 6);  // 5: not an enumerator
     if ((mode & 64) != 0) {
       h.fpa_temp_mc = static_cast<std::int32_t>(in.u32());
       h.housing_temp_mc = static_cast<std::int32_t>(in.u32());

@@ -1,5 +1,6 @@
 #include "bolo/hal/device_spec.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <stdexcept>
 
@@ -16,23 +17,32 @@ int line_number(const std::string& key, const std::string& value) {
 
 }  // namespace
 
+std::vector<SpecOption> parse_spec_options(const std::string& text) {
+  std::vector<SpecOption> options;
+  if (text.empty()) return options;
+  std::size_t at = 0;
+  while (at <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', at), text.size());
+    const std::string item = text.substr(at, comma - at);
+    const std::size_t eq = item.find('=');
+    if (eq == 0 || item.empty()) throw std::invalid_argument("'" + item + "': expected KEY=VALUE");
+    options.push_back({item.substr(0, eq), eq == std::string::npos ? "" : item.substr(eq + 1)});
+    at = comma + 1;
+  }
+  return options;
+}
+
 GpioConfig parse_gpio_spec(const std::string& text) {
   GpioConfig c;
   const std::size_t colon = text.find(':');
   c.chip = text.substr(0, colon);
   if (c.chip.empty()) throw std::invalid_argument("expected CHIP:sync=N,shutter=N,imminent=N");
   if (colon == std::string::npos) throw std::invalid_argument("no lines given (sync=N, shutter=N, imminent=N)");
-  std::size_t at = colon + 1;
-  while (at <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', at), text.size());
-    const std::string item = text.substr(at, comma - at);
-    const std::size_t eq = item.find('=');
-    const std::string key = item.substr(0, eq), value = eq == std::string::npos ? "" : item.substr(eq + 1);
+  for (const auto& [key, value] : parse_spec_options(text.substr(colon + 1))) {
     if (key == "sync") c.sync_line = line_number(key, value);
     else if (key == "shutter") c.shutter_line = line_number(key, value);
     else if (key == "imminent") c.ffc_imminent_line = line_number(key, value);
-    else throw std::invalid_argument("'" + item + "': expected sync=N, shutter=N or imminent=N");
-    at = comma + 1;
+    else throw std::invalid_argument("'" + key + "=" + value + "': expected sync=N, shutter=N or imminent=N");
   }
   return c;
 }

@@ -106,7 +106,7 @@ void FaultInjector::deliver(const Slot& slot, bool allow_faults, fw::LineSink& s
   if (allow_faults) {
     if (roll(config_.rates.ffc_flip)) {
       d.ffc_flipped = true;
-      if (header.ffc == fw::FfcState::completed) {
+      if (fw::shutter_event(header.ffc)) {
         header.ffc = fw::FfcState::none;
         ++counts_.ffc_flipped_off;
       } else {

@@ -92,6 +92,7 @@ StreamStatus FlirOneSource::stream_frame(fw::LineSink& sink) {
           ++sequence_;  // a gap: nothing before the unplug is a predecessor of what follows
           reassembler_.reset();
           have_previous_ = false;  // the core restarts: no predecessor across an unplug
+          ffc_.restart();
           counter_.restart();      // and counts from wherever it starts again
           lost_since_good_ = 0;
           connected_ = false;
@@ -137,15 +138,12 @@ StreamStatus FlirOneSource::deliver(fw::LineSink& sink, std::int64_t arrival_ns)
     header.timestamp_ns = arrival_ns;
   }
   // The core stamps every shutter event with its time: a new stamp means one happened since the
-  // previous frame.
-  header.ffc = have_previous_ && f.lepton.time_at_last_ffc_ms != previous_ffc_ms_
-                   ? fw::FfcState::completed
-                   : fw::FfcState::none;
+  // previous frame; its status says one is imminent or in progress.
+  header.ffc = ffc_.next(f.lepton);
   header.fpa_temp_mc = centikelvin_to_mc(f.lepton.fpa_temp_ck);
   header.housing_temp_mc = centikelvin_to_mc(f.lepton.housing_temp_ck);
   have_previous_ = true;
   previous_counter_ = counter;
-  previous_ffc_ms_ = f.lepton.time_at_last_ffc_ms;
 
   sink.begin_frame(header);
   sink.push_lines(0, flirone::kHeight, f.pixels, flirone::kWidth, flirone::kWidth);  // reassembled whole

@@ -11,6 +11,12 @@ std::uint32_t u32_low_first(std::span<const std::uint16_t> w, std::size_t at) {
 
 }  // namespace
 
+std::uint32_t lepton_telemetry_rows(std::uint32_t width, std::uint32_t height) {
+  if (width == 160 && height == 122) return 2;
+  if (width == 80 && height == 63) return 3;
+  return 0;
+}
+
 bool decode_lepton_telemetry(std::span<const std::uint16_t> row_a, LeptonTelemetry& out) {
   if (row_a.size() < kLeptonTelemetryWords) return false;
   LeptonTelemetry t;
@@ -29,6 +35,17 @@ bool decode_lepton_telemetry(std::span<const std::uint16_t> row_a, LeptonTelemet
   t.time_at_last_ffc_ms = u32_low_first(row_a, 30);
   out = t;
   return true;
+}
+
+fw::FfcState LeptonFfcTracker::next(const LeptonTelemetry& t) {
+  const bool new_stamp = have_ && t.time_at_last_ffc_ms != last_ffc_ms_;
+  const bool after_ffc = in_progress_;
+  have_ = true;
+  last_ffc_ms_ = t.time_at_last_ffc_ms;
+  in_progress_ = t.ffc_state == LeptonFfcState::in_progress;
+  if (in_progress_) return fw::FfcState::in_progress;
+  if (new_stamp || after_ffc) return fw::FfcState::completed;
+  return t.ffc_state == LeptonFfcState::imminent ? fw::FfcState::imminent : fw::FfcState::none;
 }
 
 std::int32_t centikelvin_to_mc(std::uint16_t ck) {
@@ -91,6 +108,9 @@ LeptonFrameCounter::Step LeptonFrameCounter::forward_by(std::uint32_t step) {
 // Behind the highest: a frame not delivered yet is late, one delivered already a repeat.
 LeptonFrameCounter::Step LeptonFrameCounter::behind_by(std::uint32_t step) {
   if (stride_ == 0) return step > kLeptonMaxStride ? Step::jump : Step::late;
+  // Less than a stride behind: the stride was learned over a gap (two frames swapped at the
+  // start), so this frame lies between delivered ones; rounding would take it for one of them.
+  if (step < stride_) return Step::late;
   const std::uint32_t frames = (step + stride_ / 2) / stride_;
   if (frames >= kLeptonCounterWindow) return Step::jump;  // beyond the window (and the 64 bits that keep it)
   const std::uint64_t bit = std::uint64_t{1} << frames;

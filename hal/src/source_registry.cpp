@@ -66,6 +66,13 @@ SourceSpec parse_source_spec(std::string_view spec, const SourceOptions& options
     if (spec.substr(0, b.scheme.size() + 1) != b.scheme + ":") continue;
     const std::string argument(spec.substr(b.scheme.size() + 1));
     if (argument.empty()) spec_error(spec, b.scheme + ": needs " + b.argument_help);
+    if (b.check) {
+      try {
+        b.check(argument);
+      } catch (const std::invalid_argument& e) {
+        spec_error(spec, e.what());
+      }
+    }
     return {b, argument};
   }
   const std::size_t colon = spec.find(':');

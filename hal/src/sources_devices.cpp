@@ -1,7 +1,10 @@
 // v4l2:, usb:flirone, usb:seek (cameras) and flirone-log: (a captured FLIR ONE transfer log
 // replayed through the same source as usb:flirone).
 
+#include <stdexcept>
+
 #include "bolo/hal/captured_transfers.hpp"
+#include "bolo/hal/device_spec.hpp"
 #include "bolo/hal/flirone_source.hpp"
 #include "bolo/hal/seek_source.hpp"
 #include "bolo/hal/v4l2_source.hpp"
@@ -17,15 +20,31 @@ namespace {
 constexpr const char* kNoUsb =
     "this build has no USB backend (libusb-1.0 was not found when it was configured; see `bolo devices`)";
 
+// "/dev/video0?format=GREY": the node and the options after '?' (format=Y16|GREY|YUYV|UYVY).
+V4l2Config v4l2_config_of(const std::string& argument) {
+  const std::size_t question = argument.find('?');
+  V4l2Config config{.path = argument.substr(0, question)};
+  if (question == std::string::npos) return config;
+  for (const auto& [key, value] : parse_spec_options(argument.substr(question + 1))) {
+    if (key != "format") throw std::invalid_argument("'" + key + "=" + value + "': expected format=Y16|GREY|YUYV|UYVY");
+    config.pixels = v4l2_pixels_named(value);
+    if (!config.pixels) throw std::invalid_argument("format=" + value + ": expected Y16, GREY, YUYV or UYVY");
+  }
+  return config;
+}
+
 SourceBackend v4l2_backend() {
   SourceBackend b;
   b.scheme = "v4l2";
   b.argument = "/dev/videoN";
   b.argument_help = "a device node, e.g. v4l2:/dev/video0";
-  b.summary = "UVC Y16 camera (Lepton on PureThermal: 160x122 with telemetry)";
-  b.open = [](const std::string& node, const SourceOptions&) {
-    auto v4l2 = std::make_unique<V4l2Source>(V4l2Config{.path = node});
-    std::string sensor = v4l2->negotiated().card + " (V4L2 Y16, " + v4l2->negotiated().driver + ")";
+  b.summary = "UVC camera: Y16 (Lepton on PureThermal: 160x122 / 80x63 with telemetry), else 8-bit GREY/YUYV/UYVY";
+  b.check = [](const std::string& argument) { (void)v4l2_config_of(argument); };
+  b.open = [](const std::string& argument, const SourceOptions&) {
+    auto v4l2 = std::make_unique<V4l2Source>(v4l2_config_of(argument));
+    const V4l2Negotiated& n = v4l2->negotiated();
+    std::string sensor = n.card + " (V4L2 " + v4l2_pixels_name(n.pixels) +
+                         (tone_mapped(n.pixels) ? ", 8-bit tone-mapped, " : ", ") + n.driver + ")";
     return std::make_unique<OpenedSource>(std::move(v4l2), std::move(sensor));
   };
   return b;

@@ -28,16 +28,18 @@ int xioctl(int fd, unsigned long request, void* arg) {
   return rc;
 }
 
-std::vector<std::pair<std::uint32_t, std::uint32_t>> y16_sizes(int fd) {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> sizes;
-  bool has_y16 = false;
+// The sizes a node offers in `pixels`; empty when it does not offer the format at all.
+V4l2Sizes format_sizes(int fd, V4l2Pixels pixels) {
+  V4l2Sizes sizes;
+  const std::uint32_t fourcc = v4l2_pixels_fourcc(pixels);
+  bool offered = false;
   v4l2_fmtdesc desc{};
   desc.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   for (desc.index = 0; xioctl(fd, VIDIOC_ENUM_FMT, &desc) == 0; ++desc.index)
-    has_y16 = has_y16 || desc.pixelformat == V4L2_PIX_FMT_Y16;
-  if (!has_y16) return sizes;
+    offered = offered || desc.pixelformat == fourcc;
+  if (!offered) return sizes;
   v4l2_frmsizeenum size{};
-  size.pixel_format = V4L2_PIX_FMT_Y16;
+  size.pixel_format = fourcc;
   for (size.index = 0; xioctl(fd, VIDIOC_ENUM_FRAMESIZES, &size) == 0; ++size.index) {
     if (size.type == V4L2_FRMSIZE_TYPE_DISCRETE) {
       sizes.emplace_back(size.discrete.width, size.discrete.height);
@@ -46,7 +48,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> y16_sizes(int fd) {
       break;
     }
   }
-  if (sizes.empty()) sizes.emplace_back(0, 0);  // Y16 without size enumeration: take S_FMT's answer
+  if (sizes.empty()) sizes.emplace_back(0, 0);  // offered without size enumeration: take S_FMT's answer
   return sizes;
 }
 
@@ -56,22 +58,58 @@ std::uint32_t node_capabilities(const v4l2_capability& cap) {
   return (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
 }
 
-// The Lepton's telemetry format: 160 wide, two rows more than the 120-row image.
-bool lepton_telemetry_size(std::uint32_t w, std::uint32_t h) { return w == 160 && h == 122; }
-
 }  // namespace
 
-std::optional<std::pair<std::uint32_t, std::uint32_t>> choose_y16_size(
-    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& sizes, const V4l2Config& c) {
+const char* v4l2_pixels_name(V4l2Pixels pixels) {
+  switch (pixels) {
+    case V4l2Pixels::y16: return "Y16";
+    case V4l2Pixels::grey: return "GREY";
+    case V4l2Pixels::yuyv: return "YUYV";
+    case V4l2Pixels::uyvy: return "UYVY";
+  }
+  return "?";
+}
+
+std::optional<V4l2Pixels> v4l2_pixels_named(std::string_view name) {
+  for (V4l2Pixels p : kV4l2PixelOrder) {
+    const std::string_view known = v4l2_pixels_name(p);
+    if (known.size() == name.size() &&
+        std::equal(known.begin(), known.end(), name.begin(), [](char a, char b) {
+          return a == std::toupper(static_cast<unsigned char>(b));
+        }))
+      return p;
+  }
+  return std::nullopt;
+}
+
+std::uint32_t v4l2_pixels_fourcc(V4l2Pixels pixels) {
+  switch (pixels) {
+    case V4l2Pixels::y16: return V4L2_PIX_FMT_Y16;
+    case V4l2Pixels::grey: return V4L2_PIX_FMT_GREY;
+    case V4l2Pixels::yuyv: return V4L2_PIX_FMT_YUYV;
+    case V4l2Pixels::uyvy: return V4L2_PIX_FMT_UYVY;
+  }
+  return 0;
+}
+
+V4l2Sizes V4l2DeviceEntry::sizes(V4l2Pixels pixels) const {
+  for (const Format& f : formats)
+    if (f.pixels == pixels) return f.sizes;
+  return {};
+}
+
+std::optional<std::pair<std::uint32_t, std::uint32_t>> choose_frame_size(const V4l2Sizes& sizes,
+                                                                        const V4l2Config& c, V4l2Pixels pixels) {
   // The largest size that fits the request; with automatic telemetry that is the Lepton's
-  // 160x122 over its 160x120. Unasked, only sizes up to max_auto_pixels count (thermal cores are
-  // far below it; a test pattern generator's 16k modes would not fit a board's memory); when
-  // none is that small, the smallest.
+  // 160x122 over its 160x120 (80x63 over 80x60). Unasked, only sizes up to max_auto_pixels count
+  // (thermal cores are far below it; a test pattern generator's 16k modes would not fit a board's
+  // memory); when none is that small, the smallest. Telemetry rows come only with Y16.
   std::optional<std::pair<std::uint32_t, std::uint32_t>> pick;
   for (auto [w, h] : sizes) {
     if (w == 0 || h == 0) continue;
-    const bool tel = lepton_telemetry_size(w, h);
-    const std::uint32_t image_h = tel ? h - 2 : h;
+    const std::uint32_t tel_rows = pixels == V4l2Pixels::y16 ? lepton_telemetry_rows(w, h) : 0;
+    const bool tel = tel_rows > 0;
+    const std::uint32_t image_h = h - tel_rows;
     if (c.telemetry == TelemetryRows::on && !tel) continue;
     if (c.telemetry == TelemetryRows::off && tel) continue;
     if (c.width != 0 && (w != c.width || image_h != c.height)) continue;
@@ -124,28 +162,42 @@ struct V4l2Source::Device {
     n.driver = reinterpret_cast<const char*>(cap.driver);
     n.card = reinterpret_cast<const char*>(cap.card);
 
-    auto sizes = y16_sizes(fd);
-    if (sizes.empty()) return "offers no Y16 format (raw 16-bit); GREY/UYVY/RGB are display formats";
+    // The forced format, else the first of kV4l2PixelOrder offered.
+    V4l2Pixels pixels = c.pixels.value_or(V4l2Pixels::y16);
+    V4l2Sizes sizes;
+    for (V4l2Pixels p : kV4l2PixelOrder) {
+      if (c.pixels && p != *c.pixels) continue;
+      sizes = format_sizes(fd, p);
+      pixels = p;
+      if (!sizes.empty()) break;
+    }
+    if (sizes.empty())
+      return c.pixels ? std::string("does not offer ") + v4l2_pixels_name(pixels)
+                      : "offers none of Y16, GREY, YUYV, UYVY (see `bolo devices`)";
     const bool enumerated = !(sizes.size() == 1 && sizes[0].first == 0);
-    const auto chosen = choose_y16_size(sizes, c);
-    const bool found = chosen.has_value();
+    const auto chosen = choose_frame_size(sizes, c, pixels);
     const std::pair<std::uint32_t, std::uint32_t> pick = chosen.value_or(std::pair<std::uint32_t, std::uint32_t>{0, 0});
-    if (enumerated && !found) return "no Y16 size matches the request (see `bolo devices`)";
+    if (enumerated && !chosen)
+      return std::string("no ") + v4l2_pixels_name(pixels) + " size matches the request (see `bolo devices`)";
 
     v4l2_format fmt{};
     fmt.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    fmt.fmt.pix.pixelformat = V4L2_PIX_FMT_Y16;
+    fmt.fmt.pix.pixelformat = v4l2_pixels_fourcc(pixels);
     fmt.fmt.pix.width = pick.first != 0 ? pick.first : c.width;
     fmt.fmt.pix.height = pick.second != 0 ? pick.second : c.height;
     fmt.fmt.pix.field = V4L2_FIELD_NONE;
     if (xioctl(fd, VIDIOC_S_FMT, &fmt) != 0) return std::string("VIDIOC_S_FMT: ") + std::strerror(errno);
-    if (fmt.fmt.pix.pixelformat != V4L2_PIX_FMT_Y16) return "the driver refused Y16";
-    const bool tel = lepton_telemetry_size(fmt.fmt.pix.width, fmt.fmt.pix.height) && c.telemetry != TelemetryRows::off;
+    if (fmt.fmt.pix.pixelformat != v4l2_pixels_fourcc(pixels))
+      return std::string("the driver refused ") + v4l2_pixels_name(pixels);
+    const std::uint32_t tel_rows = pixels == V4l2Pixels::y16 && c.telemetry != TelemetryRows::off
+                                       ? lepton_telemetry_rows(fmt.fmt.pix.width, fmt.fmt.pix.height)
+                                       : 0;
+    n.pixels = pixels;
     n.width = fmt.fmt.pix.width;
-    n.telemetry_rows = tel ? 2 : 0;
+    n.telemetry_rows = tel_rows;
     n.image_rows = fmt.fmt.pix.height - n.telemetry_rows;
     n.bytes_per_line = fmt.fmt.pix.bytesperline;
-    if (n.width == 0 || n.image_rows == 0) return "the driver reported an empty Y16 frame size";
+    if (n.width == 0 || n.image_rows == 0) return "the driver reported an empty frame size";
 
     v4l2_streamparm parm{};
     parm.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
@@ -219,7 +271,7 @@ void V4l2BufferStream::reopened(const Y16Layout& layout) {
   line_.resize(layout.width);
   sequence_offset_ = last_sequence_ + 2;  // a gap: the driver starts again at 0
   gaps_.restart();
-  have_ffc_stamp_ = false;
+  ffc_.restart();
   counter_.restart();  // the camera may have restarted too
   have_counted_sequence_ = false;
 }
@@ -244,13 +296,9 @@ fw::FrameHeader V4l2BufferStream::header_of(const Buffer& buffer) const {
   return header;
 }
 
-// From the telemetry just read: FFC (the core's "time at last FFC" changed since the previous
-// frame), FPA and housing temperature.
+// From the telemetry just read: the FFC state (LeptonFfcTracker), FPA and housing temperature.
 void V4l2BufferStream::telemetry_to_header(fw::FrameHeader& header) {
-  header.ffc = have_ffc_stamp_ && telemetry_.time_at_last_ffc_ms != last_ffc_ms_ ? fw::FfcState::completed
-                                                                                  : fw::FfcState::none;
-  have_ffc_stamp_ = true;
-  last_ffc_ms_ = telemetry_.time_at_last_ffc_ms;
+  header.ffc = ffc_.next(telemetry_);
   header.fpa_temp_mc = centikelvin_to_mc(telemetry_.fpa_temp_ck);
   header.housing_temp_mc = centikelvin_to_mc(telemetry_.housing_temp_ck);
 }
@@ -318,14 +366,20 @@ V4l2Source::V4l2Source(const V4l2Config& config) : config_(config), device_(std:
 V4l2Source::~V4l2Source() = default;
 
 Y16Layout V4l2Source::layout() const {
-  return {negotiated_.width, negotiated_.image_rows, negotiated_.telemetry_rows, negotiated_.bytes_per_line};
+  return {negotiated_.width, negotiated_.image_rows, negotiated_.telemetry_rows, negotiated_.bytes_per_line,
+          negotiated_.pixels};
 }
 
 SourceFormat V4l2Source::format() const {
   SourceFormat f;
   f.width = negotiated_.width;
   f.height = negotiated_.image_rows;
-  f.bits = negotiated_.telemetry_rows > 0 ? 14 : 16;  // Lepton Y16: raw 14-bit counts
+  if (tone_mapped(negotiated_.pixels)) {
+    f.bits = 8;
+    f.units = PixelUnits::counts8;
+  } else {
+    f.bits = negotiated_.telemetry_rows > 0 ? 14 : 16;  // Lepton Y16: raw 14-bit counts
+  }
   f.frame_period_ns = negotiated_.frame_period_ns;
   return f;
 }
@@ -347,7 +401,7 @@ StreamStatus V4l2Source::lost_device() {
   while (std::chrono::steady_clock::now() < deadline) {
     V4l2Negotiated again;
     if (device_->open(config_, again).empty() && again.width == negotiated_.width &&
-        again.image_rows == negotiated_.image_rows) {
+        again.image_rows == negotiated_.image_rows && again.pixels == negotiated_.pixels) {
       negotiated_ = again;
       buffers_->reopened(layout());
       ++stats_.reconnects;
@@ -399,7 +453,7 @@ StreamStatus V4l2Source::stream_frame(fw::LineSink& sink) {
   return buffers_->deliver(filled(buf, device_->buffers[buf.index]), sink, stats_);
 }
 
-std::vector<V4l2DeviceEntry> list_v4l2_y16_devices() {
+std::vector<V4l2DeviceEntry> list_v4l2_devices() {
   std::vector<V4l2DeviceEntry> out;
   std::error_code ec;
   std::vector<std::string> nodes;
@@ -410,13 +464,13 @@ std::vector<V4l2DeviceEntry> list_v4l2_y16_devices() {
     const int fd = ::open(node.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) continue;
     v4l2_capability cap{};
-    if (xioctl(fd, VIDIOC_QUERYCAP, &cap) == 0) {
-      if (node_capabilities(cap) & V4L2_CAP_VIDEO_CAPTURE) {
-        auto sizes = y16_sizes(fd);
-        if (!sizes.empty())
-          out.push_back({node, reinterpret_cast<const char*>(cap.card), reinterpret_cast<const char*>(cap.driver),
-                         std::move(sizes)});
+    if (xioctl(fd, VIDIOC_QUERYCAP, &cap) == 0 && (node_capabilities(cap) & V4L2_CAP_VIDEO_CAPTURE)) {
+      V4l2DeviceEntry entry{node, reinterpret_cast<const char*>(cap.card), reinterpret_cast<const char*>(cap.driver), {}};
+      for (V4l2Pixels p : kV4l2PixelOrder) {
+        V4l2Sizes sizes = format_sizes(fd, p);
+        if (!sizes.empty()) entry.formats.push_back({p, std::move(sizes)});
       }
+      if (!entry.formats.empty()) out.push_back(std::move(entry));
     }
     ::close(fd);
   }

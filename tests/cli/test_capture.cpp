@@ -216,7 +216,7 @@ TEST_CASE("capture: transfer logs that are not logs, and a device that only faul
 TEST_CASE("devices: lists the three kinds and says which backends this build has", "[cli][devices]") {
   CliResult r = run_bolo({"devices"});
   REQUIRE(r.code == 0);
-  CHECK(contains(r.out, "V4L2 (Y16):"));
+  CHECK(contains(r.out, "V4L2 (Y16 counts; GREY, YUYV, UYVY: 8-bit tone-mapped):"));
   CHECK(contains(r.out, "USB:"));
   CHECK(contains(r.out, "GPIO:"));
   r = run_bolo({"devices", "--json"});

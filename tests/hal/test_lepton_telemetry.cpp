@@ -97,3 +97,22 @@ TEST_CASE("lepton frame counter: a smaller step corrects the stride, the 32-bit 
   CHECK(wrap.add(0xFFFFFFFFu) == Step::repeat);  // 1 behind (delivered), not ~4e9 ahead
   CHECK(wrap.add(0xFFFFFFFEu) == Step::late);
 }
+
+TEST_CASE("lepton frame counter: frames swapped at the start are late, not repeats", "[hal][telemetry]") {
+  // uvcvideo hands two frames over swapped now and then; swapped first, they teach a stride of 2
+  // (seen in the HIL VM under load: a repeat counted where none was sent).
+  using Step = LeptonFrameCounter::Step;
+  LeptonFrameCounter c;
+  c.add(10);
+  CHECK(c.add(12) == Step::forward);
+  CHECK(c.add(11) == Step::late);
+  CHECK(c.add(13) == Step::forward);  // the true stride
+  CHECK(c.stride() == 1);
+  CHECK(c.add(13) == Step::repeat);
+  CHECK(c.repeats() == 1);
+  LeptonFrameCounter every_third;     // a camera exporting every third core frame
+  every_third.add(30);
+  CHECK(every_third.add(36) == Step::forward);
+  CHECK(every_third.add(33) == Step::late);
+  CHECK(every_third.repeats() == 0);
+}

@@ -120,6 +120,10 @@ TEST_CASE("source registry: unknown and malformed specs are refused naming the s
   CHECK(refusal("v4l2:") == "v4l2:: v4l2: needs a device node, e.g. v4l2:/dev/video0");
   CHECK(refusal("file:") == "file:: file: needs a recording folder, e.g. file:rec");
   CHECK(refusal("flirone-log:") == "flirone-log:: flirone-log: needs a transfer-log folder");
+  // v4l2:NODE?KEY=VALUE: the options are checked by the parse, before the node is opened.
+  CHECK(refusal("v4l2:/dev/null?format=RGB3") == "v4l2:/dev/null?format=RGB3: format=RGB3: expected Y16, GREY, YUYV or UYVY");
+  CHECK(refusal("v4l2:/dev/null?fps=9") == "v4l2:/dev/null?fps=9: 'fps=9': expected format=Y16|GREY|YUYV|UYVY");
+  CHECK(refusal("v4l2:/dev/null?format=grey") == "(accepted)");
   CHECK(refusal("", scheme_only).rfind(": unknown device", 0) == 0);
   // Opening: the backend's reason after the spec.
   try {
@@ -127,6 +131,12 @@ TEST_CASE("source registry: unknown and malformed specs are refused naming the s
     FAIL("v4l2:/dev/null opened");
   } catch (const hal::SourceError& e) {
     CHECK(std::string(e.what()).rfind("v4l2:/dev/null: /dev/null: ", 0) == 0);
+  }
+  try {
+    hal::open_source("v4l2:/dev/null?format=GREY");
+    FAIL("v4l2:/dev/null?format=GREY opened");
+  } catch (const hal::SourceError& e) {
+    CHECK(std::string(e.what()) == "v4l2:/dev/null?format=GREY: /dev/null: not a V4L2 device");
   }
   if (!hal::usb_backend_available())
     CHECK_THROWS_WITH(hal::open_source("usb:seek"), Catch::Contains("usb:seek: this build has no USB backend"));

@@ -107,20 +107,20 @@ TEST_CASE("v4l2: the Y16 size asked for among what the driver offers", "[hal][v4
   using Sizes = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
   using Size = std::pair<std::uint32_t, std::uint32_t>;
   const Sizes lepton{{160, 120}, {160, 122}};
-  CHECK(choose_y16_size(lepton, {}) == Size{160, 122});  // telemetry rows when offered
-  CHECK(choose_y16_size(lepton, {.telemetry = TelemetryRows::off}) == Size{160, 120});
-  CHECK(choose_y16_size(lepton, {.width = 160, .height = 120}) == Size{160, 122});
-  CHECK(choose_y16_size(lepton, {.width = 160, .height = 120, .telemetry = TelemetryRows::off}) == Size{160, 120});
+  CHECK(choose_frame_size(lepton, {}) == Size{160, 122});  // telemetry rows when offered
+  CHECK(choose_frame_size(lepton, {.telemetry = TelemetryRows::off}) == Size{160, 120});
+  CHECK(choose_frame_size(lepton, {.width = 160, .height = 120}) == Size{160, 122});
+  CHECK(choose_frame_size(lepton, {.width = 160, .height = 120, .telemetry = TelemetryRows::off}) == Size{160, 120});
   const Sizes boson{{320, 256}, {640, 512}};
-  CHECK(choose_y16_size(boson, {}) == Size{640, 512});
-  CHECK_FALSE(choose_y16_size(boson, {.telemetry = TelemetryRows::on}).has_value());
-  CHECK_FALSE(choose_y16_size(boson, {.width = 160, .height = 120}).has_value());
+  CHECK(choose_frame_size(boson, {}) == Size{640, 512});
+  CHECK_FALSE(choose_frame_size(boson, {.telemetry = TelemetryRows::on}).has_value());
+  CHECK_FALSE(choose_frame_size(boson, {.width = 160, .height = 120}).has_value());
   // A test pattern generator's huge modes: the largest one up to the limit, unless asked for.
   const Sizes vivid{{16384, 8640}, {3840, 2160}, {640, 480}, {1280, 720}};
-  CHECK(choose_y16_size(vivid, {}) == Size{1280, 720});
-  CHECK(choose_y16_size(vivid, {.width = 3840, .height = 2160}) == Size{3840, 2160});
-  CHECK(choose_y16_size(Sizes{{16384, 8640}, {3840, 2160}}, {}) == Size{3840, 2160});  // none fits: smallest
-  CHECK_FALSE(choose_y16_size(Sizes{}, {}).has_value());
+  CHECK(choose_frame_size(vivid, {}) == Size{1280, 720});
+  CHECK(choose_frame_size(vivid, {.width = 3840, .height = 2160}) == Size{3840, 2160});
+  CHECK(choose_frame_size(Sizes{{16384, 8640}, {3840, 2160}}, {}) == Size{3840, 2160});  // none fits: smallest
+  CHECK_FALSE(choose_frame_size(Sizes{}, {}).has_value());
 }
 
 TEST_CASE("v4l2: sequence gaps count frames never delivered, late frames are taken back", "[hal][v4l2]") {

@@ -74,8 +74,8 @@ class HashingSink final : public fw::LineSink {
 std::string find_uvc_node() {
   const auto patience = Clock::now() + std::chrono::seconds(20);
   for (;;) {
-    for (const hal::V4l2DeviceEntry& e : hal::list_v4l2_y16_devices())
-      if (e.driver == "uvcvideo") return e.path;
+    for (const hal::V4l2DeviceEntry& e : hal::list_v4l2_devices())
+      if (e.driver == "uvcvideo" && !e.sizes(hal::V4l2Pixels::y16).empty()) return e.path;
     if (Clock::now() > patience) throw std::runtime_error("no uvcvideo Y16 node after 20 s");
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }

@@ -65,7 +65,7 @@ CorrectResult correct_recording_folder(const CorrectRequest& o, const Setup& set
   if (o.frames) headers = headers.first(std::min<std::size_t>(headers.size(), *o.frames));
   const std::vector<FrameTiming> timing = resolve_timing(recording, headers, csv, setup.exposure, setup.readout);
   check_coefficients(timing, setup.tau, o, csv);
-  CorrectionChain chain(pipeline_config(setup, format, o.bad_pixels), o, o.input.string());
+  CorrectionChain chain(pipeline_config(setup, format, o.bad_pixels, o.input.string()), o, o.input.string());
 
   // Frame by frame into the atomic writer; scene.npy (a simulation's steady-state input) still
   // describes the same frames and goes along.

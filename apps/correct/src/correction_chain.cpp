@@ -21,7 +21,13 @@ double q24(std::uint32_t value) {
 
 }  // namespace
 
-fw::PipelineConfig pipeline_config(const Setup& setup, const hal::SourceFormat& format, bool bad_pixels) {
+fw::PipelineConfig pipeline_config(const Setup& setup, const hal::SourceFormat& format, bool bad_pixels,
+                                   const std::string& input) {
+  // Tone-mapped video (a camera's AGC output) is not a linear function of the scene: the carry-over
+  // model would correct it wrongly, so it is refused rather than warned about.
+  if (format.units == hal::PixelUnits::counts8)
+    fail(input, ": units counts8 (8-bit tone-mapped video, e.g. V4L2 GREY/YUYV/UYVY): the correction needs the "
+                "sensor's linear counts; record the camera's Y16 (v4l2:/dev/videoN?format=Y16)");
   fw::PipelineConfig config;
   config.corrector.width = format.width;
   config.corrector.height = format.height;

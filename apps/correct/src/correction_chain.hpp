@@ -42,7 +42,9 @@ class Tee final : public fw::LineSink {
 };
 
 // The firmware pipeline's configuration for frames of `format` with the request's flags.
-fw::PipelineConfig pipeline_config(const Setup& setup, const hal::SourceFormat& format, bool bad_pixels);
+// Refuses (Error naming `input`) frames in units counts8: tone-mapped, not linear counts.
+fw::PipelineConfig pipeline_config(const Setup& setup, const hal::SourceFormat& format, bool bad_pixels,
+                                   const std::string& input);
 
 class CorrectionChain {
  public:

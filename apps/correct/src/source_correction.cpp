@@ -51,7 +51,7 @@ struct SourceCorrection::Impl {
         source(s),
         setup(checked_setup(r)),
         player(recording_player(r.input.string(), s)),
-        chain(pipeline_config(setup, s.format(), r.bad_pixels), request, name),
+        chain(pipeline_config(setup, s.format(), r.bad_pixels, name), request, name),
         stamp(chain.input()),
         reader(s, r.max_faults) {}
 

@@ -67,7 +67,7 @@ FrameRow row_from_header(const fw::FrameHeader& header, std::uint64_t index, std
     row.t_s = static_cast<double>(header.timestamp_ns - t0_ns) / 1e9;  // division: 1.14065, not 1.1406500000000002
   if (header.exposure_ns != 0) row.exposure_s = header.exposure_ns * 1e-9;
   if (header.readout_ns != 0) row.readout_s = header.readout_ns * 1e-9;
-  if (header.ffc != fw::FfcState::unknown) row.ffc = header.ffc == fw::FfcState::completed;
+  if (header.ffc != fw::FfcState::unknown) row.ffc = fw::shutter_event(header.ffc);
   row.fpa_temp_c = celsius(header.fpa_temp_mc);
   row.housing_temp_c = celsius(header.housing_temp_mc);
   return row;

@@ -67,7 +67,7 @@ class FlirOneSource final : public FrameSource {
   bool have_previous_ = false;
   bool connected_ = true;
   std::uint32_t previous_counter_ = 0;
-  std::uint32_t previous_ffc_ms_ = 0;
+  LeptonFfcTracker ffc_;
   LeptonFrameCounter counter_;
   std::uint64_t lost_since_good_ = 0;  // frames lost on the wire since the last good frame
   std::uint64_t skipped_in_camera_ = 0;

@@ -1,5 +1,5 @@
 #pragma once
-// Lepton telemetry row A (80 words) as the FLIR ONE Pro and PureThermal (Y16, 160x122) deliver
+// Lepton telemetry row A (80 words) as the FLIR ONE Pro and PureThermal (Y16, 160x122 or 80x63) deliver
 // it. Pure decoding: no I/O, no allocation, no exceptions (board-safe).
 //
 // Word map (usb-thermal-cores.md, "Telemetry row A"): 3-4 status, 20-21 frame counter, 23 FPA
@@ -11,6 +11,8 @@
 
 #include <cstdint>
 #include <span>
+
+#include "bolo/core/frame_header.hpp"
 
 namespace bolo::hal {
 
@@ -34,8 +36,29 @@ struct LeptonTelemetry {
 
 inline constexpr std::size_t kLeptonTelemetryWords = 80;
 
+// Telemetry rows a PureThermal appends (footer) to a Y16 frame of this size, as offered: 160x122
+// (Lepton 3.x: 120 image rows; rows A-C, 240 words, fill two rows of 160) and 80x63 (Lepton 2.x:
+// 60 image rows, rows A, B, C); 0 for any other size. Row A opens the first telemetry row.
+std::uint32_t lepton_telemetry_rows(std::uint32_t width, std::uint32_t height);
+
 // Decodes row A; false (and `out` untouched) when `row_a` holds fewer than 80 words.
 bool decode_lepton_telemetry(std::span<const std::uint16_t> row_a, LeptonTelemetry& out);
+
+// Each frame's FrameHeader FFC state from its telemetry, the one rule of every Lepton source:
+// status "FFC in progress" -> in_progress (the frame shows the shutter); the first frame after
+// such frames, or one whose "time at last FFC" differs from the previous frame's -> completed;
+// status "FFC imminent" -> imminent; else none. After a (re)start the first frame has no
+// predecessor to differ from.
+class LeptonFfcTracker {
+ public:
+  fw::FfcState next(const LeptonTelemetry& telemetry);
+  void restart() { have_ = in_progress_ = false; }
+
+ private:
+  bool have_ = false;
+  bool in_progress_ = false;  // the previous frame's
+  std::uint32_t last_ffc_ms_ = 0;
+};
 
 // Centikelvin -> milli-degrees Celsius (the FrameHeader unit); 0 (no reading) -> unknown.
 std::int32_t centikelvin_to_mc(std::uint16_t ck);

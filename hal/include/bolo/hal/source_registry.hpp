@@ -65,6 +65,8 @@ struct SourceBackend {
   bool finite = false;        // ends by itself (a recording, a log) instead of streaming on
   bool shutter = false;       // has its own shutter (FFC) command
   std::string unavailable;    // why this build cannot open it; empty when it can
+  // Checks the argument's options without opening anything (throws std::invalid_argument); may be empty.
+  std::function<void(const std::string& argument)> check;
   std::function<std::unique_ptr<OpenedSource>(const std::string& argument, const SourceOptions&)> open;
 
   // How the spec is written: "v4l2:/dev/videoN", "usb:seek".

@@ -1,16 +1,19 @@
 #pragma once
-// A UVC Y16 camera through V4L2 (FLIR Lepton on PureThermal, FLIR Boson): format negotiation
-// (Y16; for a 160-wide Lepton the 160x122 size with two telemetry rows when offered), mmap
+// A UVC camera through V4L2 (FLIR Lepton on PureThermal, FLIR Boson): format negotiation (Y16,
+// the raw counts, first; else the 8-bit tone-mapped GREY, YUYV, UYVY, marked as such; a Lepton's
+// telemetry sizes 160x122 and 80x63 when offered), mmap
 // streaming over a ring of buffers, the driver's sequence numbers for dropped-frame detection,
 // its timestamps, telemetry (FFC, FPA and housing temperature) where the format carries it.
 // Host code: the constructor throws std::runtime_error naming the device; streaming never throws
 // (faults are counted, an unplugged camera is reopened within reconnect_timeout_ms).
 
 #include <cstdint>
+#include <array>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bolo/core/frame_source.hpp"
@@ -21,9 +24,21 @@ namespace bolo::hal {
 
 enum class TelemetryRows : std::uint8_t { automatic, on, off };
 
+// The formats taken, in the order tried when none is forced: Y16 (the core's 16-bit counts), then the
+// 8-bit modes: GREY (the camera's tone-mapped grey), YUYV and UYVY (their luma; after a colour
+// palette that need not rise with the scene's temperature).
+inline constexpr std::array<V4l2Pixels, 4> kV4l2PixelOrder{V4l2Pixels::y16, V4l2Pixels::grey, V4l2Pixels::yuyv,
+                                                           V4l2Pixels::uyvy};
+// "Y16", "GREY", "YUYV", "UYVY" (V4L2's fourcc names).
+const char* v4l2_pixels_name(V4l2Pixels pixels);
+// The format a name gives (case-insensitive), nothing for another name.
+std::optional<V4l2Pixels> v4l2_pixels_named(std::string_view name);
+std::uint32_t v4l2_pixels_fourcc(V4l2Pixels pixels);
+
 struct V4l2Config {
   std::string path;              // /dev/videoN
-  std::uint32_t width = 0;       // 0 = the largest Y16 size offered up to max_auto_pixels
+  std::optional<V4l2Pixels> pixels;  // a forced format; none = the first offered in kV4l2PixelOrder
+  std::uint32_t width = 0;       // 0 = the largest size offered up to max_auto_pixels
   std::uint32_t height = 0;      // image rows (telemetry rows come on top)
   TelemetryRows telemetry = TelemetryRows::automatic;
   std::uint64_t max_auto_pixels = std::uint64_t{1280} * 1024;  // the automatic choice's limit
@@ -34,6 +49,7 @@ struct V4l2Config {
 
 struct V4l2Negotiated {
   std::string driver, card;
+  V4l2Pixels pixels = V4l2Pixels::y16;
   std::uint32_t width = 0, image_rows = 0, telemetry_rows = 0, bytes_per_line = 0;
   std::uint32_t buffers = 0;
   std::uint32_t frame_period_ns = 0;
@@ -100,8 +116,7 @@ class V4l2BufferStream {
   // and grows by the frames skipped in the camera, so that they leave a gap as the driver's drops do.
   std::uint64_t sequence_offset_ = 0;
   std::uint64_t last_sequence_ = 0;  // the delivered sequence of the last buffer
-  bool have_ffc_stamp_ = false;
-  std::uint32_t last_ffc_ms_ = 0;
+  LeptonFfcTracker ffc_;
   LeptonTelemetry telemetry_;
   LeptonFrameCounter counter_;
   bool have_counted_sequence_ = false;
@@ -140,16 +155,26 @@ class V4l2Source final : public FrameSource {
   SourceStats stats_;
 };
 
-// The Y16 size V4L2Source asks for among the discrete sizes a driver offers (width, height as
-// offered: a Lepton's 160x122 includes its two telemetry rows); nothing when none fits.
-std::optional<std::pair<std::uint32_t, std::uint32_t>> choose_y16_size(
-    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& sizes, const V4l2Config& config);
+using V4l2Sizes = std::vector<std::pair<std::uint32_t, std::uint32_t>>;  // width, height
+
+// The size V4L2Source asks for among the discrete sizes a driver offers in a format (width,
+// height as offered: a Lepton's 160x122 and 80x63 include its telemetry rows, Y16 only); nothing
+// when none fits.
+std::optional<std::pair<std::uint32_t, std::uint32_t>> choose_frame_size(const V4l2Sizes& sizes,
+                                                                        const V4l2Config& config,
+                                                                        V4l2Pixels pixels = V4l2Pixels::y16);
 
 struct V4l2DeviceEntry {
+  struct Format {
+    V4l2Pixels pixels;
+    V4l2Sizes sizes;
+  };
   std::string path, card, driver;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> y16_sizes;  // width, height
+  std::vector<Format> formats;  // those of kV4l2PixelOrder the node offers, in that order
+  // The sizes offered in `pixels`; empty when the node does not offer it.
+  V4l2Sizes sizes(V4l2Pixels pixels) const;
 };
-// /dev/video* capture nodes that offer Y16.
-std::vector<V4l2DeviceEntry> list_v4l2_y16_devices();
+// /dev/video* capture nodes that offer Y16, GREY, YUYV or UYVY.
+std::vector<V4l2DeviceEntry> list_v4l2_devices();
 
 }  // namespace bolo::hal

@@ -10,7 +10,14 @@ enum class FfcState : std::uint8_t {
   unknown,    // the source cannot tell
   none,       // known: no shutter / flat-field event before this frame
   completed,  // a shutter / FFC event completed between the previous frame and this one
+  imminent,   // known: no event before this frame, but the camera announced one soon (a good frame)
+  in_progress,  // the shutter is closed (FFC running) during this frame: it shows the shutter
 };
+
+// The one rule for what a frame's FFC state means downstream: after a completed event, or while
+// one is in progress, the frame is not the scene its predecessor saw (no carry-over correction
+// against it; frames.csv `ffc` = 1).
+constexpr bool shutter_event(FfcState ffc) { return ffc == FfcState::completed || ffc == FfcState::in_progress; }
 
 inline constexpr std::int32_t kUnknownTemperature = INT32_MIN;
 
