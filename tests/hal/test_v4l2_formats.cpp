@@ -12,9 +12,11 @@
 #include "bolo/hal/device_spec.hpp"
 #include "bolo/hal/v4l2_source.hpp"
 #include "bolo/hal/y16_frame.hpp"
+#include "v4l2_buffers.hpp"
 #include "bolo/recording/frame_row_header.hpp"
 
 using namespace bolo::hal;
+using bolo::test::filled;
 using bolo::fw::FfcState;
 
 namespace {
@@ -65,15 +67,6 @@ std::vector<std::uint8_t> y16_buffer(std::uint32_t width, std::uint32_t image_ro
   put(a, 31, t.last_ffc_ms >> 16);
   for (std::uint32_t r = a + 1; r < a + telemetry_rows; ++r)  // rows B, C: not row A's fields
     for (std::uint32_t x = 0; x < width; ++x) put(r, x, 0xBBBB);
-  return b;
-}
-
-V4l2BufferStream::Buffer filled(const std::vector<std::uint8_t>& bytes, std::uint32_t sequence) {
-  V4l2BufferStream::Buffer b;
-  b.bytes = bytes;
-  b.sequence = sequence;
-  b.timestamp_monotonic = true;
-  b.timestamp_ns = std::int64_t{sequence} * 111'000'000;
   return b;
 }
 

@@ -9,8 +9,10 @@
 #include "bolo/firmware/two_frame_corrector.hpp"
 #include "bolo/hal/v4l2_source.hpp"
 #include "bolo/hal/y16_frame.hpp"
+#include "v4l2_buffers.hpp"
 
 using namespace bolo::hal;
+using bolo::test::filled;
 
 namespace {
 
@@ -36,16 +38,6 @@ std::vector<std::uint8_t> lepton_buffer(std::uint32_t stride, std::uint32_t last
   put(120, 26, 30500);
   put(120, 30, static_cast<std::uint16_t>(last_ffc_ms & 0xFFFF));
   put(120, 31, static_cast<std::uint16_t>(last_ffc_ms >> 16));
-  return b;
-}
-
-// What the driver hands over with a buffer: its frame number, a monotonic time stamp.
-V4l2BufferStream::Buffer filled(const std::vector<std::uint8_t>& bytes, std::uint32_t sequence) {
-  V4l2BufferStream::Buffer b;
-  b.bytes = bytes;
-  b.sequence = sequence;
-  b.timestamp_monotonic = true;
-  b.timestamp_ns = std::int64_t{sequence} * 111'000'000;
   return b;
 }
 
