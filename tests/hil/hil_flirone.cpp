@@ -164,6 +164,8 @@ void check_against_emulator(const Options& o, const Counts& c, const Stream& s) 
   const Expectation e = read_send_log(o.send_log);
   expect(e.lost_by_emulator == 0, "the emulator lost frames it did not mean to lose: " +
                                       std::to_string(e.lost_by_emulator));
+  expect(e.refused_requests == 0, "the emulator refused " + std::to_string(e.refused_requests) +
+                                      " start-up requests (-1: not reported)");
   expect(c.frames == e.deliver.size(), "frames delivered: " + vs(c.frames, e.deliver.size()));
   std::size_t first_mismatch = e.deliver.size();
   for (std::size_t i = 0; i < std::min(e.deliver.size(), s.hashes.size()); ++i)

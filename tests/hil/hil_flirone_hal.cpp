@@ -190,6 +190,8 @@ int main(int argc, char** argv) {
     const std::uint64_t counted = st.timeouts + st.short_transfers + st.corrupt_transfers + st.disconnects;
     expect(counted >= injected_losses, "faults counted " + std::to_string(counted) + " < injected " +
                                            std::to_string(injected_losses));
+    expect(expected->refused_requests == 0, "the emulator refused " + std::to_string(expected->refused_requests) +
+                                                " start-up requests (-1: not reported)");
     expect(sink.hashes.size() >= min_frames, "fewer than " + std::to_string(min_frames) + " frames");
     const std::uint64_t unplugs = expected->injected[static_cast<std::size_t>(bolo::hil::Fault::disconnect)];
     expect(st.disconnects == unplugs, "disconnects counted " + std::to_string(st.disconnects) + ", injected " +

@@ -1,5 +1,7 @@
 #!/bin/sh
-# HIL scenario, run inside the VM: the FLIR ONE emulator on FunctionFS (dummy_hcd), the host
+# HIL scenario, run inside the VM: the FLIR ONE emulator on Raw Gadget (raw_gadget.ko, dummy_hcd),
+# which streams only after the public drivers' start-up (SET_CONFIGURATION 3, SET_INTERFACE in
+# their order) and refuses any other request; every host below must have none refused. The host
 # side through libusb: 1) the real capture replayed, delivered bit-exactly; 2) simulated frames
 # with 1 % injected faults of every kind: every fault counted, every good frame delivered
 # bit-exactly, replug recovered within 2 s. Then through the project's FlirOneSource: 3) simulated
@@ -10,16 +12,20 @@
 # real: hil_flirone --real --frames ${BOLO_HIL_FRAMES:-10000}
 frames="${BOLO_HIL_FRAMES:-10000}"
 failed=0
+if [ ! -e /dev/raw-gadget ]; then
+  echo "no /dev/raw-gadget (raw_gadget.ko not built: toolchain/vm/raw-gadget.sh)" >/tmp/skip-reason
+  exit 77
+fi
 
 run() {  # name, emulator arguments, host arguments
   name="$1"
   echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
-  ./flirone_emulator --name "$name" --capture flirone-pro --log "/tmp/$name.log" \
+  ./flirone_emulator --capture flirone-pro --log "/tmp/$name.log" \
     --ready "/tmp/$name.ready" --done "/tmp/$name.done" --finished "/tmp/$name.finished" $2 &
   emulator=$!
   ./hil_flirone --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 || failed=1
   touch "/tmp/$name.finished"
-  wait $emulator || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+  wait $emulator || { echo "HIL-STEP $name: the emulator failed (status $?: 4 = requests refused)"; failed=1; }
   echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
 }
 
@@ -32,7 +38,7 @@ fi
 # write the frames of the shared recording made from that capture, byte for byte.
 if [ -x ./bolo ] && [ -d flirone-lepton-telemetry ]; then
   echo "HIL-STEP bolo_capture start $(cut -d' ' -f1 /proc/uptime)"
-  ./flirone_emulator --name capture --autostart --replay --capture flirone-pro --log /tmp/capture.log \
+  ./flirone_emulator --replay --capture flirone-pro --log /tmp/capture.log \
     --ready /tmp/capture.ready --done /tmp/capture.done --finished /tmp/capture.finished &
   emulator=$!
   # bolo opens the camera once: wait until the host has enumerated it.
@@ -46,7 +52,7 @@ if [ -x ./bolo ] && [ -d flirone-lepton-telemetry ]; then
     failed=1
   fi
   touch /tmp/capture.finished
-  wait $emulator
+  wait $emulator || { echo "HIL-STEP bolo_capture: the emulator failed (status $?: 4 = requests refused)"; failed=1; }
   echo "HIL-STEP bolo_capture end $(cut -d' ' -f1 /proc/uptime)"
 else
   echo "HIL-STEP bolo_capture: skipped (no bolo CLI in this build, or no shared recording)"
@@ -55,12 +61,12 @@ fi
 run_hal() {  # name, emulator arguments, host arguments: through the project's FlirOneSource
   name="$1"
   echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
-  ./flirone_emulator --name "$name" --autostart --capture flirone-pro --log "/tmp/$name.log" \
+  ./flirone_emulator --capture flirone-pro --log "/tmp/$name.log" \
     --ready "/tmp/$name.ready" --done "/tmp/$name.done" --finished "/tmp/$name.finished" $2 &
   emulator=$!
   ./hil_flirone_hal --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 || failed=1
   touch "/tmp/$name.finished"
-  wait $emulator || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+  wait $emulator || { echo "HIL-STEP $name: the emulator failed (status $?: 4 = requests refused)"; failed=1; }
   echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
 }
 if [ -x ./hil_flirone_hal ]; then
