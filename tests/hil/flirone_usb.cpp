@@ -30,7 +30,7 @@ void FlirOneUsb::close() {
   handle_ = nullptr;
 }
 
-bool FlirOneUsb::try_open(std::string& error) {
+bool FlirOneUsb::try_open(std::string& error, bool drivers_start) {
   // Without udevd (the HIL VM, minimal boards) libusb learns of no hot-plug: a fresh context
   // rescans sysfs, so a replugged device is seen.
   libusb_exit(context_);
@@ -77,6 +77,10 @@ bool FlirOneUsb::try_open(std::string& error) {
       return false;
     }
   }
+  if (!drivers_start) {
+    vendor_start_result_ = libusb_control_transfer(handle_, 0x41, kSetInterface, 1, kFrameInterface, nullptr, 0, 1000);
+    return true;
+  }
   // The public drivers' start sequence, standard SET_INTERFACE requests sent as control
   // transfers: stop frames, stop file I/O, start file I/O, start frames.
   const std::pair<std::uint16_t, std::uint16_t> sequence[] = {{0, 2}, {0, 1}, {1, 1}, {1, 2}};
@@ -96,10 +100,20 @@ bool FlirOneUsb::try_open(std::string& error) {
 bool FlirOneUsb::open(std::chrono::milliseconds patience, std::string& error) {
   const auto deadline = std::chrono::steady_clock::now() + patience;
   for (;;) {
-    if (try_open(error)) return true;
+    if (try_open(error, true)) return true;
     if (std::chrono::steady_clock::now() >= deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+}
+
+int FlirOneUsb::open_with_vendor_start(std::chrono::milliseconds patience, std::string& error) {
+  const auto deadline = std::chrono::steady_clock::now() + patience;
+  vendor_start_result_ = 1;
+  while (!try_open(error, false)) {
+    if (std::chrono::steady_clock::now() >= deadline) return 1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return vendor_start_result_;
 }
 
 ReadStatus FlirOneUsb::read(std::uint8_t* buffer, int size, int& transferred, unsigned timeout_ms) {

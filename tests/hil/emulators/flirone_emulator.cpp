@@ -356,13 +356,13 @@ int main(int argc, char** argv) {
     touch(o.ready);
     // Whenever the host side is through (also when it gave up early), unplug and exit: status 0
     // when every frame went out and no control request was refused (the host's stop sequence
-    // included), 4 when requests were refused, 3 when the frames did not all go out.
+    // included), 4 when requests were refused, else 3 when the frames did not all go out.
     std::thread([&] {
       while (::access(o.finished.c_str(), F_OK) != 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
       const std::uint64_t refused = camera.refused();
       if (refused > 0) std::fprintf(stderr, "flirone_emulator: %llu requests refused\n", static_cast<unsigned long long>(refused));
       std::fflush(nullptr);
-      std::_Exit(::access(o.done.c_str(), F_OK) != 0 ? 3 : refused > 0 ? 4 : 0);
+      std::_Exit(refused > 0 ? 4 : ::access(o.done.c_str(), F_OK) != 0 ? 3 : 0);
     }).detach();
 
     Emulator emulator(o, camera);

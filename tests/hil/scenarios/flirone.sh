@@ -1,7 +1,8 @@
 #!/bin/sh
 # HIL scenario, run inside the VM: the FLIR ONE emulator on Raw Gadget (raw_gadget.ko, dummy_hcd),
 # which streams only after the public drivers' start-up (SET_CONFIGURATION 3, SET_INTERFACE in
-# their order) and refuses any other request; every host below must have none refused. The host
+# their order) and refuses any other request; every host below must have none refused. 0) The
+# vendor request alone (a wrong start-up) is stalled and gets no frame. The host
 # side through libusb: 1) the real capture replayed, delivered bit-exactly; 2) simulated frames
 # with 1 % injected faults of every kind: every fault counted, every good frame delivered
 # bit-exactly, replug recovered within 2 s. Then through the project's FlirOneSource: 3) simulated
@@ -28,6 +29,19 @@ run() {  # name, emulator arguments, host arguments
   wait $emulator || { echo "HIL-STEP $name: the emulator failed (status $?: 4 = requests refused)"; failed=1; }
   echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
 }
+
+# A wrong start-up: the vendor request alone (what the emulator once accepted) is stalled, no
+# frame flows, and the emulator ends with status 4 (requests refused).
+echo "HIL-STEP wrong_start start $(cut -d' ' -f1 /proc/uptime)"
+./flirone_emulator --capture flirone-pro --frames 10 --jpeg-bytes 0 --log /tmp/wrong_start.log \
+  --ready /tmp/wrong_start.ready --done /tmp/wrong_start.done --finished /tmp/wrong_start.finished &
+emulator=$!
+./hil_flirone --wrong-start || failed=1
+touch /tmp/wrong_start.finished
+wait $emulator
+status=$?
+[ $status -eq 4 ] || { echo "HIL-STEP wrong_start: the emulator exited $status, want 4 (requests refused)"; failed=1; }
+echo "HIL-STEP wrong_start end $(cut -d' ' -f1 /proc/uptime)"
 
 run replay "--replay" "--capture flirone-pro"
 run faults "--frames $frames --jpeg-bytes 0 --fault-rate 0.01 --faults all --seed 7" "--min-frames $((frames * 9 / 10))"
