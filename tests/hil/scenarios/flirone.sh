@@ -37,6 +37,9 @@ echo "HIL-STEP wrong_start start $(cut -d' ' -f1 /proc/uptime)"
   --ready /tmp/wrong_start.ready --done /tmp/wrong_start.done --finished /tmp/wrong_start.finished &
 emulator=$!
 ./hil_flirone --wrong-start || failed=1
+for d in /sys/bus/usb/devices/*; do  # the link speed the emulated camera got (480: high speed)
+  grep -qs 09cb "$d/idVendor" && echo "HIL-STEP wrong_start: 09cb:1996 at $(cat "$d/speed") Mb/s"
+done
 touch /tmp/wrong_start.finished
 wait $emulator
 status=$?
