@@ -1,9 +1,11 @@
 // HIL test through the project's own backend: bolo::hal::FlirOneSource over LibusbTransport
 // (what `bolo capture --device usb:flirone` uses) streaming from the FLIR ONE emulator. Every
 // delivered 80x60 image must equal, bit for bit and in order, an image the emulator sent whole;
-// every frame the emulator broke must show up in the source's fault counters.
+// every frame the emulator broke must show up in the source's fault counters. On a real camera
+// (no send log to compare with) every frame must arrive whole and in sequence.
 //
 //   hil_flirone_hal --send-log FILE --done FILE [--min-frames N]
+//   hil_flirone_hal --real --frames N
 
 #include <sys/stat.h>
 
@@ -80,20 +82,81 @@ class TimedTransport final : public hal::BulkInTransport {
   hal::BulkInTransport& inner_;
 };
 
+// A real camera: `frames` images, each whole (80x60) and in sequence. Timeouts before the first
+// image are the camera's start-up and are only reported; the core exports some frames twice
+// (same counter, the shared capture has them), so duplicates are reported, not failed.
+int stream_real_camera(hal::FlirOneSource& source, HashingSink& sink, std::uint64_t frames) {
+  const auto start = Clock::now();
+  auto last_progress = start;
+  std::optional<hal::SourceStats> at_first_image;
+  while (sink.hashes.size() < frames) {
+    const std::size_t before = sink.hashes.size();
+    source.stream_frame(sink);
+    if (sink.hashes.size() != before) {
+      last_progress = Clock::now();
+      if (!at_first_image) at_first_image = source.stats();
+    } else if (Clock::now() - last_progress > std::chrono::seconds(15)) {
+      break;
+    }
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const hal::SourceStats st = source.stats();
+  const std::uint64_t startup_timeouts = at_first_image ? at_first_image->timeouts : st.timeouts;
+  const auto malformed = static_cast<std::uint64_t>(std::count(sink.hashes.begin(), sink.hashes.end(), 0u));
+  int failures = 0;
+  auto expect = [&](bool ok, const std::string& what) {
+    if (!ok) {
+      ++failures;
+      std::printf("hil_flirone_hal: FAIL %s\n", what.c_str());
+    }
+  };
+  expect(sink.hashes.size() == frames, "images delivered: got " + std::to_string(sink.hashes.size()) + ", want " +
+                                           std::to_string(frames) + " (none for 15 s)");
+  expect(malformed == 0, std::to_string(malformed) + " images not 80x60 with every row in order");
+  expect(st.short_transfers == 0 && st.corrupt_transfers == 0,
+         std::to_string(st.short_transfers) + " short, " + std::to_string(st.corrupt_transfers) + " corrupt transfers");
+  expect(st.disconnects == 0, std::to_string(st.disconnects) + " disconnects");
+  expect(st.timeouts == startup_timeouts,
+         std::to_string(st.timeouts - startup_timeouts) + " timeouts after the first image");
+  expect(source.skipped_in_camera() == 0 && source.counter_jumps() == 0,
+         std::to_string(source.skipped_in_camera()) + " frames skipped in the camera, " +
+             std::to_string(source.counter_jumps()) + " frame counter jumps");
+  std::printf("hil_flirone_hal: %s: real FLIR ONE, %zu images in %.1f s (%.1f/s); duplicates %llu, start-up "
+              "timeouts %llu\n",
+              failures == 0 ? "PASS" : "FAIL", sink.hashes.size(), seconds,
+              static_cast<double>(sink.hashes.size()) / seconds, static_cast<unsigned long long>(st.duplicates),
+              static_cast<unsigned long long>(startup_timeouts));
+  return failures == 0 ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string send_log, done;
-  std::uint64_t min_frames = 1;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  std::uint64_t min_frames = 1, real_frames = 0;
+  for (int i = 1; i < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--send-log") send_log = argv[i + 1];
+    if (a == "--real") {
+      real_frames = std::max<std::uint64_t>(real_frames, 1);
+      --i;  // no value
+      continue;
+    }
+    if (i + 1 >= argc) {
+      std::printf("hil_flirone_hal: FAIL option %s needs a value\n", a.c_str());
+      return 2;
+    }
+    if (a == "--frames") real_frames = std::stoull(argv[i + 1]);
+    else if (a == "--send-log") send_log = argv[i + 1];
     else if (a == "--done") done = argv[i + 1];
     else if (a == "--min-frames") min_frames = std::stoull(argv[i + 1]);
     else {
       std::printf("hil_flirone_hal: FAIL unknown option %s\n", a.c_str());
       return 2;
     }
+  }
+  if (real_frames == 0 && (send_log.empty() || done.empty())) {
+    std::printf("hil_flirone_hal: FAIL give --send-log and --done (emulator) or --real --frames N (camera)\n");
+    return 2;
   }
   try {
     std::unique_ptr<hal::LibusbTransport> transport;
@@ -113,6 +176,7 @@ int main(int argc, char** argv) {
     TimedTransport timed(*transport);
     hal::FlirOneSource source(timed, config);
     HashingSink sink;
+    if (real_frames > 0) return stream_real_camera(source, sink, real_frames);
     const auto start = Clock::now();
     std::uint64_t faults = 0, ends = 0;
     std::optional<bolo::hil::Expectation> expected;

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # ctest's entry to a HIL scenario: checks what the VM needs, then boots it (toolchain/vm/hil-vm.sh).
 # With BOLO_HIL_DEVICE set (usb:flirone, usb:seek, v4l2:/dev/videoN) the scenario's host-side test
-# runs here against that real camera instead; without it and without qemu, the test is skipped
-# with the reason. Exit 77 = skipped.
+# runs here against that real camera instead (the GPIO scenario: that camera with the lines named
+# in BOLO_HIL_GPIO); without it and without qemu, the test is skipped with the reason. Exit 77 = skipped.
 #
 #   run-hil-test.sh --arch A --scenario S --shared-data DIR [--sysroot DIR] --file F...
 set -uo pipefail
@@ -32,10 +32,14 @@ fi
 if [ -n "${BOLO_HIL_DEVICE:-}" ]; then
   # A real camera on this machine: the host-side program of the scenario's device, no VM.
   scenario_device="$(sed -n 's/^# device: //p' "$scenario")"
-  case "$BOLO_HIL_DEVICE" in
-    "$scenario_device" | "$scenario_device":*) ;;  # v4l2 matches v4l2:/dev/videoN
-    *) skip "BOLO_HIL_DEVICE=$BOLO_HIL_DEVICE; this scenario needs $scenario_device" ;;
-  esac
+  if [ "$scenario_device" = gpio ]; then  # any camera, with its lines named in BOLO_HIL_GPIO
+    [ -n "${BOLO_HIL_GPIO:-}" ] || skip "BOLO_HIL_GPIO is not set (CHIP:sync=N,shutter=N,imminent=N: the camera's lines)"
+  else
+    case "$BOLO_HIL_DEVICE" in
+      "$scenario_device" | "$scenario_device":*) ;;  # v4l2 matches v4l2:/dev/videoN
+      *) skip "BOLO_HIL_DEVICE=$BOLO_HIL_DEVICE; this scenario needs $scenario_device" ;;
+    esac
+  fi
   real_command="$(sed -n 's/^# real: //p' "$scenario")"
   for f in "${files[@]}"; do PATH="$(dirname "$f"):$PATH"; done
   export PATH
@@ -44,6 +48,9 @@ if [ -n "${BOLO_HIL_DEVICE:-}" ]; then
   exit $?
 fi
 
+vm_arch="$(sed -n 's/^# vm-arch: //p' "$scenario")"
+[ -z "$vm_arch" ] || [ "$vm_arch" = "$arch" ] ||
+  skip "this scenario's VM run is $vm_arch only (docs/hil.md); on a board, BOLO_HIL_DEVICE runs it on a real camera"
 qemu=qemu-system-x86_64
 [ "$arch" = aarch64 ] && qemu=qemu-system-aarch64
 command -v "$qemu" >/dev/null || skip "$qemu is not installed (scripts/deps.sh installs it)"

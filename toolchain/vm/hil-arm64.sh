@@ -13,7 +13,7 @@ targets=(flirone_emulator hil_flirone)
 # ninja with SIGPIPE), which once dropped hil_flirone_hal from a CI build.
 available=$(ninja -C "$dir" -t targets all)
 # The HAL's FLIR ONE source (where libusb was found), the UVC emulator and its V4L2 host side; the
-# Seek and GPIO scenarios run on x86-64 only (tests/hil/CMakeLists.txt says why).
+# Seek and GPIO scenarios have their VM run on x86-64 only and skip here (tests/hil/CMakeLists.txt).
 for optional in hil_flirone_hal uvc_emulator hil_uvc_hal; do
   grep -q "^$optional:" <<<"$available" && targets+=("$optional")
 done

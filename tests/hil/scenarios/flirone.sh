@@ -7,10 +7,11 @@
 # with 1 % injected faults of every kind: every fault counted, every good frame delivered
 # bit-exactly, replug recovered within 2 s. Then through the project's FlirOneSource: 3) simulated
 # frames without faults: none lost, every image bit-exact; 4) with the faults (unplug/replug
-# included) every good image delivered bit-exactly, every unplug counted; 5) ~30 replugs in a row.
+# included) every good image delivered bit-exactly, every unplug counted; 5) ~30 replugs in a row;
+# 6) the real-camera check passes a clean stream and fails a faulty one.
 # BOLO_HIL_FRAMES (run-hil-test.sh: 3000 on x86-64, 2000 on arm64; 10000 for the endurance run) sets the length.
 # device: usb:flirone
-# real: hil_flirone --real --frames ${BOLO_HIL_FRAMES:-10000}
+# real: hil_flirone_hal --real --frames ${BOLO_HIL_FRAMES:-10000}
 frames="${BOLO_HIL_FRAMES:-10000}"
 failed=0
 if [ ! -e /dev/raw-gadget ]; then
@@ -75,15 +76,27 @@ else
   echo "HIL-STEP bolo_capture: skipped (no bolo CLI in this build, or no shared recording)"
 fi
 
-run_hal() {  # name, emulator arguments, host arguments: through the project's FlirOneSource
+run_hal() {  # name, emulator arguments, host arguments [must-fail]: through the project's FlirOneSource
   name="$1"
   echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
   ./flirone_emulator --capture flirone-pro --log "/tmp/$name.log" \
     --ready "/tmp/$name.ready" --done "/tmp/$name.done" --finished "/tmp/$name.finished" $2 &
   emulator=$!
-  ./hil_flirone_hal --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 || failed=1
+  if [ "${4:-}" = must-fail ]; then
+    ./hil_flirone_hal --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 &&
+      { echo "HIL-STEP $name: FAIL the check passed a faulty stream"; failed=1; }
+  else
+    ./hil_flirone_hal --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 || failed=1
+  fi
   touch "/tmp/$name.finished"
-  wait $emulator || { echo "HIL-STEP $name: the emulator failed (status $?: 4 = requests refused)"; failed=1; }
+  wait $emulator
+  status=$?
+  # A must-fail reader stops before the emulator has sent everything (status 3, expected there);
+  # refused requests (status 4) fail every step.
+  if [ $status -eq 4 ] || { [ $status -ne 0 ] && [ "${4:-}" != must-fail ]; }; then
+    echo "HIL-STEP $name: the emulator failed (status $status: 4 = requests refused)"
+    failed=1
+  fi
   echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
 }
 if [ -x ./hil_flirone_hal ]; then
@@ -96,6 +109,14 @@ if [ -x ./hil_flirone_hal ]; then
   # transport's use-after-free after a replug (docs/hil.md).
   run_hal hal_replug "--frames 1000 --jpeg-bytes 0 --fault-rate 0.03 --seed 5 --faults disconnect" \
     "--min-frames 900"
+  # The real-camera check (BOLO_HIL_DEVICE=usb:flirone) against the emulator without faults: it
+  # must pass a clean stream without a send log, and fail one with corrupt packets and counter
+  # jumps. Its logic does not differ by architecture: x86-64 only.
+  if [ "$(uname -m)" = x86_64 ]; then
+    run_hal flirone_as_camera "--frames 300 --jpeg-bytes 0" "--real --frames 300"
+    run_hal flirone_as_faulty_camera "--frames 300 --jpeg-bytes 0 --fault-rate 0.03 --seed 7 \
+      --faults corrupt,frame_id_jump" "--real --frames 280" must-fail
+  fi
 else
   echo "HIL-STEP hal: skipped, the HAL was built without libusb"
 fi

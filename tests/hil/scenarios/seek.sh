@@ -9,6 +9,7 @@
 # 342x260 frames, 320x240 delivered): a clean run and one with 3 % faults.
 # BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 3000 on x86-64, 2000 on arm64; 10000 for the endurance run) sets the clean
 # run's length; the fault run streams a quarter of it.
+# vm-arch: x86_64
 # device: usb:seek
 # real: hil_seek_hal --real --frames "${BOLO_HIL_SEEK_FRAMES:-10000}"
 frames="${BOLO_HIL_SEEK_FRAMES:-10000}"
