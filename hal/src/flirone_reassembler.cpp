@@ -8,13 +8,27 @@ namespace bolo::hal {
 
 using namespace flirone;
 
+const Geometry* flirone::geometry_for(std::size_t thermal_bytes) {
+  for (const Geometry& g : kGeometries)
+    if (g.thermal_bytes == thermal_bytes) return &g;
+  return nullptr;
+}
+
+namespace {
+std::size_t largest_thermal() {
+  std::size_t most = 0;
+  for (const Geometry& g : kGeometries) most = g.thermal_bytes > most ? g.thermal_bytes : most;
+  return most;
+}
+}  // namespace
+
 bool flirone_starts_frame(std::span<const std::uint8_t> bytes) {
   return bytes.size() >= 4 && read_le32(bytes.data()) == kMagic;
 }
 
 FlirOneReassembler::FlirOneReassembler(std::size_t max_frame_bytes, bool verify_crc)
-    : buffer_(max_frame_bytes < kHeaderBytes + kThermalBytes ? kHeaderBytes + kThermalBytes
-                                                             : max_frame_bytes),
+    : buffer_(max_frame_bytes < kHeaderBytes + largest_thermal() ? kHeaderBytes + largest_thermal()
+                                                                 : max_frame_bytes),
       verify_crc_(verify_crc) {}
 
 // The delivered frame stays in the buffer until the caller is done with frame().jpeg.
@@ -57,7 +71,7 @@ bool FlirOneReassembler::complete_if_whole() {
   const std::uint32_t total = read_le32(h + 8), thermal = read_le32(h + 12);
   const std::uint32_t jpeg = read_le32(h + 16), json = read_le32(h + 20);
   const std::uint64_t parts = std::uint64_t{thermal} + jpeg + json;
-  if (read_le32(h) != kMagic || thermal != kThermalBytes || parts != total ||
+  if (read_le32(h) != kMagic || geometry_for(thermal) == nullptr || parts != total ||
       total > buffer_.size() - kHeaderBytes) {
     ++counters_.bad_header;
     have_ = 0;
@@ -80,8 +94,9 @@ bool FlirOneReassembler::complete_if_whole() {
 bool FlirOneReassembler::decode(std::span<const std::uint8_t> bytes) {
   const std::uint8_t* h = bytes.data();
   const std::uint8_t* thermal = h + kHeaderBytes;
+  const Geometry& g = *geometry_for(read_le32(h + 12));
   bool rows_ok = true, crc_ok = true;
-  for (std::size_t p = 0; p < kPackets; ++p) {
+  for (std::size_t p = 0; g.vospi_packets && p < kPackets; ++p) {
     const std::uint8_t* packet = thermal + p * kPacketBytes;
     const std::uint16_t id = static_cast<std::uint16_t>(packet[0] | (packet[1] << 8));
     if ((id & 0x0FFFu) != p) rows_ok = false;
@@ -100,15 +115,21 @@ bool FlirOneReassembler::decode(std::span<const std::uint8_t> bytes) {
   f.jpeg_bytes = read_le32(h + 16);
   f.json_bytes = read_le32(h + 20);
   f.header_timestamp = read_le32(h + 24);
-  for (std::size_t p = 0; p < kPackets; ++p) {
-    const std::uint8_t* px = thermal + p * kPacketBytes + 4;
-    std::uint16_t* out = p < kHeight ? &f.pixels[p * kWidth] : f.telemetry[p - kHeight];
-    for (std::size_t x = 0; x < kWidth; ++x)
-      out[x] = static_cast<std::uint16_t>(px[2 * x] | (px[2 * x + 1] << 8));
+  f.geometry = &g;
+  // Both layouts are rows of 80-pixel runs behind a 4-byte prefix (a VoSPI packet's id and CRC,
+  // or a 160x120 row's half), `runs` of them per image row.
+  const std::size_t runs = g.width / kWidth;
+  for (std::size_t r = 0; r < g.height + g.telemetry_rows; ++r) {
+    std::uint16_t* out = r < g.height ? &f.pixels[r * g.width] : f.telemetry[r - g.height];
+    for (std::size_t run = 0; run < runs; ++run) {
+      const std::uint8_t* px = thermal + (r * runs + run) * kPacketBytes + 4;
+      for (std::size_t x = 0; x < kWidth; ++x)
+        out[run * kWidth + x] = static_cast<std::uint16_t>(px[2 * x] | (px[2 * x + 1] << 8));
+    }
   }
   f.lepton = LeptonTelemetry{};
   decode_lepton_telemetry(std::span<const std::uint16_t>(f.telemetry[0], kWidth), f.lepton);
-  const std::uint8_t* jpeg = thermal + kThermalBytes;
+  const std::uint8_t* jpeg = thermal + g.thermal_bytes;
   f.jpeg = std::span<const std::uint8_t>(jpeg, f.jpeg_bytes);
   f.status = FlirOneStatus{};
   f.status_ok = f.json_bytes > 0 &&

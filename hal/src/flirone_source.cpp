@@ -10,8 +10,9 @@ FlirOneSource::FlirOneSource(BulkInTransport& transport, const FlirOneSourceConf
 
 SourceFormat FlirOneSource::format() const {
   SourceFormat f;
-  f.width = flirone::kWidth;
-  f.height = flirone::kHeight;
+  if (geometry_ == nullptr) geometry_ = &flirone::kGeometries[0];  // reported: the stream's from now on
+  f.width = geometry_->width;
+  f.height = geometry_->height;
   f.bits = 14;
   f.frame_period_ns = 116279070;  // ~8.6 frames/s exported
   return f;
@@ -60,14 +61,35 @@ void FlirOneSource::follow_frame_counter(std::uint32_t counter) {
   lost_since_good_ = 0;
 }
 
+bool FlirOneSource::probe() {
+  if (held_) return held_status_ == StreamStatus::frame;
+  held_status_ = next_whole_frame(held_arrival_ns_);
+  held_ = true;
+  if (held_status_ != StreamStatus::frame) return false;
+  if (geometry_ == nullptr) geometry_ = reassembler_.frame().geometry;
+  return true;
+}
+
 StreamStatus FlirOneSource::stream_frame(fw::LineSink& sink) {
+  for (;;) {
+    std::int64_t arrival_ns = held_arrival_ns_;
+    const StreamStatus s = held_ ? held_status_ : next_whole_frame(arrival_ns);
+    held_ = false;
+    if (s != StreamStatus::frame) return s;
+    const StreamStatus delivered = deliver(sink, arrival_ns);
+    if (delivered != StreamStatus::end_of_stream) return delivered;  // else a skipped duplicate
+  }
+}
+
+// Up to the next good frame, left in the reassembler (`frame`, with its arrival time), or what
+// stopped it (fault, end_of_stream).
+StreamStatus FlirOneSource::next_whole_frame(std::int64_t& arrival_ns) {
   for (;;) {
     FlirOneCounters before = reassembler_.counters();
     if (reassembler_.poll()) {
       lost_frames_since(before);
-      const StreamStatus s = deliver(sink, 0);
-      if (s != StreamStatus::end_of_stream) return s;
-      continue;  // a skipped duplicate
+      arrival_ns = 0;
+      return StreamStatus::frame;
     }
     if (lost_frames_since(before)) return StreamStatus::fault;
 
@@ -107,8 +129,8 @@ StreamStatus FlirOneSource::stream_frame(fw::LineSink& sink) {
     const bool whole = reassembler_.push_transfer(std::span<const std::uint8_t>(transfer_.data(), t.bytes));
     const bool lost = lost_frames_since(before);
     if (whole) {
-      const StreamStatus s = deliver(sink, t.arrival_ns);
-      if (s != StreamStatus::end_of_stream) return s;
+      arrival_ns = t.arrival_ns;
+      return StreamStatus::frame;
     }
     if (lost) return StreamStatus::fault;
   }
@@ -117,6 +139,12 @@ StreamStatus FlirOneSource::stream_frame(fw::LineSink& sink) {
 // end_of_stream here means "nothing delivered, keep going" (a skipped duplicate).
 StreamStatus FlirOneSource::deliver(fw::LineSink& sink, std::int64_t arrival_ns) {
   const FlirOneFrame& f = reassembler_.frame();
+  if (geometry_ == nullptr) geometry_ = f.geometry;
+  if (f.geometry != geometry_) {  // a core of another size mid-stream: not this stream's frame
+    ++stats_.corrupt_transfers;
+    count_lost(1);
+    return StreamStatus::fault;
+  }
   const std::uint32_t counter = f.lepton.frame_counter;
   follow_frame_counter(counter);
   // The previous frame's counter again, as before: the counter's repeats would also take one
@@ -126,8 +154,8 @@ StreamStatus FlirOneSource::deliver(fw::LineSink& sink, std::int64_t arrival_ns)
   if (duplicate && config_.skip_duplicates) return StreamStatus::end_of_stream;
 
   fw::FrameHeader header;
-  header.width = flirone::kWidth;
-  header.height = flirone::kHeight;
+  header.width = geometry_->width;
+  header.height = geometry_->height;
   header.sequence = sequence_++;
   header.sequence_valid = true;
   if (config_.clock == FlirOneClock::camera) {
@@ -146,7 +174,7 @@ StreamStatus FlirOneSource::deliver(fw::LineSink& sink, std::int64_t arrival_ns)
   previous_counter_ = counter;
 
   sink.begin_frame(header);
-  sink.push_lines(0, flirone::kHeight, f.pixels, flirone::kWidth, flirone::kWidth);  // reassembled whole
+  sink.push_lines(0, geometry_->height, f.pixels, geometry_->width, geometry_->width);  // reassembled whole
   sink.end_frame();
   ++stats_.frames_delivered;
   return StreamStatus::frame;

@@ -16,6 +16,17 @@
 namespace bolo::hal::detail {
 namespace {
 
+// A FlirOneSource that has read the camera's first frame, so that its format (80x60 or 160x120)
+// is the core's before anyone records; the frame is delivered first.
+std::unique_ptr<OpenedSource> open_flirone(BulkInTransport& transport, std::shared_ptr<void> keep,
+                                           const std::string& what) {
+  auto source = std::make_unique<FlirOneSource>(transport);
+  source->probe();
+  const SourceFormat f = source->format();
+  std::string sensor = "FLIR ONE (" + std::to_string(f.width) + "x" + std::to_string(f.height) + " core)" + what;
+  return std::make_unique<OpenedSource>(std::move(source), std::move(sensor), std::move(keep));
+}
+
 // Set on the usb: backends of a build configured without libusb-1.0.
 constexpr const char* kNoUsb =
     "this build has no USB backend (libusb-1.0 was not found when it was configured; see `bolo devices`)";
@@ -53,12 +64,12 @@ SourceBackend v4l2_backend() {
 SourceBackend flirone_backend() {
   SourceBackend b;
   b.scheme = "usb:flirone";
-  b.summary = "FLIR ONE Pro (libusb)";
+  b.summary = "FLIR ONE Gen 3 / Pro (libusb)";
 #if defined(BOLO_HAVE_LIBUSB)
   b.open = [](const std::string&, const SourceOptions&) {
     auto usb = std::make_shared<LibusbTransport>(flirone_libusb_config());
-    return std::make_unique<OpenedSource>(std::make_unique<FlirOneSource>(*usb),
-                                          "FLIR ONE Pro (Lepton-class 80x60 core)", usb);
+    LibusbTransport& transport = *usb;
+    return open_flirone(transport, std::move(usb), "");
   };
 #else
   b.unavailable = kNoUsb;
@@ -104,8 +115,8 @@ void add_replay_sources(std::vector<SourceBackend>& backends) {
   b.finite = true;
   b.open = [](const std::string& dir, const SourceOptions&) {
     auto log = std::make_shared<CapturedTransfers>(dir);
-    return std::make_unique<OpenedSource>(std::make_unique<FlirOneSource>(*log),
-                                          "FLIR ONE Pro (Lepton-class 80x60 core), replayed transfer log", log);
+    CapturedTransfers& transport = *log;
+    return open_flirone(transport, std::move(log), ", replayed transfer log");
   };
   backends.push_back(std::move(b));
 }

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstring>
 #include <deque>
+#include <iterator>
 #include <stdexcept>
 #include <thread>
 
@@ -29,6 +30,8 @@ std::string hex4(std::uint16_t v) {
 constexpr std::uint8_t kVendorToInterface = 0x40 | 0x01;  // host-to-device, vendor, interface
 constexpr std::uint8_t kVendorFromDevice = 0x80 | 0x40;   // device-to-host, vendor (| recipient)
 constexpr std::uint8_t kRecipientInterface = 0x01, kRecipientDevice = 0x00;
+constexpr std::uint8_t kStandardToInterface = 0x00 | 0x01;  // host-to-device, standard, interface
+constexpr std::uint8_t kSetInterface = 0x0b;
 
 TransferStatus status_of(int libusb_error) {
   switch (libusb_error) {
@@ -121,14 +124,9 @@ struct LibusbTransport::Impl {
     }
     libusb_free_device_list(list, 1);
     libusb_set_auto_detach_kernel_driver(handle, 1);
-    for (int iface : interfaces_to_claim()) {
-      rc = libusb_claim_interface(handle, iface);
-      if (rc != 0) {
-        close();
-        why = std::string("claiming interface ") + std::to_string(iface) + ": " + libusb_error_name(rc);
-        return false;
-      }
-      claimed.push_back(iface);
+    if (!bring_up(why)) {
+      close();
+      return false;
     }
     if (!alloc_transfers()) {
       close();
@@ -137,20 +135,22 @@ struct LibusbTransport::Impl {
     }
     gone = false;
     endpoint = opened.endpoint;
-    stream_interface = opened.interface_number;
-    send(config.start);
     return true;
   }
 
-  std::vector<int> interfaces_to_claim() const {
-    std::vector<int> out;
-    if (!config.claim_all_interfaces) return {0};
-    libusb_config_descriptor* cfg = nullptr;
-    if (libusb_get_active_config_descriptor(libusb_get_device(handle), &cfg) != 0) return {0};
-    for (int i = 0; i < cfg->bNumInterfaces; ++i)
-      if (cfg->interface[i].num_altsetting > 0) out.push_back(cfg->interface[i].altsetting[0].bInterfaceNumber);
-    libusb_free_config_descriptor(cfg);
-    return out;
+  // The configuration's start steps, or interface 0 claimed; `why` names the step refused.
+  bool bring_up(std::string& why) {
+    if (config.start.empty()) {
+      if (setup.claim_interface(0)) return true;
+      why = std::string("claiming interface 0: ") + libusb_error_name(setup.last_error);
+      return false;
+    }
+    const std::size_t done = run_usb_setup(setup, config.start);
+    if (done == config.start.size()) return true;
+    char step[48];
+    describe_usb_step(config.start[done], step, sizeof step);
+    why = std::string(step) + ": " + libusb_error_name(setup.last_error);
+    return false;
   }
 
   // The first bulk IN endpoint of each interface; the configuration picks the lowest or the
@@ -237,7 +237,31 @@ struct LibusbTransport::Impl {
     }
   }
 
-  int stream_interface = -1;
+  // The standard requests of the start and stop steps, on this handle. SET_INTERFACE goes out as
+  // a plain control transfer, as the public FLIR ONE drivers send it: the kernel keeps its view
+  // of the interface (alternate setting 0 and its endpoints) instead of switching it.
+  struct Setup final : UsbDeviceSetup {
+    Impl& m;
+    int last_error = 0;
+    explicit Setup(Impl& impl) : m(impl) {}
+    bool done(int rc) {
+      last_error = rc;
+      if (rc == LIBUSB_ERROR_NO_DEVICE) m.gone = true;
+      return rc >= 0;
+    }
+    bool set_configuration(std::uint8_t configuration) override {
+      return done(libusb_set_configuration(m.handle, configuration));
+    }
+    bool claim_interface(std::uint8_t interface) override {
+      if (!done(libusb_claim_interface(m.handle, interface))) return false;
+      m.claimed.push_back(interface);
+      return true;
+    }
+    bool set_interface(std::uint8_t interface, std::uint8_t alternate) override {
+      return done(libusb_control_transfer(m.handle, kStandardToInterface, kSetInterface, alternate, interface,
+                                          nullptr, 0, 1000));
+    }
+  } setup{*this};
   std::uint64_t failed_steps = 0;
   bool stalled = false;  // the endpoint halted: cleared before the next submission
 
@@ -248,19 +272,10 @@ struct LibusbTransport::Impl {
     if (libusb_clear_halt(handle, endpoint) == LIBUSB_ERROR_NO_DEVICE) gone = true;
   }
 
-  void send(const std::vector<ControlStep>& steps) {
-    for (const ControlStep& s : steps) {
-      const std::uint16_t index =
-          s.index_is_stream_interface ? static_cast<std::uint16_t>(stream_interface) : s.index;
-      if (libusb_control_transfer(handle, s.request_type, s.request, s.value, index, nullptr, 0, 1000) < 0)
-        ++failed_steps;
-    }
-  }
-
   void close() {
     if (!handle) return;
     cancel_all();
-    if (!gone) send(config.stop);
+    if (!gone && run_usb_setup(setup, config.stop) < config.stop.size()) ++failed_steps;
     for (int iface : claimed) libusb_release_interface(handle, iface);
     claimed.clear();
     free_transfers();
@@ -435,9 +450,8 @@ LibusbConfig flirone_libusb_config() {
   c.vendor_id = 0x09cb;
   c.product_ids = {0x1996};
   c.endpoint = EndpointChoice::last_bulk_in;
-  c.claim_all_interfaces = true;
-  c.start = {{kVendorToInterface, 0x0b, 1, 0, true}};
-  c.stop = {{kVendorToInterface, 0x0b, 0, 0, true}};
+  c.start.assign(std::begin(flirone::kStartSteps), std::end(flirone::kStartSteps));
+  c.stop.assign(std::begin(flirone::kStopSteps), std::end(flirone::kStopSteps));
   c.streaming = true;
   c.transfer_bytes = std::size_t{64} * 1024;
   c.in_flight = 4;

@@ -1,6 +1,7 @@
 #pragma once
-// Builds FLIR ONE Pro frames byte by byte as the camera sends them (header, 63 VoSPI packets
-// with valid CRCs, JPEG, JSON), for tests that need frames the capture does not contain.
+// Builds FLIR ONE frames byte by byte as the camera sends them (header, 63 VoSPI packets with
+// valid CRCs, JPEG, JSON; or the 160x120 layout's 122 rows), for tests that need frames the
+// capture does not contain.
 
 #include <cstdint>
 #include <filesystem>
@@ -39,42 +40,78 @@ inline void fix_crc(std::vector<std::uint8_t>& frame, std::size_t p) {
   put_le16(frame, at + 2, hal::vospi_crc_le_words({frame.data() + at, hal::flirone::kPacketBytes}));
 }
 
-inline std::vector<std::uint8_t> make_flirone_frame(const FlirOneFrameSpec& s = {}) {
+// Telemetry row A's first 80 words for `s`.
+inline void telemetry_row_a(const FlirOneFrameSpec& s, std::uint16_t (&words)[hal::flirone::kWidth]) {
+  words[0] = 14;
+  words[3] = static_cast<std::uint16_t>(s.status & 0xFFFF);
+  words[4] = static_cast<std::uint16_t>(s.status >> 16);
+  words[20] = static_cast<std::uint16_t>(s.frame_counter & 0xFFFF);
+  words[21] = static_cast<std::uint16_t>(s.frame_counter >> 16);
+  words[24] = s.fpa_ck;
+  words[26] = s.housing_ck;
+  words[30] = static_cast<std::uint16_t>(s.last_ffc_ms & 0xFFFF);
+  words[31] = static_cast<std::uint16_t>(s.last_ffc_ms >> 16);
+}
+
+// The frame around a thermal part of `thermal_bytes`: header, JPEG, JSON; the thermal part zero.
+inline std::vector<std::uint8_t> flirone_framing(const FlirOneFrameSpec& s, std::size_t thermal_bytes) {
   using namespace hal::flirone;
   const std::size_t json_bytes = s.json.size() + 1;  // the camera sends a NUL after the text
-  const std::size_t total = kThermalBytes + s.jpeg_bytes + json_bytes;
+  const std::size_t total = thermal_bytes + s.jpeg_bytes + json_bytes;
   std::vector<std::uint8_t> b(kHeaderBytes + total, 0);
   put_le32(b, 0, kMagic);
   put_le32(b, 4, 1);
   put_le32(b, 8, static_cast<std::uint32_t>(total));
-  put_le32(b, 12, static_cast<std::uint32_t>(kThermalBytes));
+  put_le32(b, 12, static_cast<std::uint32_t>(thermal_bytes));
   put_le32(b, 16, static_cast<std::uint32_t>(s.jpeg_bytes));
   put_le32(b, 20, static_cast<std::uint32_t>(json_bytes));
   put_le32(b, 24, 0x12345678);
+  const std::size_t jpeg_at = kHeaderBytes + thermal_bytes;
+  for (std::size_t i = 0; i < s.jpeg_bytes; ++i) b[jpeg_at + i] = static_cast<std::uint8_t>(i * 7);
+  for (std::size_t i = 0; i < s.json.size(); ++i)
+    b[jpeg_at + s.jpeg_bytes + i] = static_cast<std::uint8_t>(s.json[i]);
+  return b;
+}
+
+// The 160x120 layout as the public drivers read it: 122 rows of 328 bytes, each two halves of a
+// 4-byte prefix and 80 pixels; rows 120-121 telemetry (row A's first 80 words as on the 80x60
+// core). Pixel (x, y) = base + x + 160 * y.
+inline std::vector<std::uint8_t> make_flirone_frame_160(const FlirOneFrameSpec& s = {}) {
+  using namespace hal::flirone;
+  constexpr std::size_t kRowBytes = 328, kRows = 122;
+  std::vector<std::uint8_t> b = flirone_framing(s, kRows * kRowBytes);
+  for (std::size_t r = 0; r < kRows; ++r)
+    for (std::size_t half = 0; half < 2; ++half) {
+      const std::size_t at = kHeaderBytes + r * kRowBytes + half * 164;
+      put_le16(b, at, static_cast<std::uint16_t>(0xA000 | (2 * r + half)));  // prefixes: left unread
+      put_le16(b, at + 2, 0xDEAD);
+      std::uint16_t words[kWidth] = {};
+      if (r < 120) {
+        for (std::size_t x = 0; x < kWidth; ++x)
+          words[x] = static_cast<std::uint16_t>(s.base + half * 80 + x + 160 * r);
+      } else if (r == 120 && half == 0) {
+        telemetry_row_a(s, words);
+      }
+      for (std::size_t x = 0; x < kWidth; ++x) put_le16(b, at + 4 + 2 * x, words[x]);
+    }
+  return b;
+}
+
+inline std::vector<std::uint8_t> make_flirone_frame(const FlirOneFrameSpec& s = {}) {
+  using namespace hal::flirone;
+  std::vector<std::uint8_t> b = flirone_framing(s, kThermalBytes);
   for (std::size_t p = 0; p < kPackets; ++p) {
     const std::size_t at = kHeaderBytes + p * kPacketBytes;
     put_le16(b, at, static_cast<std::uint16_t>(p == 0 ? 0x6000 : p));  // row 0 carries a T-number
     std::uint16_t words[kWidth] = {};
     if (p < kHeight) {
       for (std::size_t x = 0; x < kWidth; ++x) words[x] = static_cast<std::uint16_t>(s.base + x + 80 * p);
-    } else if (p == kHeight) {  // telemetry row A
-      words[0] = 14;
-      words[3] = static_cast<std::uint16_t>(s.status & 0xFFFF);
-      words[4] = static_cast<std::uint16_t>(s.status >> 16);
-      words[20] = static_cast<std::uint16_t>(s.frame_counter & 0xFFFF);
-      words[21] = static_cast<std::uint16_t>(s.frame_counter >> 16);
-      words[24] = s.fpa_ck;
-      words[26] = s.housing_ck;
-      words[30] = static_cast<std::uint16_t>(s.last_ffc_ms & 0xFFFF);
-      words[31] = static_cast<std::uint16_t>(s.last_ffc_ms >> 16);
+    } else if (p == kHeight) {
+      telemetry_row_a(s, words);
     }
     for (std::size_t x = 0; x < kWidth; ++x) put_le16(b, at + 4 + 2 * x, words[x]);
     fix_crc(b, p);
   }
-  const std::size_t jpeg_at = kHeaderBytes + kThermalBytes;
-  for (std::size_t i = 0; i < s.jpeg_bytes; ++i) b[jpeg_at + i] = static_cast<std::uint8_t>(i * 7);
-  for (std::size_t i = 0; i < s.json.size(); ++i)
-    b[jpeg_at + s.jpeg_bytes + i] = static_cast<std::uint8_t>(s.json[i]);
   return b;
 }
 

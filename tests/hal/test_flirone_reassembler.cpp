@@ -144,3 +144,22 @@ TEST_CASE("flirone: the JSON status is read field by field, a broken one leaves 
     CHECK_FALSE(r.frame().status.has_usb_timestamp);
   }
 }
+
+TEST_CASE("flirone: the thermal length picks the geometry, 80x60 or 160x120, from one table", "[hal][flirone]") {
+  CHECK(hal::flirone::geometry_for(10332)->width == 80);
+  CHECK(hal::flirone::geometry_for(40016)->height == 120);
+  CHECK(hal::flirone::geometry_for(10333) == nullptr);
+
+  hal::FlirOneReassembler r;
+  const auto bytes = test::make_flirone_frame_160({.base = 500, .frame_counter = 77, .fpa_ck = 30100});
+  REQUIRE(r.push_transfer(bytes));
+  const hal::FlirOneFrame& f = r.frame();
+  CHECK(f.geometry->width == 160);
+  CHECK(f.pixels[0] == 500);
+  CHECK(f.pixels[80] == 580);                  // the right half, after its own prefix
+  CHECK(f.pixels[159 + 160 * 119] == 500 + 159 + 160 * 119);
+  CHECK(f.lepton.frame_counter == 77);
+  CHECK(f.lepton.fpa_temp_ck == 30100);
+  CHECK(f.status_ok);
+  CHECK(r.counters().bad_header == 0);
+}

@@ -245,3 +245,45 @@ TEST_CASE("flirone source: stray transfers, trailing bytes and unread statuses a
   CHECK(extra.find("trailing_bytes")->value == 3);
   CHECK(extra.find("bad_status")->value == 1);
 }
+
+TEST_CASE("flirone source: a 160x120 core's frames come out 160x120, format and header alike", "[hal][flirone]") {
+  ScriptedTransport usb;
+  usb.frame(test::make_flirone_frame_160({.base = 1000, .frame_counter = 3}), 30000);
+  usb.frame(test::make_flirone_frame_160({.base = 2000, .frame_counter = 6}), 30000);
+  usb.frame(test::make_flirone_frame({.frame_counter = 9}));  // an 80x60 frame in a 160x120 stream
+  usb.frame(test::make_flirone_frame_160({.base = 3000, .frame_counter = 12}), 30000);
+
+  hal::FlirOneSource source(usb);
+  REQUIRE(source.probe());
+  CHECK(source.format().width == 160);
+  CHECK(source.format().height == 120);
+
+  test::HashingCollector sink(160, 120);
+  std::vector<std::uint64_t> seq;
+  std::vector<std::vector<fw::Pixel>> frames;
+  using S = hal::StreamStatus;
+  std::vector<S> statuses;
+  for (S s; (s = source.stream_frame(sink)) != S::end_of_stream;) {
+    statuses.push_back(s);
+    if (s != S::frame) continue;
+    CHECK(sink.header().width == 160);
+    CHECK(sink.header().height == 120);
+    frames.push_back(sink.frame());
+  }
+  CHECK(statuses == std::vector<S>{S::frame, S::frame, S::fault, S::frame});
+  REQUIRE(frames.size() == 3);
+  for (std::uint32_t y : {0u, 57u, 119u})
+    for (std::uint32_t x : {0u, 79u, 80u, 159u})
+      CHECK(frames[1][y * 160 + x] == 2000 + x + 160 * y);
+  CHECK(source.last_frame().lepton.frame_counter == 12);
+  CHECK(source.stats().corrupt_transfers == 1);
+  CHECK(source.stats().frames_delivered == 3);
+
+  // Without probe(), a format handed out before the first frame (80x60) holds for the stream.
+  ScriptedTransport later;
+  later.frame(test::make_flirone_frame_160({}), 30000);
+  hal::FlirOneSource unprobed(later);
+  CHECK(unprobed.format().width == 80);
+  CHECK(unprobed.stream_frame(sink) == S::fault);
+  CHECK(unprobed.stats().corrupt_transfers == 1);
+}

@@ -9,8 +9,9 @@ namespace {
 constexpr std::uint16_t kVendor = 0x09cb;
 constexpr std::uint16_t kProduct = 0x1996;
 constexpr int kFrameInterface = 2;
-constexpr std::uint8_t kStartStop = 0x0b;
-constexpr std::uint8_t kVendorToInterface = 0x41;  // vendor request, host to interface
+constexpr int kConfiguration = 3;
+constexpr std::uint8_t kSetInterface = 0x0b;
+constexpr std::uint8_t kStandardToInterface = 0x01;  // standard request, host to interface
 }  // namespace
 
 FlirOneUsb::FlirOneUsb() {
@@ -29,7 +30,7 @@ void FlirOneUsb::close() {
   handle_ = nullptr;
 }
 
-bool FlirOneUsb::try_open(std::string& error) {
+bool FlirOneUsb::try_open(std::string& error, bool drivers_start) {
   // Without udevd (the HIL VM, minimal boards) libusb learns of no hot-plug: a fresh context
   // rescans sysfs, so a replugged device is seen.
   libusb_exit(context_);
@@ -38,6 +39,12 @@ bool FlirOneUsb::try_open(std::string& error) {
   handle_ = libusb_open_device_with_vid_pid(context_, kVendor, kProduct);
   if (handle_ == nullptr) {
     error = "09cb:1996 not found";
+    return false;
+  }
+  // Configuration 3 before anything is claimed (the kernel refuses to change it under a claim).
+  if (const int rc = libusb_set_configuration(handle_, kConfiguration); rc != 0) {
+    error = std::string("SET_CONFIGURATION 3: ") + libusb_error_name(rc);
+    close();
     return false;
   }
   libusb_config_descriptor* config = nullptr;
@@ -70,14 +77,19 @@ bool FlirOneUsb::try_open(std::string& error) {
       return false;
     }
   }
-  // The public drivers' start sequence: stop frames, stop file I/O, start file I/O, start frames.
+  if (!drivers_start) {
+    vendor_start_result_ = libusb_control_transfer(handle_, 0x41, kSetInterface, 1, kFrameInterface, nullptr, 0, 1000);
+    return true;
+  }
+  // The public drivers' start sequence, standard SET_INTERFACE requests sent as control
+  // transfers: stop frames, stop file I/O, start file I/O, start frames.
   const std::pair<std::uint16_t, std::uint16_t> sequence[] = {{0, 2}, {0, 1}, {1, 1}, {1, 2}};
   for (const auto& [value, interface] : sequence) {
-    const int rc = libusb_control_transfer(handle_, kVendorToInterface, kStartStop, value, interface,
+    const int rc = libusb_control_transfer(handle_, kStandardToInterface, kSetInterface, value, interface,
                                            nullptr, 0, 1000);
     if (rc < 0) {
-      error = "start request (" + std::to_string(value) + ", interface " + std::to_string(interface) +
-              "): " + libusb_error_name(rc);
+      error = "SET_INTERFACE " + std::to_string(interface) + " alt " + std::to_string(value) + ": " +
+              libusb_error_name(rc);
       close();
       return false;
     }
@@ -88,10 +100,20 @@ bool FlirOneUsb::try_open(std::string& error) {
 bool FlirOneUsb::open(std::chrono::milliseconds patience, std::string& error) {
   const auto deadline = std::chrono::steady_clock::now() + patience;
   for (;;) {
-    if (try_open(error)) return true;
+    if (try_open(error, true)) return true;
     if (std::chrono::steady_clock::now() >= deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+}
+
+int FlirOneUsb::open_with_vendor_start(std::chrono::milliseconds patience, std::string& error) {
+  const auto deadline = std::chrono::steady_clock::now() + patience;
+  vendor_start_result_ = 1;
+  while (!try_open(error, false)) {
+    if (std::chrono::steady_clock::now() >= deadline) return 1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return vendor_start_result_;
 }
 
 ReadStatus FlirOneUsb::read(std::uint8_t* buffer, int size, int& transferred, unsigned timeout_ms) {

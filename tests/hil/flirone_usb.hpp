@@ -23,6 +23,10 @@ class FlirOneUsb {
   // Waits up to `patience` for the device to appear, then opens and starts it. False on
   // timeout; `error` says what failed last.
   bool open(std::chrono::milliseconds patience, std::string& error);
+  // For the refusal check: opens it (configuration 3, interfaces claimed) and sends only the
+  // vendor request 0x41/0x0b (wValue 1, interface 2) that no driver sends; returns its libusb
+  // result (a camera stalls it: LIBUSB_ERROR_PIPE), or 1 when the device never appeared.
+  int open_with_vendor_start(std::chrono::milliseconds patience, std::string& error);
   void close();
   bool is_open() const { return handle_ != nullptr; }
 
@@ -31,7 +35,8 @@ class FlirOneUsb {
   std::uint8_t frame_endpoint() const { return endpoint_; }
 
  private:
-  bool try_open(std::string& error);
+  bool try_open(std::string& error, bool drivers_start);
+  int vendor_start_result_ = 1;
   libusb_context* context_ = nullptr;
   libusb_device_handle* handle_ = nullptr;
   std::uint8_t endpoint_ = 0;

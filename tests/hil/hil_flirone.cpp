@@ -34,6 +34,7 @@ struct Options {
   std::uint64_t min_frames = 1;
   std::uint64_t real_frames = 0;  // > 0: real camera mode
   unsigned timeout_ms = 500;
+  bool wrong_start = false;  // the refusal check: the vendor request alone must get no frames
   double max_recovery_s = 2.0;
 };
 
@@ -62,6 +63,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--min-frames") o.min_frames = std::stoull(value());
     else if (a == "--real") o.real_frames = 1;
     else if (a == "--frames") o.real_frames = std::stoull(value());
+    else if (a == "--wrong-start") o.wrong_start = true;
     else if (a == "--timeout-ms") o.timeout_ms = static_cast<unsigned>(std::stoul(value()));
     else throw std::runtime_error("unknown option " + a);
   }
@@ -164,6 +166,8 @@ void check_against_emulator(const Options& o, const Counts& c, const Stream& s) 
   const Expectation e = read_send_log(o.send_log);
   expect(e.lost_by_emulator == 0, "the emulator lost frames it did not mean to lose: " +
                                       std::to_string(e.lost_by_emulator));
+  expect(e.refused_requests == 0, "the emulator refused " + std::to_string(e.refused_requests) +
+                                      " start-up requests (-1: not reported)");
   expect(c.frames == e.deliver.size(), "frames delivered: " + vs(c.frames, e.deliver.size()));
   std::size_t first_mismatch = e.deliver.size();
   for (std::size_t i = 0; i < std::min(e.deliver.size(), s.hashes.size()); ++i)
@@ -216,9 +220,30 @@ void check_against_capture(const Options& o, const Stream& s) {
 
 }  // namespace
 
+// A host that starts the camera the way the emulator once accepted (vendor request 0x41/0x0b
+// instead of the drivers' SET_INTERFACE sequence) must see the request stalled and no frame.
+int check_wrong_start() {
+  flirone::FlirOneUsb usb;
+  std::string error;
+  const int rc = usb.open_with_vendor_start(std::chrono::seconds(10), error);
+  expect(rc != 1, "the device never appeared: " + error);
+  expect(rc == LIBUSB_ERROR_PIPE, std::string("the vendor request was not stalled: ") +
+                                      (rc < 0 ? libusb_error_name(rc) : std::to_string(rc)));
+  std::vector<std::uint8_t> buffer(1 << 16);
+  int got = 0;
+  const flirone::ReadStatus r = usb.is_open() ? usb.read(buffer.data(), static_cast<int>(buffer.size()), got, 1500)
+                                              : flirone::ReadStatus::gone;
+  expect(r == flirone::ReadStatus::timeout && got == 0,
+         "frames flowed without the drivers' start-up (" + std::to_string(got) + " bytes)");
+  std::printf("hil_flirone: %s: vendor request alone: %s, no frame in 1.5 s\n", failures == 0 ? "PASS" : "FAIL",
+              rc < 0 ? libusb_error_name(rc) : "accepted");
+  return failures == 0 ? 0 : 1;
+}
+
 int main(int argc, char** argv) {
   try {
     const Options o = parse(argc, argv);
+    if (o.wrong_start) return check_wrong_start();
     Counts c;
     Stream stream(o, c);
     const auto start = Clock::now();

@@ -36,23 +36,25 @@ bool exists(const std::string& path) {
   return stat(path.c_str(), &st) == 0;
 }
 
-// Hashes the pushed lines the way the emulator hashed its image rows (little-endian pixels).
+// Hashes the pushed lines the way the emulator hashed its image rows (little-endian pixels);
+// an image not of the expected size (the emulator's 80x60, or a real camera's format) hashes 0.
 class HashingSink final : public fw::LineSink {
  public:
   void begin_frame(const fw::FrameHeader& header) override {
     hash_ = hil::kFnvOffset;
     rows_ = 0;
-    width_ok_ = header.width == 80 && header.height == 60;
+    width_ok_ = header.width == width && header.height == height;
   }
   void push_line(std::uint32_t row, fw::LineView line) override {
-    if (row != rows_ || line.size() != 80) width_ok_ = false;
+    if (row != rows_ || line.size() != width) width_ok_ = false;
     hash_ = hil::fnv1a_add_pixels_le(hash_, line);
     ++rows_;
   }
   void end_frame() override {
-    hashes.push_back(width_ok_ && rows_ == 60 ? hash_ : 0);
+    hashes.push_back(width_ok_ && rows_ == height ? hash_ : 0);
   }
   std::vector<std::uint64_t> hashes;
+  std::uint32_t width = 80, height = 60;
 
  private:
   std::uint64_t hash_ = 0;
@@ -83,10 +85,14 @@ class TimedTransport final : public hal::BulkInTransport {
   hal::BulkInTransport& inner_;
 };
 
-// A real camera: `frames` images, each whole (80x60) and in sequence. Timeouts before the first
-// image are the camera's start-up and are only reported; the core exports some frames twice
+// A real camera: `frames` images, each whole (in the geometry of its first frame: 80x60 or
+// 160x120) and in sequence. Timeouts before the first image are the camera's start-up and are
+// only reported; the core exports some frames twice
 // (same counter, the shared capture has them), so duplicates are reported, not failed.
 int stream_real_camera(hal::FlirOneSource& source, HashingSink& sink, std::uint64_t frames) {
+  source.probe();  // the first frame's geometry, as usb:flirone opens it
+  sink.width = source.format().width;
+  sink.height = source.format().height;
   const bolo::hil::RealStreamRun run =
       bolo::hil::stream_real(source, sink, frames, [&] { return sink.hashes.size(); });
   const double seconds = run.seconds;
@@ -102,7 +108,8 @@ int stream_real_camera(hal::FlirOneSource& source, HashingSink& sink, std::uint6
   };
   expect(sink.hashes.size() == frames, "images delivered: got " + std::to_string(sink.hashes.size()) + ", want " +
                                            std::to_string(frames) + " (none for 15 s)");
-  expect(malformed == 0, std::to_string(malformed) + " images not 80x60 with every row in order");
+  expect(malformed == 0, std::to_string(malformed) + " images not " + std::to_string(sink.width) + "x" +
+                             std::to_string(sink.height) + " with every row in order");
   expect(st.short_transfers == 0 && st.corrupt_transfers == 0,
          std::to_string(st.short_transfers) + " short, " + std::to_string(st.corrupt_transfers) + " corrupt transfers");
   expect(st.disconnects == 0, std::to_string(st.disconnects) + " disconnects");
@@ -111,9 +118,9 @@ int stream_real_camera(hal::FlirOneSource& source, HashingSink& sink, std::uint6
   expect(source.skipped_in_camera() == 0 && source.counter_jumps() == 0,
          std::to_string(source.skipped_in_camera()) + " frames skipped in the camera, " +
              std::to_string(source.counter_jumps()) + " frame counter jumps");
-  std::printf("hil_flirone_hal: %s: real FLIR ONE, %zu images in %.1f s (%.1f/s); duplicates %llu, start-up "
+  std::printf("hil_flirone_hal: %s: real FLIR ONE (%ux%u), %zu images in %.1f s (%.1f/s); duplicates %llu, start-up "
               "timeouts %llu\n",
-              failures == 0 ? "PASS" : "FAIL", sink.hashes.size(), seconds,
+              failures == 0 ? "PASS" : "FAIL", sink.width, sink.height, sink.hashes.size(), seconds,
               static_cast<double>(sink.hashes.size()) / seconds, static_cast<unsigned long long>(st.duplicates),
               static_cast<unsigned long long>(startup_timeouts));
   return failures == 0 ? 0 : 1;
@@ -244,6 +251,8 @@ int main(int argc, char** argv) {
     const std::uint64_t counted = st.timeouts + st.short_transfers + st.corrupt_transfers + st.disconnects;
     expect(counted >= injected_losses, "faults counted " + std::to_string(counted) + " < injected " +
                                            std::to_string(injected_losses));
+    expect(expected->refused_requests == 0, "the emulator refused " + std::to_string(expected->refused_requests) +
+                                                " start-up requests (-1: not reported)");
     expect(sink.hashes.size() >= min_frames, "fewer than " + std::to_string(min_frames) + " frames");
     const std::uint64_t unplugs = expected->injected[static_cast<std::size_t>(bolo::hil::Fault::disconnect)];
     expect(st.disconnects == unplugs, "disconnects counted " + std::to_string(st.disconnects) + ", injected " +

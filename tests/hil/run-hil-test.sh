@@ -77,6 +77,11 @@ export BOLO_HIL_UVC_FRAMES="${BOLO_HIL_UVC_FRAMES:-$clean_frames}"
 if grep -q "usb_f_uvc bulk build" "$scenario"; then
   "$repo/toolchain/vm/uvc-gadget.sh" "$arch" >/dev/null || echo "run-hil-test: uvc-gadget build failed; the UVC scenario will skip" >&2
 fi
+# raw_gadget for the FLIR ONE emulator, built once and cached (cross-built for aarch64); without
+# it the FLIR ONE scenario skips.
+if grep -q "raw_gadget" "$scenario"; then
+  "$repo/toolchain/vm/raw-gadget.sh" "$arch" >/dev/null || echo "run-hil-test: raw-gadget build failed; the FLIR ONE scenario will skip" >&2
+fi
 # v4l2loopback for `bolo run --sink v4l2:` (uvc.sh), built once and cached; without it that step
 # skips. x86-64 only: the arm64 VM checks what differs by architecture, and the loopback's V4L2
 # path is the one uvcvideo's step there already takes (its cross build is untried).

@@ -14,6 +14,8 @@ Expectation read_send_log(const std::string& path) {
   int number = 0;
   while (std::getline(in, line)) {
     ++number;
+    const std::string refused = "# refused-requests ";
+    if (line.rfind(refused, 0) == 0) e.refused_requests = std::stol(line.substr(refused.size()));
     if (!line.empty() && line[0] == '#') continue;  // frames the host consumes without delivering
     if (line == "lost-by-emulator") {
       ++e.lost_by_emulator;

@@ -24,6 +24,9 @@ struct Expectation {
   std::array<std::uint64_t, 8> injected{};   // per Fault value
   std::uint64_t frames_sent = 0;
   std::uint64_t lost_by_emulator = 0;        // the host vanished under a frame: must be 0
+  // Control requests the emulator refused ("# refused-requests N"; -1 when not reported): a host
+  // that starts the device as its drivers do has none.
+  long refused_requests = -1;
 };
 
 // Throws naming the file and line of a malformed entry.

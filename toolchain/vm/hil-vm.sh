@@ -83,6 +83,11 @@ if [ -n "$extra_gpio_sim" ]; then
   cp "$extra_gpio_sim" "$root/lib/modules/"
   echo gpio-sim.ko >>"$root/etc/modules"
 fi
+# raw_gadget (toolchain/vm/raw-gadget.sh), where built: after udc-core, packed above (dummy_hcd's).
+if [ -f "$cache/$arch/raw-gadget/raw_gadget.ko" ]; then
+  cp "$cache/$arch/raw-gadget/raw_gadget.ko" "$root/lib/modules/"
+  echo raw_gadget.ko >>"$root/etc/modules"
+fi
 # v4l2loopback (toolchain/vm/v4l2loopback.sh), where built: its one dependency, videodev, is
 # packed above (uvcvideo's).
 if [ -f "$cache/$arch/v4l2loopback/v4l2loopback.ko" ]; then

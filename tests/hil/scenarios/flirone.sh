@@ -1,5 +1,8 @@
 #!/bin/sh
-# HIL scenario, run inside the VM: the FLIR ONE emulator on FunctionFS (dummy_hcd), the host
+# HIL scenario, run inside the VM: the FLIR ONE emulator on Raw Gadget (raw_gadget.ko, dummy_hcd),
+# which streams only after the public drivers' start-up (SET_CONFIGURATION 3, SET_INTERFACE in
+# their order) and refuses any other request; every host below must have none refused. 0) The
+# vendor request alone (a wrong start-up) is stalled and gets no frame. The host
 # side through libusb: 1) the real capture replayed, delivered bit-exactly; 2) simulated frames
 # with 1 % injected faults of every kind: every fault counted, every good frame delivered
 # bit-exactly, replug recovered within 2 s. Then through the project's FlirOneSource: 3) simulated
@@ -11,18 +14,38 @@
 # real: hil_flirone_hal --real --frames ${BOLO_HIL_FRAMES:-10000}
 frames="${BOLO_HIL_FRAMES:-10000}"
 failed=0
+if [ ! -e /dev/raw-gadget ]; then
+  echo "no /dev/raw-gadget (raw_gadget.ko not built: toolchain/vm/raw-gadget.sh)" >/tmp/skip-reason
+  exit 77
+fi
 
 run() {  # name, emulator arguments, host arguments
   name="$1"
   echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
-  ./flirone_emulator --name "$name" --capture flirone-pro --log "/tmp/$name.log" \
+  ./flirone_emulator --capture flirone-pro --log "/tmp/$name.log" \
     --ready "/tmp/$name.ready" --done "/tmp/$name.done" --finished "/tmp/$name.finished" $2 &
   emulator=$!
   ./hil_flirone --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 || failed=1
   touch "/tmp/$name.finished"
-  wait $emulator || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+  wait $emulator || { echo "HIL-STEP $name: the emulator failed (status $?: 4 = requests refused)"; failed=1; }
   echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
 }
+
+# A wrong start-up: the vendor request alone (what the emulator once accepted) is stalled, no
+# frame flows, and the emulator ends with status 4 (requests refused).
+echo "HIL-STEP wrong_start start $(cut -d' ' -f1 /proc/uptime)"
+./flirone_emulator --capture flirone-pro --frames 10 --jpeg-bytes 0 --log /tmp/wrong_start.log \
+  --ready /tmp/wrong_start.ready --done /tmp/wrong_start.done --finished /tmp/wrong_start.finished &
+emulator=$!
+./hil_flirone --wrong-start || failed=1
+for d in /sys/bus/usb/devices/*; do  # the link speed the emulated camera got (480: high speed)
+  grep -qs 09cb "$d/idVendor" && echo "HIL-STEP wrong_start: 09cb:1996 at $(cat "$d/speed") Mb/s"
+done
+touch /tmp/wrong_start.finished
+wait $emulator
+status=$?
+[ $status -eq 4 ] || { echo "HIL-STEP wrong_start: the emulator exited $status, want 4 (requests refused)"; failed=1; }
+echo "HIL-STEP wrong_start end $(cut -d' ' -f1 /proc/uptime)"
 
 run replay "--replay" "--capture flirone-pro"
 run faults "--frames $frames --jpeg-bytes 0 --fault-rate 0.01 --faults all --seed 7" "--min-frames $((frames * 9 / 10))"
@@ -33,7 +56,7 @@ fi
 # write the frames of the shared recording made from that capture, byte for byte.
 if [ -x ./bolo ] && [ -d flirone-lepton-telemetry ]; then
   echo "HIL-STEP bolo_capture start $(cut -d' ' -f1 /proc/uptime)"
-  ./flirone_emulator --name capture --autostart --replay --capture flirone-pro --log /tmp/capture.log \
+  ./flirone_emulator --replay --capture flirone-pro --log /tmp/capture.log \
     --ready /tmp/capture.ready --done /tmp/capture.done --finished /tmp/capture.finished &
   emulator=$!
   # bolo opens the camera once: wait until the host has enumerated it.
@@ -47,7 +70,7 @@ if [ -x ./bolo ] && [ -d flirone-lepton-telemetry ]; then
     failed=1
   fi
   touch /tmp/capture.finished
-  wait $emulator
+  wait $emulator || { echo "HIL-STEP bolo_capture: the emulator failed (status $?: 4 = requests refused)"; failed=1; }
   echo "HIL-STEP bolo_capture end $(cut -d' ' -f1 /proc/uptime)"
 else
   echo "HIL-STEP bolo_capture: skipped (no bolo CLI in this build, or no shared recording)"
@@ -56,7 +79,7 @@ fi
 run_hal() {  # name, emulator arguments, host arguments [must-fail]: through the project's FlirOneSource
   name="$1"
   echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
-  ./flirone_emulator --name "$name" --autostart --capture flirone-pro --log "/tmp/$name.log" \
+  ./flirone_emulator --capture flirone-pro --log "/tmp/$name.log" \
     --ready "/tmp/$name.ready" --done "/tmp/$name.done" --finished "/tmp/$name.finished" $2 &
   emulator=$!
   if [ "${4:-}" = must-fail ]; then
@@ -66,9 +89,14 @@ run_hal() {  # name, emulator arguments, host arguments [must-fail]: through the
     ./hil_flirone_hal --send-log "/tmp/$name.log" --done "/tmp/$name.done" $3 || failed=1
   fi
   touch "/tmp/$name.finished"
-  # A must-fail reader stops before the emulator has sent everything; the emulator's complaint
-  # about that is expected there.
-  wait $emulator || [ "${4:-}" = must-fail ] || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+  wait $emulator
+  status=$?
+  # A must-fail reader stops before the emulator has sent everything (status 3, expected there);
+  # refused requests (status 4) fail every step.
+  if [ $status -eq 4 ] || { [ $status -ne 0 ] && [ "${4:-}" != must-fail ]; }; then
+    echo "HIL-STEP $name: the emulator failed (status $status: 4 = requests refused)"
+    failed=1
+  fi
   echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
 }
 if [ -x ./hil_flirone_hal ]; then

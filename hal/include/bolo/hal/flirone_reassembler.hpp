@@ -4,13 +4,18 @@
 // (board-safe). The same code runs on libusb transfers and on a captured transfer log.
 //
 // Frame layout: a 28-byte header (7 x uint32 LE: magic 0xBEEF, 1, total length, thermal length,
-// JPEG length, JSON length, timestamp), then `thermal` bytes of 63 VoSPI packets (164 bytes:
-// id with the row in its low 12 bits, CRC, 80 x uint16 LE), the JPEG, the JSON status.
+// JPEG length, JSON length, timestamp), then the thermal part, the JPEG, the JSON status. The
+// thermal length says the core's geometry (flirone::kGeometries): 10 332 bytes are 63 VoSPI
+// packets (164 bytes: id with the row in its low 12 bits, CRC, 80 x uint16 LE), 80x60 and 3
+// telemetry rows; 40 016 bytes are 122 rows of 328 bytes, each two halves of a 2-word prefix and
+// 80 pixels (the layout the public drivers read), 160x120 and 2 telemetry rows.
 //
 // Rules: a transfer that begins with the magic starts a frame (an unfinished frame before it is
 // counted as truncated); a transfer with no frame in progress that does not begin with the magic
-// is stray. A frame is complete at 28 + total bytes; it is good when its lengths agree, every
-// packet carries its own row id and (unless disabled) its CRC verifies. Bytes after a frame's
+// is stray. A frame is complete at 28 + total bytes; it is good when its lengths agree, its thermal
+// length is a known geometry's and, in the VoSPI layout, every packet carries its own row id and
+// (unless disabled) its CRC verifies (the 160x120 layout's prefixes are not checked: the drivers
+// give them no meaning). Bytes after a frame's
 // end in the same transfer start the next frame if they begin with the magic (collect it with
 // poll()); otherwise they are counted as trailing and dropped.
 
@@ -33,13 +38,30 @@ inline constexpr std::uint32_t kWidth = 80;
 inline constexpr std::uint32_t kHeight = 60;                 // image rows 0-59
 inline constexpr std::uint32_t kTelemetryRows = 3;           // rows 60-62 (A, B, C)
 inline constexpr std::size_t kDefaultMaxFrameBytes = std::size_t{512} * 1024;  // a frame is ~88 KB
+
+// The thermal layouts, by payload size: the one table the parser, the source's format and the
+// FrameHeader take their sizes from.
+struct Geometry {
+  std::size_t thermal_bytes;
+  std::uint32_t width, height;  // image
+  std::uint32_t telemetry_rows;  // rows after the image; row A's first 80 words are Lepton telemetry
+  bool vospi_packets;            // 80-pixel VoSPI packets (id, CRC checked); else 160-pixel rows
+};
+inline constexpr Geometry kGeometries[] = {
+    {kThermalBytes, kWidth, kHeight, kTelemetryRows, true},  // Gen 3 / Pro: Lepton 2.x class
+    {std::size_t{122} * 328, 160, 120, 2, false},             // 160x120 core: 40 016 bytes
+};
+inline constexpr std::uint32_t kMaxWidth = 160, kMaxHeight = 120;
+// The geometry of a thermal part of `thermal_bytes`; nullptr when no known layout has that size.
+const Geometry* geometry_for(std::size_t thermal_bytes);
 }  // namespace flirone
 
 struct FlirOneFrame {
   std::uint32_t total_bytes = 0, jpeg_bytes = 0, json_bytes = 0;
   std::uint32_t header_timestamp = 0;  // the header's 7th word, as sent (not a clock we can use)
-  std::uint16_t pixels[flirone::kHeight * flirone::kWidth] = {};
-  std::uint16_t telemetry[flirone::kTelemetryRows][flirone::kWidth] = {};
+  const flirone::Geometry* geometry = &flirone::kGeometries[0];
+  std::uint16_t pixels[flirone::kMaxHeight * flirone::kMaxWidth] = {};  // geometry->width per row
+  std::uint16_t telemetry[flirone::kTelemetryRows][flirone::kMaxWidth] = {};
   LeptonTelemetry lepton;  // decoded row A
   FlirOneStatus status;
   bool status_ok = false;  // the JSON was present and readable
@@ -51,7 +73,7 @@ struct FlirOneCounters {
   std::uint64_t truncated = 0;       // a new frame began before this one was complete
   std::uint64_t stray_transfers = 0; // data with no frame in progress
   std::uint64_t trailing_bytes = 0;  // bytes after a frame's end that did not start a frame
-  std::uint64_t bad_header = 0;      // lengths inconsistent or over the buffer
+  std::uint64_t bad_header = 0;      // lengths inconsistent, over the buffer or of no known geometry
   std::uint64_t bad_row_id = 0;      // frames with a packet not carrying its row
   std::uint64_t bad_crc = 0;         // frames with a packet whose CRC does not verify
   std::uint64_t bad_status = 0;      // frames whose JSON could not be read (frame still good)

@@ -1,7 +1,8 @@
 #pragma once
-// FLIR ONE Pro as a FrameSource: transfers from a BulkInTransport (libusb on a device, a captured
-// log in tests) through the FlirOneReassembler, out as 80x60 frames of raw 14-bit counts with
-// the telemetry in the FrameHeader. Board-safe: no exceptions, buffers sized at construction.
+// FLIR ONE (Gen 3, Pro) as a FrameSource: transfers from a BulkInTransport (libusb on a device, a
+// captured log in tests) through the FlirOneReassembler, out as frames of raw 14-bit counts in
+// the core's geometry (80x60, or 160x120: flirone::kGeometries) with the telemetry in the
+// FrameHeader. Board-safe: no exceptions, buffers sized at construction.
 
 #include <cstdint>
 #include <vector>
@@ -31,6 +32,12 @@ struct FlirOneSourceConfig {
 class FlirOneSource final : public FrameSource {
  public:
   FlirOneSource(BulkInTransport& transport, const FlirOneSourceConfig& config = {});
+  // Reads up to the first good frame, or the first fault or end, and keeps what came for the
+  // first stream_frame() (the caller sees the same statuses and counts as without it). After a
+  // frame, format() has the camera's geometry; false otherwise.
+  bool probe();
+  // The stream's geometry: the first frame's (probe() or streamed). Asked before any frame, it is
+  // 80x60 from then on. A frame of another geometry is counted corrupt and dropped.
   SourceFormat format() const override;
   // `fault` when a frame was lost (truncated, bad header/row/CRC, timeout, transfer error,
   // disconnect: each counted in stats()); after a disconnect it has already tried to reconnect
@@ -53,6 +60,7 @@ class FlirOneSource final : public FrameSource {
   const FlirOneFrame& last_frame() const { return reassembler_.frame(); }
 
  private:
+  StreamStatus next_whole_frame(std::int64_t& arrival_ns);
   StreamStatus deliver(fw::LineSink& sink, std::int64_t arrival_ns);
   bool lost_frames_since(const FlirOneCounters& before);
   void count_lost(std::uint64_t frames);
@@ -66,6 +74,10 @@ class FlirOneSource final : public FrameSource {
   std::uint64_t sequence_ = 0;
   bool have_previous_ = false;
   bool connected_ = true;
+  mutable const flirone::Geometry* geometry_ = nullptr;  // the first frame's, or format()'s answer
+  bool held_ = false;  // probe() read something: held_status_ (a frame: still in the reassembler)
+  StreamStatus held_status_ = StreamStatus::fault;
+  std::int64_t held_arrival_ns_ = 0;
   std::uint32_t previous_counter_ = 0;
   LeptonFfcTracker ffc_;
   LeptonFrameCounter counter_;

@@ -1,15 +1,17 @@
 #pragma once
 // The libusb-1.0 side of the USB sources (host/board code with the OS; built only where
-// libusb-1.0 is found, BOLO_HAVE_LIBUSB). Opens the first device with a matching VID:PID, claims
-// its interfaces, finds the bulk IN endpoint in the configuration descriptor (never a fixed
-// address), keeps asynchronous transfers in flight, reports an unplug as `disconnected` and
-// reopens the device on reconnect() (polled every 100 ms).
+// libusb-1.0 is found, BOLO_HAVE_LIBUSB). Opens the first device with a matching VID:PID, brings
+// it up with the configuration's start steps (or claims interface 0), finds the bulk IN endpoint
+// in the configuration descriptor (never a fixed address), keeps asynchronous transfers in
+// flight, reports an unplug as `disconnected` and reopens the device on reconnect() (polled
+// every 100 ms).
 
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "bolo/hal/usb_setup.hpp"
 #include "bolo/hal/usb_transport.hpp"
 
 namespace bolo::hal {
@@ -19,21 +21,15 @@ enum class EndpointChoice : std::uint8_t {
   last_bulk_in,   // the bulk IN endpoint of the highest interface that has one (FLIR ONE: 0x85)
 };
 
-struct ControlStep {  // one control transfer without data (a stream start or stop)
-  std::uint8_t request_type, request;
-  std::uint16_t value, index;
-  bool index_is_stream_interface = false;  // wIndex = the interface the bulk IN endpoint is on
-};
-
 struct LibusbConfig {
   std::uint16_t vendor_id = 0;
   std::vector<std::uint16_t> product_ids;
   EndpointChoice endpoint = EndpointChoice::first_bulk_in;
-  bool claim_all_interfaces = false;  // else interface 0 only
-  // Sent after claiming / before releasing, in order. A failed step is not fatal: devices that
-  // stream on their own (or refuse the request) still work.
-  std::vector<ControlStep> start;
-  std::vector<ControlStep> stop;
+  // Run at each open, in order (usb_setup.hpp); a refused step fails the open, naming the step.
+  // Empty: interface 0 is claimed and nothing is sent.
+  std::vector<UsbSetupStep> start;
+  // Run before the interfaces are released (not after an unplug); refusals are only counted.
+  std::vector<UsbSetupStep> stop;
   bool streaming = false;             // keep `in_flight` reads queued (else one read per next())
   std::size_t transfer_bytes = std::size_t{64} * 1024;
   int in_flight = 4;
@@ -76,9 +72,8 @@ struct UsbDeviceEntry {
 // USB devices with a known VID:PID (FLIR ONE Pro, Seek Compact/Pro, PureThermal, Boson control).
 std::vector<UsbDeviceEntry> list_known_usb_devices();
 
-// The configurations of the known cores. FLIR ONE: streaming is switched on and off with request
-// 0x0b (wValue 1 / 0) to the frame interface, as the project's FLIR ONE emulator
-// (tests/hil/emulators) implements it; the protocol facts only say "vendor control transfers".
+// The configurations of the known cores. FLIR ONE: the public drivers' start and stop sequence
+// (flirone::kStartSteps / kStopSteps).
 LibusbConfig flirone_libusb_config();
 LibusbConfig seek_libusb_config();
 
