@@ -23,12 +23,9 @@ rm -rf "$root" "$out"
 mkdir -p "$root" "$out"
 headers="$(hil_kbuild_tree "$arch" "$cache" "$kver" "$root")"
 
-tarball="$root/usr/src/linux-source-$series.tar.xz"
-tar -xJf "$tarball" -C "$out" --strip-components=3 --wildcards \
-  "linux-source-$series/drivers/gpio/gpio-sim.c" "linux-source-$series/drivers/gpio/gpiolib*.h"
-tar -xJf "$tarball" -C "$out" --strip-components=3 "linux-source-$series/kernel/irq/irq_sim.c"
-rm -f "$tarball"  # 140 MB; the .deb stays in the cache
-mv "$out/gpio-sim.c" "$out/gpio-sim-main.c"
+sources="$(hil_kernel_sources "$cache" "$series")"
+cp "$sources"/drivers/gpio/gpiolib*.h "$sources/kernel/irq/irq_sim.c" "$out/"
+cp "$sources/drivers/gpio/gpio-sim.c" "$out/gpio-sim-main.c"
 grep -q 'handle_simple_irq(irq_to_desc(irqnum));' "$out/irq_sim.c" ||
   { echo "gpio-sim: irq_sim.c changed upstream; check the irq_to_desc replacement" >&2; exit 1; }
 sed -i 's/handle_simple_irq(irq_to_desc(irqnum));/generic_handle_irq(irqnum);/' "$out/irq_sim.c"

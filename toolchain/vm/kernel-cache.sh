@@ -146,10 +146,31 @@ hil_module_cached() {
   [ -f "$out/$1" ] && [ "$(cat "$out/$2" 2>/dev/null)" = "$stamp" ] && echo "$out/$1"
 }
 
+# Prints a folder holding the kernel sources the out-of-tree modules build from (drivers/gpio,
+# drivers/usb/gadget, kernel/irq/irq_sim.c of Debian's linux-source-SERIES), extracted once per
+# series and shared by every architecture and module script: decompressing the 140 MB tarball is
+# most of a module's build time.
+hil_kernel_sources() {
+  local cache="$1" series="$2"
+  local dir="$cache/linux-source-$series"
+  if [ ! -f "$dir/.complete" ]; then
+    local tmp
+    tmp="$(mktemp -d "$cache/.linux-source-XXXXXX")"
+    hil_fetch_deb "linux-source-$series" "$tmp/deb" "$cache" >&2 || { rm -rf "$tmp"; return 1; }
+    tar -xJf "$tmp/deb/usr/src/linux-source-$series.tar.xz" -C "$tmp" --strip-components=1 --wildcards \
+      "linux-source-$series/drivers/gpio/*" "linux-source-$series/drivers/usb/gadget/*" \
+      "linux-source-$series/kernel/irq/irq_sim.c" || { rm -rf "$tmp"; return 1; }
+    rm -rf "$tmp/deb"
+    touch "$tmp/.complete"
+    # Another build may have finished first: its folder stands, ours goes.
+    mv -T "$tmp" "$dir" 2>/dev/null || rm -rf "$tmp"
+  fi
+  echo "$dir"
+}
+
 # Unpacks the kbuild tree for kernel KVER of ARCH into ROOT (the flavour's headers, the common
-# headers, the host's linux-kbuild and linux-source, fetched with apt-get download, nothing
-# installed) and prints the headers folder to build against. linux-source's tarball is left in
-# ROOT/usr/src for the caller to take its files from.
+# headers, the host's linux-kbuild, fetched with apt-get download, nothing installed) and prints
+# the headers folder to build against.
 hil_kbuild_tree() {
   local arch="$1" cache="$2" kver="$3" root="$4"
   local flavour="${kver##*-}"                                # amd64
@@ -157,7 +178,7 @@ hil_kbuild_tree() {
   local series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"   # 6.1
   local flavour_headers="linux-headers-$kver" p
   [ "$arch" = x86_64 ] || flavour_headers="$flavour_headers:$(hil_debarch "$arch")"
-  for p in "$flavour_headers" "linux-headers-$abi-common" "linux-kbuild-$series" "linux-source-$series"; do
+  for p in "$flavour_headers" "linux-headers-$abi-common" "linux-kbuild-$series"; do
     hil_fetch_deb "$p" "$root" "$cache" >&2 || return 1
   done
   local headers="$root/usr/src/linux-headers-$kver"

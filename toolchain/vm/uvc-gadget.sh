@@ -26,12 +26,10 @@ rm -rf "$root" "$out"
 mkdir -p "$root" "$out"
 headers="$(hil_kbuild_tree "$arch" "$cache" "$kver" "$root")"
 
-tarball="$root/usr/src/linux-source-$series.tar.xz"
-src="linux-source-$series/drivers/usb/gadget/function"
+src="$(hil_kernel_sources "$cache" "$series")/drivers/usb/gadget/function"
 files=(f_uvc.c f_uvc.h u_uvc.h uvc.h uvc_configfs.c uvc_configfs.h uvc_queue.c uvc_queue.h
        uvc_v4l2.c uvc_v4l2.h uvc_video.c uvc_video.h)
-tar -xJf "$tarball" -C "$out" --strip-components=5 "${files[@]/#/$src/}"
-rm -f "$tarball"  # 140 MB; the .deb stays in the cache
+cp "${files[@]/#/$src/}" "$out/"
 # Nothing outside these files is included by relative path (checked here, not assumed).
 if grep -h '^#include "' "$out"/*.[ch] | grep -v -E '"(f_uvc|u_uvc|uvc|uvc_configfs|uvc_queue|uvc_v4l2|uvc_video)\.h"'; then
   echo "uvc-gadget: the sources include a local header that is not extracted (above)" >&2

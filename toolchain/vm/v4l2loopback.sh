@@ -20,7 +20,6 @@ root="$cache/$arch/kbuild-v4l2loopback-$kver"
 rm -rf "$root" "$out"
 mkdir -p "$root" "$out"
 headers="$(hil_kbuild_tree "$arch" "$cache" "$kver" "$root")"
-rm -f "$root"/usr/src/linux-source-*.tar.xz  # not needed here
 hil_fetch_deb v4l2loopback-dkms "$root/dkms" "$cache" >&2
 src="$(ls -d "$root"/dkms/usr/src/v4l2loopback-*/ | head -1)"
 [ -f "$src/v4l2loopback.c" ] || { echo "v4l2loopback: no v4l2loopback.c in the v4l2loopback-dkms package" >&2; exit 1; }
