@@ -1,4 +1,5 @@
 #include "configfs_gadget.hpp"
+#include "udc.hpp"
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -19,22 +20,6 @@ std::string hex4(std::uint16_t v) {
   char text[8];
   std::snprintf(text, sizeof text, "0x%04x", v);
   return text;
-}
-
-std::string first_udc() {
-  if (const char* forced = std::getenv("BOLO_HIL_UDC")) return forced;
-  DIR* dir = opendir("/sys/class/udc");
-  if (dir == nullptr) throw std::runtime_error("/sys/class/udc: no UDC (is dummy_hcd loaded?)");
-  std::string name;
-  while (dirent* entry = readdir(dir)) {
-    if (entry->d_name[0] != '.') {
-      name = entry->d_name;
-      break;
-    }
-  }
-  closedir(dir);
-  if (name.empty()) throw std::runtime_error("/sys/class/udc: empty (is dummy_hcd loaded?)");
-  return name;
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "raw_gadget.hpp"
+#include "udc.hpp"
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -13,21 +14,6 @@
 namespace bolo::hil {
 
 namespace {
-
-std::string first_udc() {
-  if (const char* udc = std::getenv("BOLO_HIL_UDC")) return udc;
-  DIR* dir = ::opendir("/sys/class/udc");
-  if (dir == nullptr) throw std::runtime_error("/sys/class/udc: no UDC (dummy_hcd not loaded?)");
-  std::string found;
-  while (const dirent* e = ::readdir(dir))
-    if (e->d_name[0] != '.') {
-      found = e->d_name;
-      break;
-    }
-  ::closedir(dir);
-  if (found.empty()) throw std::runtime_error("/sys/class/udc is empty");
-  return found;
-}
 
 // The UDC's driver name: dummy_hcd's UDC "dummy_udc.0" belongs to driver "dummy_udc".
 std::string udc_driver(const std::string& device) {
