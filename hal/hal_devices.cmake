@@ -4,6 +4,7 @@
 add_library(bolo_hal_devices STATIC
   src/captured_transfers.cpp
   src/v4l2_source.cpp
+  src/uvc_controls.cpp
   src/gpio_lines.cpp
   src/device_spec.cpp)
 add_library(bolo::hal_devices ALIAS bolo_hal_devices)

@@ -77,10 +77,12 @@ int run_capture(const CaptureOptions& o, std::ostream& out) {
   }
   const hal::SourceSpec spec = parse_device(o.device);
   const bool gpio_shutter = gpio_config && gpio_config->shutter_line >= 0;
-  if (!o.shutter_at.empty() && !gpio_shutter && !spec.backend.shutter)
-    fail("--shutter-at: ", o.device, " has no shutter control here (use --gpio CHIP:shutter=N, or usb:seek)");
   if (!spec.backend.finite && o.frames == 0) fail("--frames: required for a live camera (", o.device, ")");
   const std::unique_ptr<hal::OpenedSource> device = open_named_source(o.device);
+  // Whether a V4L2 camera has one (a PureThermal) is known only once it is open.
+  if (!o.shutter_at.empty() && !gpio_shutter && !device->has_shutter())
+    fail("--shutter-at: ", o.device,
+         " has no shutter control here (use --gpio CHIP:shutter=N, usb:seek, or a PureThermal on v4l2:)");
 
   hal::FrameSource* source = device.get();
   std::unique_ptr<hal::GpioLines> lines;
@@ -192,8 +194,9 @@ Command add_capture_command(CLI::App& parent) {
   app->add_option("--gpio", o->gpio,
                   "GPIO lines beside the camera, CHIP:sync=N,shutter=N,imminent=N (sync-to-frame latency)");
   app->add_option("--shutter-at", o->shutter_at,
-                  "Request a shutter (FFC) event before frame N (repeatable; through --gpio's shutter line, or\n"
-                  "usb:seek's own command); the frame after it is marked ffc in frames.csv")
+                  "Request a shutter (FFC) event before frame N (repeatable; through --gpio's shutter line,\n"
+                  "usb:seek's own command, or a PureThermal's Lepton Run FFC); the frame after it is marked\n"
+                  "ffc in frames.csv (PureThermal: from its telemetry rows, where the format has them)")
       ->check(not_negative());
   app->add_flag("--overwrite", o->overwrite, "Replace OUT if it exists");
   app->add_flag("--no-progress", [o](std::int64_t) { o->progress = false; },

@@ -1,7 +1,9 @@
-// bolo devices: what the HAL finds on this machine: V4L2 nodes offering Y16 (or GREY/YUYV/UYVY), USB devices with
-// a known VID:PID, gpiochips, and which backends this build has.
+// bolo devices: what the HAL finds on this machine: V4L2 nodes offering Y16 (or GREY/YUYV/UYVY) with their
+// controls (a PureThermal's FPA / housing temperature through its Lepton extension unit), USB devices with a
+// known VID:PID, gpiochips, and which backends this build has.
 
 #include <iomanip>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -10,6 +12,7 @@
 #include "bolo/hal/device_spec.hpp"
 #include "bolo/hal/source_registry.hpp"
 #include "bolo/hal/gpio_lines.hpp"
+#include "bolo/hal/uvc_controls.hpp"
 #include "bolo/hal/v4l2_source.hpp"
 #if defined(BOLO_HAVE_LIBUSB)
 #include "bolo/hal/usb_libusb.hpp"
@@ -26,6 +29,36 @@ std::string hex4(unsigned v) {
   return o.str();
 }
 #endif
+
+// A V4L2 node's controls and, on a PureThermal, the Lepton's temperatures (degrees C; null unread).
+nlohmann::json camera_controls(const std::string& node) {
+  nlohmann::json j = {{"controls", nlohmann::json::array()}, {"purethermal", false}, {"fpa_temp_c", nullptr},
+                      {"housing_temp_c", nullptr}, {"control_errors", nlohmann::json::array()}};
+  try {
+    hal::V4l2NodeControls controls(node);
+    std::optional<hal::PureThermalControls> lepton;
+    if (hal::is_purethermal_node(node)) lepton.emplace(node, controls);
+    const hal::V4l2CameraReadout r = hal::read_v4l2_camera(controls, lepton ? &*lepton : nullptr);
+    for (const hal::V4l2Control& c : r.controls)
+      j["controls"].push_back({{"name", c.name}, {"id", c.id}, {"value", c.value ? nlohmann::json(*c.value) : nullptr},
+                               {"min", c.minimum}, {"max", c.maximum}, {"step", c.step}, {"default", c.default_value},
+                               {"read_only", c.read_only}});
+    j["purethermal"] = r.purethermal;
+    if (r.fpa_temp_mc) j["fpa_temp_c"] = *r.fpa_temp_mc / 1000.0;
+    if (r.housing_temp_mc) j["housing_temp_c"] = *r.housing_temp_mc / 1000.0;
+    for (const std::string& e : r.errors) j["control_errors"].push_back(e);
+  } catch (const std::exception& e) {
+    j["control_errors"].push_back(e.what());
+  }
+  return j;
+}
+
+std::string celsius(const nlohmann::json& value) {
+  if (value.is_null()) return "unread";
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(2) << value.get<double>() << " C";
+  return o.str();
+}
 
 int run_devices(bool json, std::ostream& out) {
   const auto v4l2 = hal::list_v4l2_devices();
@@ -44,8 +77,10 @@ int run_devices(bool json, std::ostream& out) {
     for (const auto& f : d.formats)
       formats.push_back({{"format", hal::v4l2_pixels_name(f.pixels)}, {"sizes", size_list(f.sizes)},
                          {"tone_mapped", hal::tone_mapped(f.pixels)}});
-    j["v4l2"].push_back({{"device", "v4l2:" + d.path}, {"card", d.card}, {"driver", d.driver},
-                         {"y16", size_list(d.sizes(hal::V4l2Pixels::y16))}, {"formats", formats}});
+    nlohmann::json entry = {{"device", "v4l2:" + d.path}, {"card", d.card}, {"driver", d.driver},
+                            {"y16", size_list(d.sizes(hal::V4l2Pixels::y16))}, {"formats", formats}};
+    entry.update(camera_controls(d.path));
+    j["v4l2"].push_back(std::move(entry));
   }
 #if defined(BOLO_HAVE_LIBUSB)
   for (const auto& d : hal::list_known_usb_devices())
@@ -73,6 +108,16 @@ int run_devices(bool json, std::ostream& out) {
       separator = ";";
     }
     out << "\n";
+    if (d["purethermal"].get<bool>())
+      out << "    PureThermal (Lepton commands): FPA " << celsius(d["fpa_temp_c"]) << ", housing "
+          << celsius(d["housing_temp_c"]) << "; --shutter-at runs FFC\n";
+    for (const auto& c : d["controls"]) {
+      out << "    " << c["name"].get<std::string>() << " = "
+          << (c["value"].is_null() ? std::string("?") : std::to_string(c["value"].get<int>())) << " ("
+          << c["min"].get<int>() << ".." << c["max"].get<int>() << ", default " << c["default"].get<int>()
+          << (c["read_only"].get<bool>() ? ", read-only" : "") << ")\n";
+    }
+    for (const auto& e : d["control_errors"]) out << "    " << e.get<std::string>() << "\n";
   }
   out << "USB:\n";
   if (!hal::usb_backend_available())
@@ -104,7 +149,8 @@ Command add_devices_command(CLI::App& parent) {
   CLI::App* app = add_command(
       parent, "devices", "List cameras and GPIO chips the HAL can use",
       "Lists V4L2 capture nodes that offer Y16 (the core's counts) or the 8-bit tone-mapped GREY,\n"
-      "YUYV, UYVY (with their sizes), USB devices with a known VID:PID (FLIR ONE Pro, Seek Thermal,\n"
+      "YUYV, UYVY (with their sizes and controls; a PureThermal's FPA and housing temperature read\n"
+      "through its Lepton extension unit), USB devices with a known VID:PID (FLIR ONE Pro, Seek Thermal,\n"
       "PureThermal, Boson control), and gpiochips, each with the --device string `bolo capture` takes. A backend this build was configured\n"
       "without (no libusb-1.0 / libgpiod) is reported as compiled out.");
   app->add_flag("--json", *json, "Print JSON instead of text");

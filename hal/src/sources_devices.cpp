@@ -7,6 +7,7 @@
 #include "bolo/hal/device_spec.hpp"
 #include "bolo/hal/flirone_source.hpp"
 #include "bolo/hal/seek_source.hpp"
+#include "bolo/hal/uvc_controls.hpp"
 #include "bolo/hal/v4l2_source.hpp"
 #if defined(BOLO_HAVE_LIBUSB)
 #include "bolo/hal/usb_libusb.hpp"
@@ -49,14 +50,20 @@ SourceBackend v4l2_backend() {
   b.scheme = "v4l2";
   b.argument = "/dev/videoN";
   b.argument_help = "a device node, e.g. v4l2:/dev/video0";
-  b.summary = "UVC camera: Y16 (Lepton on PureThermal: 160x122 / 80x63 with telemetry), else 8-bit GREY/YUYV/UYVY";
+  b.summary = "UVC camera: Y16 (Lepton on PureThermal: 160x122 / 80x63 with telemetry, FFC as shutter), else 8-bit GREY/YUYV/UYVY";
   b.check = [](const std::string& argument) { (void)v4l2_config_of(argument); };
   b.open = [](const std::string& argument, const SourceOptions&) {
-    auto v4l2 = std::make_unique<V4l2Source>(v4l2_config_of(argument));
+    const V4l2Config config = v4l2_config_of(argument);
+    auto v4l2 = std::make_unique<V4l2Source>(config);
     const V4l2Negotiated& n = v4l2->negotiated();
     std::string sensor = n.card + " (V4L2 " + v4l2_pixels_name(n.pixels) +
                          (tone_mapped(n.pixels) ? ", 8-bit tone-mapped, " : ", ") + n.driver + ")";
-    return std::make_unique<OpenedSource>(std::move(v4l2), std::move(sensor));
+    // A PureThermal's shutter: Lepton SYS Run FFC through its extension unit.
+    const bool purethermal = is_purethermal_node(config.path);
+    std::shared_ptr<V4l2NodeControls> controls;
+    if (purethermal) controls = std::make_shared<V4l2NodeControls>(config.path);
+    auto shutter = v4l2_shutter_command(config.path, purethermal, controls);
+    return std::make_unique<OpenedSource>(std::move(v4l2), std::move(sensor), std::move(controls), std::move(shutter));
   };
   return b;
 }

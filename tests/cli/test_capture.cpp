@@ -5,7 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../hal/fake_uvc_xu.hpp"
 #include "../hal/flirone_frames.hpp"
+#include "bolo/hal/source_registry.hpp"
+#include "bolo/hal/uvc_controls.hpp"
 #include "cli_test_support.hpp"
 
 using namespace bolo;
@@ -34,6 +37,49 @@ void write_log(const fs::path& dir, int frames, bool corrupt) {
 }
 
 }  // namespace
+
+// A V4L2 camera as the v4l2: backend makes it (v4l2_shutter_command), over a recording and a
+// fake extension unit: scheme "fake-v4l2-purethermal" is a PureThermal, "fake-v4l2-other" not.
+std::shared_ptr<FakeUvcXu> register_fake_v4l2(const std::string& scheme, bool purethermal) {
+  auto xu = std::make_shared<FakeUvcXu>();
+  hal::SourceBackend b;
+  b.scheme = scheme;
+  b.argument = "REC";
+  b.summary = "a recording as a V4L2 camera (tests)";
+  b.open = [xu, purethermal](const std::string& rec, const hal::SourceOptions&) {
+    return std::make_unique<hal::OpenedSource>(hal::open_source("file:" + rec), "fake V4L2", nullptr,
+                                               hal::v4l2_shutter_command("/dev/video7", purethermal, xu));
+  };
+  hal::register_source(b);
+  return xu;
+}
+
+TEST_CASE("capture: --shutter-at on a PureThermal sends Lepton SYS Run FFC, once per request", "[cli][capture]") {
+  TempDir tmp;
+  SmallRecording::write(tmp / "rec");
+  const auto xu = register_fake_v4l2("fake-v4l2-purethermal", true);
+  const CliResult r = run_bolo({"capture", "--device", "fake-v4l2-purethermal:" + (tmp / "rec").string(), "--out",
+                                (tmp / "out").string(), "--frames", "6", "--shutter-at", "2", "--no-progress"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(contains(r.out, "shutter events requested: 1 of 1"));
+  REQUIRE(xu->log.size() == 1);
+  CHECK(xu->log[0].unit == 6);
+  CHECK(xu->log[0].selector == 17);
+  CHECK(xu->log[0].request == hal::UvcRequest::set_cur);
+  CHECK(xu->log[0].data.size() == 1);
+}
+
+TEST_CASE("capture: another V4L2 camera has no shutter, --shutter-at is refused", "[cli][capture]") {
+  TempDir tmp;
+  SmallRecording::write(tmp / "rec");
+  const auto xu = register_fake_v4l2("fake-v4l2-other", false);
+  const std::string device = "fake-v4l2-other:" + (tmp / "rec").string();
+  CHECK(contains(refused({"capture", "--device", device, "--out", (tmp / "out").string(), "--frames", "6", "--shutter-at", "2"}),
+                 "--shutter-at: " + device + " has no shutter control here"));
+  CHECK(xu->log.empty());
+  CHECK_FALSE(fs::exists(tmp / "out"));
+}
 
 TEST_CASE("capture: file: re-records a recording frame for frame", "[cli][capture]") {
   TempDir tmp;
@@ -159,7 +205,7 @@ TEST_CASE("capture: refusals name the device, flag or file and leave nothing beh
                      "gpiochip0:led=3"}),
             "'led=3': expected sync=N, shutter=N or imminent=N"));
   CHECK(contains(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--shutter-at", "3"}),
-            "--shutter-at: file:" + (tmp / "rec").string() + " has no shutter control here (use --gpio CHIP:shutter=N, or usb:seek)"));
+            "--shutter-at: file:" + (tmp / "rec").string() + " has no shutter control here (use --gpio CHIP:shutter=N, usb:seek, or a PureThermal on v4l2:)"));
   CHECK(contains(refused({"capture", "--device", "file:" + (tmp / "rec").string(), "--out", out, "--shutter-at", "-2"}),
             "--shutter-at: must not be negative, got -2"));
 #if defined(BOLO_HAVE_LIBGPIOD)
