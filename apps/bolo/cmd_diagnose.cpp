@@ -75,9 +75,10 @@ Command add_diagnose_command(CLI::App& parent) {
       "(../shared/docs/diagnosis.md) is fitted on training blocks of frames and scored on held-out\n"
       "blocks; significant ones are kept greedily (held-out Delta BIC with a correlation-corrected\n"
       "sample size). Writes DIR/diagnosis.json, DIR/report.html (self-contained) and DIR/simulate.cfg\n"
-      "(the fitted model for `bolo simulate OUT --config DIR/simulate.cfg`). The baseline takes the\n"
-      "scene as constant within an exposure; what it cannot explain is listed as unexplained, with\n"
-      "where (limits and measured detection rates: docs/diagnosis-study.md).\n"
+      "(the fitted model for `bolo simulate OUT --config DIR/simulate.cfg`). Within an exposure the\n"
+      "baseline moves scene.npy's frame along the measured flow; what it cannot explain is listed as\n"
+      "unexplained, with where\n"
+      "(limits and measured detection rates: docs/diagnosis-study.md).\n"
       "Example: bolo diagnose out/sim --out out/diag");
   app->add_option("REC", o->input, "Recording folder to diagnose");
   app->add_option("--out", o->output, "Folder to write diagnosis.json, report.html and simulate.cfg into");

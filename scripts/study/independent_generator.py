@@ -26,7 +26,7 @@ offset are taken out (which the baseline fit absorbs), found by running the chai
 reference parameter and scaling it (the effects are close to linear at these sizes).
 
 usage: independent_generator.py OUT --case effect:ID|null:KIND|ooc:KIND [--amplitude A]
-                                [--seed S] [--size WxH] [--frames N] [--ffc-unknown]
+                                [--seed S] [--size WxH] [--frames N] [--ffc-unknown] [--no-noise]
 Writes OUT/{recording.json,frames.npy,frames.csv,scene.npy,truth/effects.json}.
 """
 import argparse
@@ -506,7 +506,7 @@ def write_recording(out, frames, scene, timing, fpa, housing, ffc_flags, info, t
         json.dump(jsonable(truth), f, indent=1)
 
 
-def generate(out, case, a, seed, w, h, n, substeps=6, ffc_unknown=False):
+def generate(out, case, a, seed, w, h, n, substeps=6, ffc_unknown=False, noise=True):
     kind, name = case.split(":", 1)
     if kind == "effect" and name not in EFFECTS or kind == "null" and name not in NULL_KINDS \
             or kind == "ooc" and name not in OOC_KINDS or kind not in ("effect", "null", "ooc"):
@@ -539,7 +539,7 @@ def generate(out, case, a, seed, w, h, n, substeps=6, ffc_unknown=False):
         truth["decoys"] = {"mean_change": "the scene's mean level changes by a few hundred counts while the FPA warms",
                            "pan_hot_entry": "a slow pan and a hot object entering the frame",
                            "shutter": "flagged shutter events with the offset correction exact (no step)"}[name]
-    frames = chain.run(params)
+    frames = chain.run(params, noise=noise)
     frames = np.clip(np.round(frames), 0, 2 ** BITS - 1).astype(np.uint16)
     flags = ["" if ffc_unknown else ("1" if i in events else "0") for i in range(n)]
     if ffc_unknown:
@@ -560,9 +560,11 @@ def main():
     ap.add_argument("--frames", type=int, default=300)
     ap.add_argument("--substeps", type=int, default=6)
     ap.add_argument("--ffc-unknown", action="store_true", help="leave the ffc column empty (unknown) in every frame")
+    ap.add_argument("--no-noise", action="store_true", help="no white readout noise (the effect keeps its size)")
     args = ap.parse_args()
     w, h = (int(v) for v in args.size.split("x"))
-    generate(args.out, args.case, args.amplitude, args.seed, w, h, args.frames, args.substeps, args.ffc_unknown)
+    generate(args.out, args.case, args.amplitude, args.seed, w, h, args.frames, args.substeps, args.ffc_unknown,
+             not args.no_noise)
 
 
 if __name__ == "__main__":

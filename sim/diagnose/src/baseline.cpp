@@ -10,9 +10,18 @@
 #include <Eigen/Dense>
 
 #include "bolo/effects/stats.hpp"
+#include "exposure_motion.hpp"
 
 namespace bolo::diag {
 namespace {
+
+// The heating time constant the motion within the exposure is weighed with: its fitted share
+// (exposure_motion) takes up the difference a sensor's own tau_h makes.
+constexpr double kTypicalTauH = 0.012;
+// The share of exposure_motion from which the baseline counts motion within the exposure as
+// modelled (it masks the edges otherwise): 0.2-0.95 on scenes moving throughout the exposure,
+// ~0.01 where the input is constant within it or the flow misses the motion.
+constexpr double kModelledShare = 0.1;
 
 // Whether the frames' exposures differ: only then is tau_h more than a factor of the gain.
 bool varies(const std::vector<double>& values) {
@@ -27,8 +36,11 @@ bool exposure_varies(const DiagnoseData& d) { return varies(d.exposure_s); }
 // response of a typical frame. A frame whose timing departs from the median reads its own level.
 // The first frame is settled on its input, a flagged shutter frame on a uniform shutter at the
 // scene's mean level (the shutter is at the camera's temperature), each at its own timing.
-// With `nominal_timing`, every frame has the median exposure and readout.
-void two_frame(const DiagnoseData& d, double tau_c, double tau_h, std::vector<float>& sim, bool nominal_timing = false) {
+// With `nominal_timing`, every frame has the median exposure and readout. `input` (default
+// scene.npy) is what drives it, e.g. d.exposure_motion for that term's response.
+void two_frame(const DiagnoseData& d, double tau_c, double tau_h, std::vector<float>& sim, bool nominal_timing = false,
+               const std::vector<float>* input = nullptr) {
+  const std::vector<float>& in = input ? *input : d.input;
   const std::size_t P = d.shape.pixels();
   const double exposure_median = median_of(d.exposure_s), readout_median = median_of(d.readout_s);
   auto exposure = [&](int n) { return nominal_timing ? exposure_median : d.exposure_s[n]; };
@@ -43,7 +55,7 @@ void two_frame(const DiagnoseData& d, double tau_c, double tau_h, std::vector<fl
   sim.resize(d.shape.size());
   {
     const float g = static_cast<float>(settled(0));
-    const float* u = d.frame(d.input, 0);
+    const float* u = d.frame(in, 0);
     for (std::size_t p = 0; p < P; ++p) sim[p] = g * u[p];
   }
   for (int n = 1; n < d.shape.n; ++n) {
@@ -51,7 +63,7 @@ void two_frame(const DiagnoseData& d, double tau_c, double tau_h, std::vector<fl
     const float c = static_cast<float>(k.carry);
     const float w = static_cast<float>(scale * k.heat);
     const float* prev = d.frame(sim, n - 1);
-    const float* u = d.frame(d.input, n);
+    const float* u = d.frame(in, n);
     float* s = d.frame(sim, n);
     if (d.flagged_event[n]) {
       double mean = 0;
@@ -84,28 +96,32 @@ LinearFit fit_gain_offset(const DiagnoseData& d, const std::vector<float>& sim, 
   return f;
 }
 
-// The residual of a least-squares fit of the recording on [sim, 1, sim's central frame difference]:
-// gain, offset and the timing shift of motion within an exposure, as the final fit (fit_two_frame,
-// below) has them. The tau searches score with it: scored on gain and offset alone, tau_c stood
-// in for motion within the exposure (a shorter tau_c also reads a moving scene later) and came
-// out up to 10 % short on a panning scene, and a readout jittered from frame to frame then left
-// a global offset fluctuation the baseline lacked. (The exposure offset stays out: beside it
-// tau_h, which the searches also set, is nearly degenerate.)
-double fit_sse_with_shift(const DiagnoseData& d, const std::vector<float>& sim, const std::vector<std::uint8_t>& use) {
+// The residual of a least-squares fit of the recording on [sim, 1, sim's central frame difference
+// if `shift`, motion if not empty]: gain, offset, the timing shift and the response to motion
+// within the exposure (exposure_motion) as the final fit (fit_two_frame, below) has them. The tau
+// searches score with it: scored on gain and offset alone, tau_c stood in for motion within the
+// exposure (a shorter tau_c also reads a moving scene later) and came out up to 10 % short on a
+// panning scene, and a readout jittered from frame to frame then left a global offset fluctuation
+// the baseline lacked. (The exposure offset stays out: beside it tau_h, which the searches also
+// set, is nearly degenerate.)
+double fit_sse(const DiagnoseData& d, const std::vector<float>& sim, const std::vector<float>& motion, bool shift,
+               const std::vector<std::uint8_t>& use) {
+  if (!shift && motion.empty()) return fit_gain_offset(d, sim, use).sse;
   const std::size_t P = d.shape.pixels();
-  Eigen::Matrix3d xtx = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d xty = Eigen::Vector3d::Zero();
+  Eigen::Matrix4d xtx = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d xty = Eigen::Vector4d::Zero();
   double yy = 0;
   // Centred on a typical reading: the sums stay small beside the residual they are to resolve.
   const double centre = d.recorded.empty() ? 0.0 : d.recorded[d.recorded.size() / 2];
-  Eigen::Vector3d x(0, 1, 0);
+  Eigen::Vector4d x(0, 1, 0, 0);
   for (int n = 0; n < d.shape.n; ++n) {
-    const bool inner = n > 0 && n + 1 < d.shape.n;
+    const bool inner = shift && n > 0 && n + 1 < d.shape.n;
     for (std::size_t p = 0; p < P; ++p) {
       const std::size_t i = std::size_t(n) * P + p;
       if (!d.valid[i] || !use[p]) continue;
       x[0] = sim[i] - centre;
       x[2] = inner ? 0.5 * (double(sim[i + P]) - sim[i - P]) : 0.0;
+      x[3] = motion.empty() ? 0.0 : motion[i];
       const double y = d.recorded[i] - centre;
       xtx.selfadjointView<Eigen::Lower>().rankUpdate(x);
       xty += x * y;
@@ -113,9 +129,12 @@ double fit_sse_with_shift(const DiagnoseData& d, const std::vector<float>& sim, 
     }
   }
   xtx = xtx.selfadjointView<Eigen::Lower>();
-  const Eigen::Vector3d beta = xtx.ldlt().solve(xty);
-  // The final fit's own guard: a shift beyond half a frame is no timing; the plain fit stands.
-  if (!beta.allFinite() || beta[0] == 0 || std::fabs(beta[2] / beta[0]) > 0.5) return fit_gain_offset(d, sim, use).sse;
+  if (!shift) xtx(2, 2) = 1;  // columns left out: zero, solved as 0
+  if (motion.empty()) xtx(3, 3) = 1;
+  const Eigen::Vector4d beta = xtx.ldlt().solve(xty);
+  // The final fit's own guard: a shift beyond half a frame is no timing; the fit without it stands.
+  if (!beta.allFinite() || beta[0] == 0 || std::fabs(beta[2] / beta[0]) > 0.5)
+    return shift ? fit_sse(d, sim, motion, false, use) : fit_gain_offset(d, sim, use).sse;
   return std::max(0.0, yy - beta.dot(xty));
 }
 
@@ -143,25 +162,29 @@ double log_search(Cost cost, double lo, double hi) {
 BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* motion = nullptr) {
   if (motion) d.valid = *motion; else d.reset_valid();
   const std::size_t P = d.shape.pixels();
-  std::vector<float> sim;
+  std::vector<float> sim, sim_motion;  // the responses to scene.npy and to exposure_motion
   std::vector<std::uint8_t> use(P, 1);
   // tau_h only shapes how a frame's exposure sets its level: with one exposure throughout it is
   // a factor of the gain, held at tau_c; otherwise it is searched for (below).
   const bool fit_tau_h = exposure_varies(d);
   double tau_c = 0.012, tau_h = 0.012;
   // With the timing varying from frame to frame the searches score with the timing shift in the
-  // model (fit_sse_with_shift): there a tau_c standing in for motion shows as a global offset
+  // model (fit_sse): there a tau_c standing in for motion shows as a global offset
   // fluctuation. With one timing throughout they score on gain and offset, as before: the shift
   // then only trades with tau_c within the transients, and the refit after a finding, compared
   // over every pixel (stuck ones included), is sensitive to the small change in tau_c.
   const bool timing_varies = fit_tau_h || varies(d.readout_s);
-  auto sse = [&] { return timing_varies ? fit_sse_with_shift(d, sim, use) : fit_gain_offset(d, sim, use).sse; };
+  auto sse = [&] { return fit_sse(d, sim, sim_motion, timing_varies, use); };
+  auto simulate = [&](double tc, double th) {
+    two_frame(d, tc, th, sim);
+    if (!d.exposure_motion.empty()) two_frame(d, tc, th, sim_motion, false, &d.exposure_motion);
+  };
   auto cost = [&](double log_tau) {
-    two_frame(d, std::exp(log_tau), fit_tau_h ? tau_h : std::exp(log_tau), sim);
+    simulate(std::exp(log_tau), fit_tau_h ? tau_h : std::exp(log_tau));
     return sse();
   };
   auto cost_tau_h = [&](double log_tau_h) {
-    two_frame(d, tau_c, std::exp(log_tau_h), sim);
+    simulate(tau_c, std::exp(log_tau_h));
     return sse();
   };
   // Pixels far off the model (stuck, dead) would pull gain and tau: a first fit at a typical
@@ -209,7 +232,7 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
     d.tau_h_s = tau_h;
   }
   fit.tau_c_s = tau_c;
-  two_frame(d, tau_c, fit_tau_h ? tau_h : tau_c, sim);
+  simulate(tau_c, fit_tau_h ? tau_h : tau_c);
   const LinearFit lin = fit_gain_offset(d, sim, use);
   fit.gain = lin.gain;
   fit.offset = lin.offset;
@@ -224,14 +247,17 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   std::vector<double> exposure_change(d.shape.n, 0.0);
   const double typical_exposure = median_of(d.exposure_s);
   for (int n = 0; n < d.shape.n; ++n) exposure_change[n] = d.exposure_s[n] / typical_exposure - 1;
+  const bool with_motion = !sim_motion.empty();
   {
-    const int k = fit_tau_h ? 4 : 3;
+    const int motion_column = fit_tau_h ? 4 : 3;
+    const int k = motion_column + (with_motion ? 1 : 0);
     Eigen::MatrixXd xtx = Eigen::MatrixXd::Zero(k, k);
     Eigen::VectorXd xty = Eigen::VectorXd::Zero(k), x(k);
     for (std::size_t i = 0; i < sim.size(); ++i) {
       if (!d.valid[i] || !use[i % P]) continue;
       x[0] = sim[i], x[1] = 1.0, x[2] = rate[i];
       if (fit_tau_h) x[3] = exposure_change[i / P];
+      if (with_motion) x[motion_column] = sim_motion[i];
       xtx.selfadjointView<Eigen::Lower>().rankUpdate(x);
       xty += x * double(d.recorded[i]);
     }
@@ -244,6 +270,7 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
       fit.offset = beta[1];
       fit.timing_frames = beta[2] / beta[0];
       if (fit_tau_h) fit.exposure_offset = beta[3];
+      if (with_motion) fit.exposure_motion = beta[motion_column] / beta[0];
     }
   }
   const double period = 1.0 / d.fps;
@@ -262,17 +289,20 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   restore_valid();
   d.baseline.resize(d.shape.size());
   for (std::size_t i = 0; i < sim.size(); ++i)
-    d.baseline[i] = float(fit.gain * (sim[i] + fit.timing_frames * rate[i]) + fit.offset +
-                          fit.exposure_offset * exposure_change[i / P]);
+    d.baseline[i] = float(fit.gain * (sim[i] + fit.timing_frames * rate[i] +
+                                      (with_motion ? fit.exposure_motion * sim_motion[i] : 0.0)) +
+                          fit.offset + fit.exposure_offset * exposure_change[i / P]);
   d.baseline_nominal.clear();
   if (varies(d.exposure_s) || varies(d.readout_s)) {
     two_frame(d, tau_c, fit_tau_h ? tau_h : tau_c, sim, true);
+    if (with_motion) two_frame(d, tau_c, fit_tau_h ? tau_h : tau_c, sim_motion, true, &d.exposure_motion);
     d.baseline_nominal.resize(d.shape.size());
     for (int n = 0; n < d.shape.n; ++n)
       for (std::size_t p = 0; p < P; ++p) {
         const std::size_t i = std::size_t(n) * P + p;
         const double slope = n > 0 && n + 1 < d.shape.n ? 0.5 * (sim[i + P] - sim[i - P]) : 0.0;
-        d.baseline_nominal[i] = float(fit.gain * (sim[i] + fit.timing_frames * slope) + fit.offset);
+        const double motion = with_motion ? fit.exposure_motion * sim_motion[i] : 0.0;
+        d.baseline_nominal[i] = float(fit.gain * (sim[i] + fit.timing_frames * slope + motion) + fit.offset);
       }
   }
   return fit;
@@ -438,20 +468,34 @@ double mask_large_misses(DiagnoseData& d, const BaselineFit& fit, double sigma) 
 }  // namespace
 
 BaselineFit fit_baseline(DiagnoseData& d) {
+  // Once per recording (the refits after findings reuse it): the flow and the motion within the
+  // exposure, weighed with a typical tau_h (its share is fitted, exposure_motion below).
+  if (d.has_scene && d.input_flow_dy.empty()) fill_exposure_motion(d, kTypicalTauH);
   BaselineFit fit = d.has_scene ? fit_two_frame(d) : fit_static_background(d);
   if (d.has_scene) {
-    // The edges' misses would also pull tau, gain and timing: mask, fit again without them, and
-    // mask again with the refitted timing.
     const double sigma = noise_floor(d, false);
-    mask_scene_motion(d, fit, sigma);
-    const std::vector<std::uint8_t> motion = d.valid;
-    if (std::find(motion.begin(), motion.end(), 0) != motion.end()) {
-      fit = fit_two_frame(d, &motion);
-      d.reset_valid();
-      fit.moving_fraction = mask_scene_motion(d, fit, sigma);
-      // The refit says there is no motion within the exposure after all (its timing shift, free
-      // of the edges, is <= 0): the unmasked fit is the consistent one.
-      if (fit.moving_fraction == 0) fit = fit_two_frame(d);
+    // Unless the motion within the exposure along the flow takes a tenth of the reading or more
+    // (none within the exposure, or the flow missed it: the first-order timing shift is then all
+    // the model has), the edges' misses would also pull tau, gain and timing: mask, fit again
+    // without them, and mask again with the refitted timing. Where it does, the edges are
+    // modelled: masked, they left only the pixels where the motion is below the noise to fit its
+    // share on (0.25 where it took 0.74 on a moving null).
+    if (!(fit.exposure_motion >= kModelledShare)) {
+      // Then the term is left out of this and every refit: the model is the one before it.
+      if (!d.exposure_motion.empty()) {
+        d.exposure_motion.clear();
+        fit = fit_two_frame(d);
+      }
+      mask_scene_motion(d, fit, sigma);
+      const std::vector<std::uint8_t> motion = d.valid;
+      if (std::find(motion.begin(), motion.end(), 0) != motion.end()) {
+        fit = fit_two_frame(d, &motion);
+        d.reset_valid();
+        fit.moving_fraction = mask_scene_motion(d, fit, sigma);
+        // The refit says there is no motion within the exposure after all (its timing shift, free
+        // of the edges, is <= 0): the unmasked fit is the consistent one.
+        if (fit.moving_fraction == 0) fit = fit_two_frame(d);
+      }
     }
     // Again after each refit: the first fit, pulled by the misses, also leaves the static pixels
     // a residual that hides the smaller misses.
@@ -463,10 +507,16 @@ BaselineFit fit_baseline(DiagnoseData& d) {
       fit.moving_fraction = double(masked) / double(mask.size());
       fit.large_miss_mask = true;
     }
-    fit.assumption += "; motion within the exposure is modelled to first order (timing shift); pixel-frames "
-                      "where the rest (estimated as 5 x max(0, timing shift) x |scene step to or from the frame|, "
-                      "carried on by the cooling carry) exceeds half a noise sigma are masked out of every fit "
-                      "(moving_fraction); so are pixel-frames whose scene step falls in a range of steps "
+    fit.assumption += std::string(d.exposure_motion.empty()
+                          ? "; motion within the exposure is modelled to first order (timing shift; the term along "
+                            "the flow took under a tenth of it and is left out); pixel-frames "
+                            "where the rest (estimated as 5 x max(0, timing shift) x |scene step to or from the "
+                            "frame|, carried on by the cooling carry) exceeds half a noise sigma are masked out of "
+                            "every fit (moving_fraction); so are pixel-frames whose scene step falls in a range of "
+                            "steps "
+                          : "; motion within the exposure: scene.npy's frame moved along the measured flow across "
+                            "each exposure and weighed by the pixel's response (exposure_motion: its share, fitted), "
+                            "plus a first-order timing shift; pixel-frames whose scene step falls in a range of steps ") +
                       "where the baseline misses by more than 3 noise sigma RMS (large_miss_mask)";
   }
   double sum = 0;
@@ -481,7 +531,8 @@ nlohmann::json BaselineFit::to_json() const {
   if (model == "two-frame") {
     params = {{"tau_h_s", tau_h_s}, {"tau_c_s", tau_c_s}, {"gain", gain}, {"offset", offset},
               {"tau_identifiable", tau_identifiable},
-              {"timing_shift_frames", timing_frames}, {"moving_fraction", moving_fraction},
+              {"timing_shift_frames", timing_frames}, {"exposure_motion", exposure_motion},
+              {"moving_fraction", moving_fraction},
               {"large_miss_mask", large_miss_mask}, {"tau_h_fitted", tau_h_fitted}};
     if (tau_h_fitted) params["exposure_offset"] = exposure_offset;
   } else {

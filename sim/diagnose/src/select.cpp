@@ -226,7 +226,7 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
   nlohmann::json baseline_params = result.baseline.to_json()["params"];  // as refitted after findings
   data.tau_c_s = data.has_scene ? result.baseline.tau_c_s : 0.0;
   data.gain = result.baseline.gain;
-  if (data.has_scene) fill_input_flow(data);  // for the candidates' rates of change along the scene's motion
+  if (data.has_scene && data.input_flow_dy.empty()) fill_input_flow(data);  // for the candidates' rates of change along the scene's motion
   const int N = data.shape.n;
   const std::size_t P = data.shape.pixels();
   // A shutter frame reads the shutter, not the scene.

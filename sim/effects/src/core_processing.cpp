@@ -147,8 +147,11 @@ class TemporalFilterCandidate final : public PooledLinear {
     const std::size_t P = d.shape.pixels();
     X.assign(1, std::vector<float>(d.shape.size(), 0.0f));
     // A filter's pole is per frame: the residual's autocorrelation falls as alpha^k. Memory that
-    // falls slower (a slowly changing scene, drift) is not this effect.
+    // falls slower (a slowly changing scene, drift) is not this effect. Judged where the baseline
+    // holds still for the three frames: what a model leaves at moving edges (motion within the
+    // exposure) is correlated from frame to frame as the edge passes, and read as slow memory.
     {
+      const std::vector<float>& still = d.still_reference();
       double r0 = 0, r1 = 0, r2 = 0;
       std::vector<float> mean(d.shape.n, 0.0f);
       for (int n = 0; n < d.shape.n; ++n) {
@@ -162,8 +165,9 @@ class TemporalFilterCandidate final : public PooledLinear {
       for (int n = 2; n < d.shape.n; ++n) {
         const float *f = d.frame(r, n), *f1 = d.frame(r, n - 1), *f2 = d.frame(r, n - 2);
         const std::uint8_t *v = d.valid_frame(n), *v1 = d.valid_frame(n - 1), *v2 = d.valid_frame(n - 2);
+        const float *b = d.frame(still, n), *b1 = d.frame(still, n - 1), *b2 = d.frame(still, n - 2);
         for (std::size_t p = 0; p < P; ++p) {
-          if (!(v[p] && v1[p] && v2[p])) continue;
+          if (!(v[p] && v1[p] && v2[p]) || !holds_still(b[p], b1[p]) || !holds_still(b1[p], b2[p])) continue;
           const double a = f[p] - mean[n], b = f1[p] - mean[n - 1], c = f2[p] - mean[n - 2];
           r0 += a * a; r1 += a * b; r2 += a * c;
         }

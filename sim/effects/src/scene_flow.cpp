@@ -135,6 +135,33 @@ void fill_input_flow(DiagnoseData& d, int max_shift) {
   }
 }
 
+void subpixel_input_flow(const DiagnoseData& d, int n, std::vector<float>& dy, std::vector<float>& dx) {
+  const int H = d.shape.height, W = d.shape.width;
+  const std::size_t P = d.shape.pixels();
+  dy.assign(P, 0.0f);
+  dx.assign(P, 0.0f);
+  if (n < 0 || n + 1 >= d.shape.n || d.input_flow_dy.size() != d.shape.size()) return;
+  const float *a = d.frame(d.input, n), *b = d.frame(d.input, n + 1);
+  const Image now{H, W, a}, next{H, W, b};
+  const std::int8_t* fy = d.input_flow_dy.data() + std::size_t(n) * P;
+  const std::int8_t* fx = d.input_flow_dx.data() + std::size_t(n) * P;
+  // The vertex of the parabola through costs at -1, 0, +1 (0 is the minimum), within half a pixel.
+  auto vertex = [](double minus, double centre, double plus) {
+    const double curvature = minus + plus - 2 * centre;
+    return curvature > 1e-12 * std::max(1.0, centre) ? std::clamp(0.5 * (minus - plus) / curvature, -0.5, 0.5) : 0.0;
+  };
+  for (int r = 0; r < H; ++r)
+    for (int c = 0; c < W; ++c) {
+      const std::size_t p = std::size_t(r) * W + c;
+      const int y = fy[p], x = fx[p];
+      if (y == 0 && x == 0 && !(std::fabs(b[p] - a[p]) > 1e-6f * (std::fabs(a[p]) + std::fabs(b[p])) + 1e-12f)) continue;
+      auto cost = [&](int oy, int ox) { return window_ssd(now, next, r, c, y + oy, x + ox, kFineRadius); };
+      const double centre = cost(0, 0);
+      dy[p] = static_cast<float>(y + vertex(cost(-1, 0), centre, cost(1, 0)));
+      dx[p] = static_cast<float>(x + vertex(cost(0, -1), centre, cost(0, 1)));
+    }
+}
+
 bool delay_response(const DiagnoseData& d, double tau_c, std::vector<float>& out) {
   out.clear();
   const std::size_t P = d.shape.pixels();

@@ -20,6 +20,7 @@ struct BaselineFit {
   std::string assumption;  // stated in the report and the JSON
   double tau_h_s = 0, tau_c_s = 0, gain = 1, offset = 0;
   double timing_frames = 0;       // scene read this many frames late (motion within an exposure)
+  double exposure_motion = 0;     // share of data.exposure_motion in the reading (1: the scene moves throughout)
   bool tau_h_fitted = false;      // the exposures differ: tau_h fitted, not derived from the gain
   double exposure_offset = 0;     // offset per relative change of the exposure (0 with one exposure)
   bool tau_identifiable = false;  // false when a frame keeps < 1e-3 of the previous one

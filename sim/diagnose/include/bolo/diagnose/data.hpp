@@ -38,8 +38,11 @@ struct DiagnoseData {
   std::vector<std::optional<double>> fpa_temp_c;
   bool has_scene = false;
   // The input's frame-to-frame motion in whole pixels (scene_flow.hpp), N*P each; filled once
-  // by diagnose() after the baseline; empty without a scene.
+  // by the first baseline fit; empty without a scene.
   std::vector<std::int8_t> input_flow_dy, input_flow_dx;
+  // What the pixel's weighting of its exposure adds to scene.npy's exposure average where the
+  // input moves (exposure_motion.hpp), N*P; empty without a scene or without motion.
+  std::vector<float> exposure_motion;
   double fps = 0;
   double tau_c_s = 0;    // the baseline's fitted cooling time constant (0: none)
   double tau_h_s = 0;    // the heating time constant fitted where the exposures differ (0: none yet)

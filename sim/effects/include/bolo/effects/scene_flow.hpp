@@ -16,6 +16,11 @@ namespace bolo::diag {
 // the smallest displacement.
 void fill_input_flow(DiagnoseData& d, int max_shift = 12);
 
+// The flow from frame n to n + 1 to a fraction of a pixel (pixels per frame, P each): the whole-
+// pixel flow above refined by a parabola through the matching cost one pixel either side in each
+// axis. 0 where the input does not change; needs fill_input_flow first (else all 0).
+void subpixel_input_flow(const DiagnoseData& d, int n, std::vector<float>& dy, std::vector<float>& dx);
+
 // d/d(delay) of the input averaged over an exposure that starts `delay` late: the input's change
 // over one exposure along the flow, divided by the exposure, (input[n](x - f v) - input[n](x)) /
 // t_e with f = t_e / frame period; carried through the two-frame response of unit gain,
