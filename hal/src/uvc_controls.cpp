@@ -14,15 +14,10 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "xioctl.hpp"
+
 namespace bolo::hal {
 namespace {
-
-int xioctl(int fd, unsigned long request, void* arg) {
-  int rc;
-  do rc = ::ioctl(fd, request, arg);
-  while (rc == -1 && errno == EINTR);
-  return rc;
-}
 
 static_assert(static_cast<int>(UvcRequest::set_cur) == UVC_SET_CUR && static_cast<int>(UvcRequest::get_cur) == UVC_GET_CUR &&
               static_cast<int>(UvcRequest::get_len) == UVC_GET_LEN && static_cast<int>(UvcRequest::get_info) == UVC_GET_INFO);

@@ -18,15 +18,10 @@
 
 #include "bolo/hal/y16_frame.hpp"
 
+#include "xioctl.hpp"
+
 namespace bolo::hal {
 namespace {
-
-int xioctl(int fd, unsigned long request, void* arg) {
-  int rc;
-  do rc = ::ioctl(fd, request, arg);
-  while (rc == -1 && errno == EINTR);
-  return rc;
-}
 
 // The sizes a node offers in `pixels`; empty when it does not offer the format at all.
 V4l2Sizes format_sizes(int fd, V4l2Pixels pixels) {
