@@ -18,47 +18,31 @@ namespace bolo::cli {
 namespace fs = std::filesystem;
 
 int run_odometry(const OdometryOptions& o, std::ostream& out) {
-  odo::OdometryOptions options;
-  const std::optional<fs::path> folder = recording_folder_or_live(o.input.string(), o.frames.has_value());
+  odo::OdometryOptions options = o;  // the run's part, checked below
+  const std::optional<fs::path> folder = recording_folder_or_live(o.input.string(), o.max_frames.has_value());
   if (folder) options.recording = *folder;
-  options.output = o.output;
-  if (!vo::parse_photometric(o.photometric.c_str(), options.photometric))
-    fail("--photometric: unknown model '", o.photometric, "' (none, affine, ir, ir-loop)");
+  if (!vo::parse_photometric(o.photometric_name.c_str(), options.photometric))
+    fail("--photometric: unknown model '", o.photometric_name, "' (none, affine, ir, ir-loop)");
   if (!(o.tau_init_s >= 0.001 && o.tau_init_s <= 0.05)) fail("--tau-init: must be within 0.001..0.05 s, got ", o.tau_init_s);
-  options.tau_init_s = o.tau_init_s;
   if (o.hfov_deg && !(*o.hfov_deg > 1.0 && *o.hfov_deg < 179.0))
     fail("--hfov: must be within 1..179 degrees, got ", *o.hfov_deg);
-  options.hfov_deg = o.hfov_deg;
   if (o.exposure_s && !(*o.exposure_s > 0.0 && *o.exposure_s < 1.0))
     fail("--exposure: must be within 0..1 s (exclusive), got ", *o.exposure_s);
   if (o.readout_s && !(*o.readout_s >= 0.0 && *o.readout_s < 1.0))
     fail("--readout: must be within 0..1 s, got ", *o.readout_s);
   if (!(o.intensity_scale >= 0.0 && o.intensity_scale <= 1e4))
     fail("--intensity-scale: must be within 0..10000 (0: measured), got ", o.intensity_scale);
-  options.intensity_scale = o.intensity_scale;
   if (!(o.carry_coring >= 0.0 && o.carry_coring <= 100.0))
     fail("--carry-coring: must be within 0..100 (0: the full correction), got ", o.carry_coring);
-  options.carry_coring = o.carry_coring;
   if (o.smoothing > bolo::vo::kMaxSmoothingPasses)
     fail("--smoothing: must be within 0..", bolo::vo::kMaxSmoothingPasses, " passes, got ", o.smoothing);
-  options.smoothing = o.smoothing;
-  options.exposure_s = o.exposure_s;
-  options.readout_s = o.readout_s;
-  options.estimate_tau = !o.fixed_tau;
-  options.window_ba = !o.no_ba;
-  options.marginalisation_prior = o.marginalisation_prior;
-  if (!vo::parse_retirement(o.retirement.c_str(), options.retirement))
-    fail("--retirement: must be oldest or spread, got ", o.retirement);
-  options.scale_bridge = !o.no_scale_bridge;
+  if (!vo::parse_retirement(o.retirement_name.c_str(), options.retirement))
+    fail("--retirement: must be oldest or spread, got ", o.retirement_name);
   if (o.max_keyframes < 2 || o.max_keyframes > vo::kMaxKeyframes)
     fail("--max-keyframes: must be within 2..", vo::kMaxKeyframes, ", got ", o.max_keyframes);
-  options.max_keyframes = o.max_keyframes;
   if (o.reverse && (options.photometric == vo::Photometric::ir || options.photometric == vo::Photometric::ir_loop))
     fail("--reverse: the ir modes' carry-over runs forward in time (use none or affine)");
-  options.reverse = o.reverse;
-  options.overwrite = o.overwrite;
-  if (o.frames) options.max_frames = *o.frames;
-  Progress progress("odometry", 0, o.progress);
+  Progress progress("odometry", 0, o.progress_bar);
   std::uint64_t total = 0;
   options.progress = [&](std::uint64_t done, std::uint64_t n) {
     total = n;
@@ -66,12 +50,12 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   };
   const odo::OdometrySummary s =
       folder ? odo::run_odometry(options)
-             : odo::run_odometry(options, [&] { return read_live_frames(o.input.string(), o.frames, o.max_faults); });
+             : odo::run_odometry(options, [&] { return read_live_frames(o.input.string(), o.max_frames, o.max_faults); });
   progress.finish();
   out << "odometry: wrote " << o.output.string() << ": " << s.frames << " frames, " << s.posed << " posed, "
       << s.lost << " lost, " << (s.duplicates ? std::to_string(s.duplicates) + " repeated (skipped), " : std::string())
       << s.keyframes << " keyframes, " << s.points << " map points, "
-      << s.reinitialisations << " restarts; photometric " << o.photometric << ", tau_h "
+      << s.reinitialisations << " restarts; photometric " << o.photometric_name << ", tau_h "
       << std::setprecision(4) << s.tau_h_s * 1e3 << " ms, tau_c " << s.tau_c_s * 1e3 << " ms; "
       << std::setprecision(3) << (s.seconds > 0 ? s.frames / s.seconds : 0.0) << " fps (VO only), arena "
       << s.arena_bytes / 1024 << " KiB\n";
@@ -153,9 +137,10 @@ Command add_odometry_command(CLI::App& parent) {
                   "spec (flirone-log:DIR, v4l2:/dev/video0, ...)")
       ->required();
   app->add_option("--out", o->output, "Output folder (must not exist unless --overwrite)")->required();
-  app->add_option("--photometric", o->photometric, "none, affine, ir or ir-loop (default none)");
+  app->add_option("--photometric", o->photometric_name, "none, affine, ir or ir-loop (default none)");
   app->add_option("--tau-init", o->tau_init_s, "Starting tau for the ir modes, seconds (default 0.010)");
-  app->add_flag("--fixed-tau", o->fixed_tau, "ir modes: tau is known (--tau-init) and not estimated");
+  app->add_flag("--fixed-tau", [o](std::int64_t) { o->estimate_tau = false; },
+                "ir modes: tau is known (--tau-init) and not estimated");
   app->add_option("--hfov", o->hfov_deg,
                   "Horizontal field of view, degrees: an undistorted pinhole centred on the image, used instead "
                   "of camera.json (for recordings without one, e.g. Lepton 3: 57)");
@@ -176,20 +161,20 @@ Command add_odometry_command(CLI::App& parent) {
                   "damps the detail near the sampling limit that bilinear sampling misreads and cut "
                   "the ir modes' ATE by 40-50 % on the study's sequences: docs/odometry-study.md)")
       ->capture_default_str();
-  app->add_option("--frames", o->frames, "Use only the first N frames (a live camera: read N frames)")
+  app->add_option("--frames", o->max_frames, "Use only the first N frames (a live camera: read N frames)")
       ->check(not_negative());
   app->add_option("--max-faults", o->max_faults, "A live source's faulted frames in a row before giving up (default 50)");
   app->add_option("--max-keyframes", o->max_keyframes,
                   "Keyframes in the sliding window, 2..8 (default 8; 6 is about a fifth faster and less accurate: docs/odometry-study.md)");
-  app->add_flag("--no-ba", o->no_ba, "Skip the sliding-window bundle adjustment (tracking and depth search only)");
+  app->add_flag("--no-ba", [o](std::int64_t) { o->window_ba = false; }, "Skip the sliding-window bundle adjustment (tracking and depth search only)");
   app->add_flag("--marginalisation-prior", o->marginalisation_prior,
                 "Keep a retired keyframe's information as a prior on the window (DSO's marginalisation) "
                 "instead of dropping it; it needs the bundle adjustment (ignored with --no-ba)");
-  app->add_option("--retirement", o->retirement,
+  app->add_option("--retirement", o->retirement_name,
                   "Which keyframe leaves a full window: spread (one much nearer its neighbours along the path than "
                   "the window's mean spacing, made for a turn; else the oldest) or oldest")
       ->capture_default_str();
-  app->add_flag("--no-scale-bridge", o->no_scale_bridge,
+  app->add_flag("--no-scale-bridge", [o](std::int64_t) { o->scale_bridge = false; },
                 "Keep the scale a look-around leaves the map with (by default, after a fast turn that takes the map "
                 "out of view, the new view's map is scaled so that the camera's speed after the turn is its speed "
                 "before: docs/odometry-study.md)");
@@ -197,7 +182,7 @@ Command add_odometry_command(CLI::App& parent) {
                 "Run the frames last to first (none, affine); trajectory.tum keeps the frames' times, so "
                 "`bolo evaluate FORWARD --truth REVERSED/trajectory.tum` compares the two runs");
   app->add_flag("--overwrite", o->overwrite, "Replace DIR if it exists");
-  app->add_flag("--no-progress", [o](std::int64_t) { o->progress = false; }, "Never draw the progress bar");
+  app->add_flag("--no-progress", [o](std::int64_t) { o->progress_bar = false; }, "Never draw the progress bar");
   return {app, [o](std::ostream& out) { return run_odometry(*o, out); }};
 }
 

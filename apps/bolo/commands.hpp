@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bolo/correct/correct_recording.hpp"
+#include "bolo/odometry/run_odometry.hpp"
 
 namespace bolo::cli {
 
@@ -95,27 +96,14 @@ int run_diagnose(const DiagnoseOptions& options, std::ostream& out);
 
 // bolo odometry SOURCE --out DIR [--photometric none|affine|ir|ir-loop] [--tau-init S] [--fixed-tau] [--frames N]
 //               [--no-ba] [--marginalisation-prior] [--retirement spread|oldest] [--overwrite]
-struct OdometryOptions {
-  std::filesystem::path input;
-  std::filesystem::path output;
-  std::string photometric = "none";
-  double tau_init_s = 0.010;
-  bool fixed_tau = false;
-  std::optional<double> hfov_deg;
-  std::optional<double> exposure_s, readout_s;
-  double intensity_scale = 0.0;
-  double carry_coring = 1.0;
-  std::uint32_t smoothing = 1;
-  std::optional<std::uint64_t> frames;
+// The run's options as run_odometry takes them (bound by the parser), and what only the command
+// line has: the source spec, the models' names, how a live source is read, the progress bar.
+struct OdometryOptions : odo::OdometryOptions {
+  std::filesystem::path input;  // a recording folder, file:REC or a source spec
+  std::string photometric_name = "none";
+  std::string retirement_name = vo::to_string(vo::VoConfig{}.retirement);
   std::uint64_t max_faults = 50;
-  bool no_ba = false;
-  bool marginalisation_prior = false;
-  std::string retirement = "spread";
-  bool no_scale_bridge = false;
-  std::uint32_t max_keyframes = 8;
-  bool reverse = false;
-  bool overwrite = false;
-  bool progress = true;
+  bool progress_bar = true;
 };
 int run_odometry(const OdometryOptions& options, std::ostream& out);
 

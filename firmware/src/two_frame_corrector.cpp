@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "bolo/firmware/carry_over_rule.hpp"
 #include "bolo/firmware/detail/kernels.hpp"
 
 namespace bolo::fw {
@@ -49,6 +50,19 @@ std::uint64_t interval_ns(std::int64_t earlier, std::int64_t later) {
 
 }  // namespace
 
+CarryOver carry_over_between(const FrameHeader& previous, const FrameHeader& current, std::uint64_t period_ns) {
+  if (shutter_event(current.ffc)) return CarryOver::ffc_event;
+  if (current.sequence_valid && previous.sequence_valid && current.sequence != previous.sequence + 1)
+    return CarryOver::sequence_gap;
+  if (current.timestamp_valid && previous.timestamp_valid) {
+    if (current.timestamp_ns <= previous.timestamp_ns) return CarryOver::timestamp_not_increasing;
+    const std::uint64_t interval = interval_ns(previous.timestamp_ns, current.timestamp_ns);
+    // 2 * interval > 3 * period without overflow: interval > floor(3 * period / 2)
+    if (period_ns != 0 && interval > period_ns * 3 / 2) return CarryOver::timestamp_gap;
+  }
+  return CarryOver::applied;
+}
+
 std::uint32_t TwoFrameCorrector::learned_period_ns() const {
   if (config_.nominal_frame_period_ns != 0) return config_.nominal_frame_period_ns;
   if (interval_count_ == 0) return 0;
@@ -71,18 +85,7 @@ CarryOver TwoFrameCorrector::judge_predecessor(const FrameHeader& header) const 
   if (previous_.width != header.width || previous_.height != header.height)
     return CarryOver::format_change;
   if (!previous_complete_) return CarryOver::previous_incomplete;
-  if (shutter_event(header.ffc)) return CarryOver::ffc_event;
-  if (header.sequence_valid && previous_.sequence_valid &&
-      header.sequence != previous_.sequence + 1)
-    return CarryOver::sequence_gap;
-  if (header.timestamp_valid && previous_.timestamp_valid) {
-    if (header.timestamp_ns <= previous_.timestamp_ns) return CarryOver::timestamp_not_increasing;
-    const std::uint64_t interval = interval_ns(previous_.timestamp_ns, header.timestamp_ns);
-    const std::uint64_t period = learned_period_ns();
-    // 2 * interval > 3 * period without overflow: interval > floor(3 * period / 2)
-    if (period != 0 && interval > period * 3 / 2) return CarryOver::timestamp_gap;
-  }
-  return CarryOver::applied;
+  return carry_over_between(previous_, header, learned_period_ns());
 }
 
 // compute_coefficients (full) or compute_gain_only, or their last answer for the same inputs.

@@ -399,21 +399,13 @@ bool repeats(std::span<const std::uint16_t> raw, std::span<const float> previous
 }
 }  // namespace
 
-FrameResult Odometry::process(const FrameInput& in) {
-  FrameResult out;
-  if (!state_) return out;
-  State& s = *state_;
+namespace {
+
+// The frame's raw counts, times and carry-over chain become the state's current frame (the ones
+// before it move back); its timing, stuck-pixel, intensity-scale and noise bookkeeping follow.
+// Returns whether the frame follows a repeated one (its sensor predecessor was never delivered).
+bool load_frame(State& s, const FrameInput& in, bool chain_broken) {
   const VoConfig& c = s.cfg;
-  s.retired_count = 0;
-  const bool chain_broken = in.chain_broken || in.shutter_event;
-  if (s.have_prev && !chain_broken && repeats(in.raw.first(plane(c)), s.raw)) {
-    // Processed as a frame it would pose the camera where it was a frame ago, at the new time,
-    // and pair two identical frames as carry-over.
-    s.predecessor_missing = true;
-    out.state = TrackingState::duplicate;
-    out.tau = s.tau;
-    return out;
-  }
   std::swap(s.raw_prev, s.raw_prev2);
   std::swap(s.raw, s.raw_prev);
   for (std::size_t i = 0; i < plane(c); ++i) s.raw[i] = static_cast<float>(in.raw[i]);
@@ -428,7 +420,6 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.posed = false;
   s.exposure_prev_s = s.exposure_s;
   s.readout_prev2_s = s.readout_prev_s;
-  const double frame_dt_s = had_prev ? in.t_s - s.t_s : 0.0;
   s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
   follow_timing(s);
   s.scene_scale = 1.0;
@@ -437,8 +428,12 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (s.intensity_pending && ++s.raw_frames >= 3) measure_intensity_scale(s);
   // Before the tracking image: its carry-over correction is cored against this noise.
   if (ir && s.chain_ok && s.chain_ok_prev) update_noise_variance(s);
+  return after_repeat;
+}
 
-  // The tracking image: what the photometric model says is comparable between frames.
+// The tracking image: what the photometric model says is comparable between frames.
+void write_tracking_image(State& s, const FrameInput& in) {
+  const VoConfig& c = s.cfg;
   float* level0 = s.frame.level[0].value.data;
   if (c.photometric == Photometric::ir && s.chain_ok) {
     write_scene_estimate(s);
@@ -455,39 +450,52 @@ FrameResult Odometry::process(const FrameInput& in) {
     std::memcpy(level0, s.raw.data(), plane(c) * sizeof(float));
   }
   build_frame_images(s);
-  out.tau = s.tau;
+}
 
-  if (!s.initialised) {
-    // A broken carry-over chain (ir modes) gives a frame that matches nothing: wait for the next.
-    if (s.kf_count == 0 || s.init_frames >= kMaxInitFrames || (ir && !s.chain_ok)) {
-      // After a repeated frame the scene did not jump (no shutter event, no gap in time): the
-      // initialisation goes on with the next frame.
-      if (ir && after_repeat && s.kf_count > 0 && s.init_frames < kMaxInitFrames) return out;
-      if (ir && !s.chain_ok) {
-        s.kf_count = 0;
-        for (auto& kf : s.kf) kf.used = false;
-        return out;
-      }
-      s.a = s.b = 0;
-      s.T_cw = s.kf_count > 0 ? s.kf[s.order[0]].T_cw : s.last_good;
-      // A map lost far out (scale drift) cannot anchor a new one with any precision: restart at the origin.
-      if (!s.T_cw.t.allFinite() || s.T_cw.t.norm() > 1e3) s.T_cw = Se3();
-      start_initialisation(s);
+// A frame while the map is not initialised: the initialiser's next step, or its (re)start.
+FrameResult initialisation_frame(State& s, bool after_repeat, double frame_dt_s, FrameResult out) {
+  const bool ir = uses_carry_model(s.cfg);
+  // A broken carry-over chain (ir modes) gives a frame that matches nothing: wait for the next.
+  if (s.kf_count == 0 || s.init_frames >= kMaxInitFrames || (ir && !s.chain_ok)) {
+    // After a repeated frame the scene did not jump (no shutter event, no gap in time): the
+    // initialisation goes on with the next frame.
+    if (ir && after_repeat && s.kf_count > 0 && s.init_frames < kMaxInitFrames) return out;
+    if (ir && !s.chain_ok) {
+      s.kf_count = 0;
+      for (auto& kf : s.kf) kf.used = false;
       return out;
     }
-    if (!initialise_step(s)) return out;
-    s.posed = true;
-    out.state = TrackingState::tracking;
-    out.has_pose = true;
-    out.T_wc = s.T_cw.inverse();
-    out.tracked_points = active_in_window(s);
-    s.frames_since_kf = 1;
-    s.since_kf_s = frame_dt_s;
-    s.inliers_after_kf = out.tracked_points;
+    s.a = s.b = 0;
+    s.T_cw = s.kf_count > 0 ? s.kf[s.order[0]].T_cw : s.last_good;
+    // A map lost far out (scale drift) cannot anchor a new one with any precision: restart at the origin.
+    if (!s.T_cw.t.allFinite() || s.T_cw.t.norm() > 1e3) s.T_cw = Se3();
+    start_initialisation(s);
     return out;
   }
+  if (!initialise_step(s)) return out;
+  s.posed = true;
+  out.state = TrackingState::tracking;
+  out.has_pose = true;
+  out.T_wc = s.T_cw.inverse();
+  out.tracked_points = active_in_window(s);
+  s.frames_since_kf = 1;
+  s.since_kf_s = frame_dt_s;
+  s.inliers_after_kf = out.tracked_points;
+  return out;
+}
 
-  // Tracking, with fall-back motion guesses when the constant-velocity one fails.
+// Where the tracking starts the frame's brightness, and which of its parameters are free.
+struct BrightnessStart {
+  FreeBrightness free;
+  double a = 0, b = 0;
+  bool level_unknown = false;  // the frame has not its reference keyframe's level (same_level)
+  bool shutter_step = false;   // the frame is a shutter event's step response
+};
+
+BrightnessStart brightness_start(State& s, const FrameInput& in, const Keyframe& reference) {
+  const VoConfig& c = s.cfg;
+  const bool ir = uses_carry_model(c);
+  BrightnessStart start;
   // ir modes: a frame without its sensor predecessor is tracked on its raw counts with a free gain
   // and offset (after a shutter event its contrast is 1 - alpha of the keyframes', the pixels having
   // settled on the shutter; after a gap it holds the ghost of a frame never seen), and the first
@@ -496,56 +504,60 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (ir && !s.chain_ok) s.offset_pending = true;
   // A frame without its reference keyframe's level (same_level: across a change of exposure or
   // readout) is tracked with a free gain and offset, which are kept.
-  const Keyframe& reference = s.kf[s.order[s.kf_count - 1]];  // the tracking reference
-  const bool level_unknown = ir && s.chain_ok && !same_level(s, reference);
-  FreeBrightness free;
-  free.gain = ir && (!s.chain_ok || level_unknown);
-  free.offset = ir && (!s.chain_ok || s.offset_pending || level_unknown);
+  start.level_unknown = ir && s.chain_ok && !same_level(s, reference);
+  start.free.gain = ir && (!s.chain_ok || start.level_unknown);
+  start.free.offset = ir && (!s.chain_ok || s.offset_pending || start.level_unknown);
   // After a shutter event the gain starts where the current tau puts the step response, and the
   // offset where that gain puts the frame's mean level (the settled shutter's share of the counts
   // is unknown: started at the keyframes' offset, every residual would be an outlier).
   // The reference's image has the raw static level of its own timing.
-  const bool shutter_step = ir && in.shutter_event && reference.exposure_s > 0 && reference.readout_prev_s > 0 && in.exposure_s > 0;
-  double a_start = s.a, b_start = s.b;
+  start.shutter_step = ir && in.shutter_event && reference.exposure_s > 0 && reference.readout_prev_s > 0 && in.exposure_s > 0;
+  start.a = s.a, start.b = s.b;
   // Back at the reference's level after frames that were not: its gain, and its offset as the
   // camera's shutter events have moved it since.
-  if (ir && s.chain_ok && !level_unknown && s.brightness_level_unknown)
-    a_start = reference.a, b_start = reference.b + s.offset_step;
-  if (shutter_step) {
+  if (ir && s.chain_ok && !start.level_unknown && s.brightness_level_unknown)
+    start.a = reference.a, start.b = reference.b + s.offset_step;
+  if (start.shutter_step) {
     const double gain = shutter_step_gain(s.tau, in.exposure_s, reference.readout_prev_s, reference.exposure_s);
-    a_start = reference.a + std::log(gain);
-    b_start = mean_level(s.raw.data(), plane(c)) - gain * (mean_level(reference.pyramid.level[0].value.data, plane(c)) - reference.b);
+    start.a = reference.a + std::log(gain);
+    start.b = mean_level(s.raw.data(), plane(c)) - gain * (mean_level(reference.pyramid.level[0].value.data, plane(c)) - reference.b);
   }
-  const Se3 step = motion_step(s);
+  return start;
+}
+
+// A tracked pose whose step from the last moves the map's points further than a video-rate camera can.
+bool too_fast(State& s, const TrackResult& r) {
+  return step_translation_flow(s, r.T_cw * s.T_cw.inverse()) > kMaxStepFlow * (s.cfg.width + s.cfg.height);
+}
+
+// The frame tracked from the motion model's guesses (constant velocity, none, half, double).
+// The constant-velocity guess is tracked first and stands when it fits about as well as the last
+// frame did (as in DSO). Otherwise every guess is ranked at the second-coarsest level (as DSO
+// ranks its motion hypotheses at the coarsest), the best is tracked to the finest, the others
+// only if it fails. (Ranking every guess on every frame was needed while the poses lost their
+// orthonormality and a constant-velocity guess drifted off; it cost a quarter of the VO's time.)
+TrackResult track_from_guesses(State& s, const Se3& step, const BrightnessStart& start) {
   const Se3 half = Se3::exp(0.5 * step.log());
   const Se3 guesses[] = {held_guess(s, step * s.T_cw), held_guess(s, s.T_cw), held_guess(s, half * s.T_cw),
                          held_guess(s, step * step * s.T_cw)};
-  // The constant-velocity guess is tracked first and stands when it fits about as well as the last
-  // frame did (as in DSO). Otherwise every guess is ranked at the second-coarsest level (as DSO
-  // ranks its motion hypotheses at the coarsest), the best is tracked to the finest, the others
-  // only if it fails. (Ranking every guess on every frame was needed while the poses lost their
-  // orthonormality and a constant-velocity guess drifted off; it cost a quarter of the VO's time.)
   TrackResult best;
   bool have = false;
   const std::uint32_t screen_level = s.frame.levels > 2 ? s.frame.levels - 2 : 0;
   constexpr std::size_t kGuesses = sizeof(guesses) / sizeof(guesses[0]);
   std::size_t order[kGuesses] = {0, 1, 2, 3};
   TrackResult screened[kGuesses];
-  const auto too_fast = [&](const TrackResult& r) {
-    return step_translation_flow(s, r.T_cw * s.T_cw.inverse()) > kMaxStepFlow * (c.width + c.height);
-  };
   bool accepted = false;
   if (screen_level > 0) {
-    screened[0] = track_frame(s, guesses[0], a_start, b_start, free, screen_level);
+    screened[0] = track_frame(s, guesses[0], start.a, start.b, start.free, screen_level);
     if (screened[0].ok && s.last_rms > 0) {
-      TrackResult r = track_frame(s, guesses[0], a_start, b_start, free, 0, &screened[0]);
-      if (r.ok && !too_fast(r) && r.rms <= kRetrackRatio * s.last_rms) best = r, have = true, accepted = true;
+      TrackResult r = track_frame(s, guesses[0], start.a, start.b, start.free, 0, &screened[0]);
+      if (r.ok && !too_fast(s, r) && r.rms <= kRetrackRatio * s.last_rms) best = r, have = true, accepted = true;
     }
   }
   if (screen_level > 0 && !accepted) {
     double energy[kGuesses];
     for (std::size_t g = 0; g < kGuesses; ++g) {
-      if (g > 0) screened[g] = track_frame(s, guesses[g], a_start, b_start, free, screen_level);
+      if (g > 0) screened[g] = track_frame(s, guesses[g], start.a, start.b, start.free, screen_level);
       energy[g] = screened[g].ok ? screened[g].mean_energy : 1e30;
     }
     std::sort(order, order + kGuesses, [&](std::size_t x, std::size_t y) { return energy[x] < energy[y]; });
@@ -553,81 +565,90 @@ FrameResult Odometry::process(const FrameInput& in) {
   for (const std::size_t g : order) {
     if (accepted) break;
     // A screened guess continues below the screening level (its coarse levels are not repeated).
-    TrackResult r = track_frame(s, guesses[g], a_start, b_start, free, 0,
+    TrackResult r = track_frame(s, guesses[g], start.a, start.b, start.free, 0,
                                 screen_level > 0 && screened[g].ok ? &screened[g] : nullptr);
-    if (r.ok && too_fast(r)) r.ok = false;
+    if (r.ok && too_fast(s, r)) r.ok = false;
     if (!have || (r.ok && !best.ok) || (r.ok == best.ok && r.rms < best.rms)) best = r, have = true;
     if (best.ok && screen_level > 0) break;
   }
+  return best;
+}
+
+// A held centre the frame cannot be tracked at (the velocity was not the camera's after all, or
+// the turn's smear leaves too few points for the rotation alone): the frame is tracked free, as
+// without the bridge, rather than lost; the hold goes on with the next frame. Returns whether the
+// frame's pose keeps the held centre.
+bool track_free_of_hold(State& s, const Se3& step, const BrightnessStart& start, TrackResult& best) {
   bool held = centre_carried(s);
   if (!best.ok && held) {
-    // A held centre the frame cannot be tracked at (the velocity was not the camera's after all,
-    // or the turn's smear leaves too few points for the rotation alone): the frame is tracked
-    // free, as without the bridge, rather than lost; the hold goes on with the next frame.
     s.bridge.suspended = true;
     for (const Se3& g : {step * s.T_cw, s.T_cw}) {
-      const TrackResult r = track_frame(s, g, a_start, b_start, free, 0);
-      if (r.ok && !too_fast(r) && (!best.ok || r.rms < best.rms)) best = r;
+      const TrackResult r = track_frame(s, g, start.a, start.b, start.free, 0);
+      if (r.ok && !too_fast(s, r) && (!best.ok || r.rms < best.rms)) best = r;
     }
     s.bridge.suspended = false;
     held = !best.ok;
   }
-  out.residual_rms = best.rms;
-  out.tracked_points = best.inliers;
-  if (!best.ok) {
-    ++s.lost_frames;
-    out.state = TrackingState::lost;
-    s.T_cw = (step * s.T_cw).orthonormalised();  // coast on the motion model
-    s.pose_t_s = s.t_s;
-    if (!s.T_cw.R.allFinite() || !s.T_cw.t.allFinite()) s.T_cw = s.last_good, s.motion = Se3();
-    if (s.lost_frames >= kLostFramesBeforeRestart) {
-      // Restart the map here, anchored at the coasted pose.
-      s.lost_frames = 0;
-      s.initialised = false;
-      out.reinitialised = true;
-      s.T_cw = s.last_good;  // the coasted pose is a guess; anchor the new map at the last fix
-      if (!s.T_cw.t.allFinite() || s.T_cw.t.norm() > 1e3) s.T_cw = Se3();
-      start_initialisation(s);
-    }
-    return out;
+  return held;
+}
+
+// A frame no guess tracked: the camera coasts on the motion model, and after
+// kLostFramesBeforeRestart such frames the map restarts at the last tracked pose.
+void coast_lost_frame(State& s, const Se3& step, FrameResult& out) {
+  ++s.lost_frames;
+  out.state = TrackingState::lost;
+  s.T_cw = (step * s.T_cw).orthonormalised();
+  s.pose_t_s = s.t_s;
+  if (!s.T_cw.R.allFinite() || !s.T_cw.t.allFinite()) s.T_cw = s.last_good, s.motion = Se3();
+  if (s.lost_frames >= kLostFramesBeforeRestart) {
+    // Restart the map here, anchored at the coasted pose.
+    s.lost_frames = 0;
+    s.initialised = false;
+    out.reinitialised = true;
+    s.T_cw = s.last_good;  // the coasted pose is a guess; anchor the new map at the last fix
+    if (!s.T_cw.t.allFinite() || s.T_cw.t.norm() > 1e3) s.T_cw = Se3();
+    start_initialisation(s);
   }
+}
+
+// The tracked pose becomes the camera's, with the motion model and the scale bridge's sample.
+void adopt_pose(State& s, const TrackResult& best) {
   s.lost_frames = 0;
   const Se3 pose = best.T_cw.orthonormalised();
   s.last_good = pose;
   const Se3 previous = s.T_cw;
   s.T_cw = pose;
   record_motion(s, previous);
-  out.centre_held = held;
   record_motion_sample(s, previous, s.motion_dt_s);
-  // A frame without its predecessor (tracked on its raw counts) has an unknown gain and offset:
-  // keep the keyframes' brightness. A free offset after a shutter event is the camera's only on a
-  // frame with the reference's level.
+}
+
+// The tracked brightness becomes the frame's, and a shutter event's step response gives tau.
+// A frame without its predecessor (tracked on its raw counts) has an unknown gain and offset:
+// the keyframes' brightness is kept. A free offset after a shutter event is the camera's only on
+// a frame with the reference's level.
+void adopt_brightness(State& s, const FrameInput& in, const TrackResult& best, const Keyframe& reference,
+                      const BrightnessStart& start, FrameResult& out) {
+  const bool ir = uses_carry_model(s.cfg);
   if (!(ir && !s.chain_ok)) {
     s.a = best.a, s.b = best.b;
-    s.brightness_level_unknown = level_unknown;
-    if (!level_unknown) {
+    s.brightness_level_unknown = start.level_unknown;
+    if (!start.level_unknown) {
       if (s.offset_pending) s.offset_step = best.b - reference.b;
       s.offset_pending = false;
     }
   }
-  if (shutter_step && c.estimate_tau) {
+  if (start.shutter_step && s.cfg.estimate_tau) {
     // The step response's contrast against the tracking reference.
     const double gain = std::exp(best.a - reference.a);
     const double tau = tau_from_shutter_step_gain(gain, in.exposure_s, reference.readout_prev_s, reference.exposure_s);
     if (take_shutter_measurement(s, tau)) out.shutter_tau_s = tau;
   }
-  out.state = TrackingState::tracking;
-  out.has_pose = true;
-  s.posed = true;
+}
 
-  if (ir && c.estimate_tau) {
-    refine_tau(s);
-  }
-  follow_map_baseline(s);
-  search_immature_points(s, depth_search_margin(s));
-
-  // Keyframe: enough parallax, a large rotation, or the tracked points thinning out; never two
-  // in a row unless tracking is about to starve.
+// Keyframe: enough parallax, a large rotation, or the tracked points thinning out; never two in a
+// row unless tracking is about to starve. Returns whether one was made (then bundle-adjusted).
+bool keyframe_if_due(State& s, const TrackResult& best, double frame_dt_s) {
+  const VoConfig& c = s.cfg;
   double flow_t = 0, flow_rt = 0;
   std::uint32_t kf_points = 0;
   keyframe_flow(s, flow_t, flow_rt, kf_points);
@@ -643,24 +664,68 @@ FrameResult Odometry::process(const FrameInput& in) {
   // Spaced by 3 frames, or by the time 3 frames take at 30 Hz: at 9 Hz 3 frames are a third of a
   // second, over which a car has driven 3 m and the tracked points have left the keyframe.
   const bool spaced = s.frames_since_kf >= 3 || (s.frames_since_kf >= 1 && s.since_kf_s >= kMinKeyframeSpacingS - 1e-6);
-  if ((want && spaced) || (starving && s.frames_since_kf >= 2)) {
-    if (!ir || s.chain_ok) {
-      // As in DSO, immature points join the map only with a new keyframe, right before the
-      // bundle adjustment refines them with everything else.
-      // On a map that began as a rotation, while the camera still only turns, the tracked points
-      // leave the view at the turn's rate (a 9 Hz pan at 30 deg/s takes 30-40 of them a frame),
-      // and the rotation's points are all the map can get: the count the next keyframe would
-      // track decides. (Not on a map with depths: there the same rule costs scale in the
-      // look-arounds of walks.)
-      activate_mature_points(s, s.map_without_baseline ? tracked_at_next_keyframe(s, best.inliers) : best.inliers);
-      const std::uint32_t slot = new_keyframe_slot(s);
-      make_keyframe(s, slot, true);
-      if (c.window_ba && s.kf_count >= 2) window_bundle_adjustment(s);
-      out.keyframe = true;
-      s.frames_since_kf = 0;
-      s.since_kf_s = 0;
-    }
+  if (!((want && spaced) || (starving && s.frames_since_kf >= 2))) return false;
+  if (uses_carry_model(c) && !s.chain_ok) return false;
+  // As in DSO, immature points join the map only with a new keyframe, right before the bundle
+  // adjustment refines them with everything else.
+  // On a map that began as a rotation, while the camera still only turns, the tracked points
+  // leave the view at the turn's rate (a 9 Hz pan at 30 deg/s takes 30-40 of them a frame), and
+  // the rotation's points are all the map can get: the count the next keyframe would track
+  // decides. (Not on a map with depths: there the same rule costs scale in the look-arounds of
+  // walks.)
+  activate_mature_points(s, s.map_without_baseline ? tracked_at_next_keyframe(s, best.inliers) : best.inliers);
+  const std::uint32_t slot = new_keyframe_slot(s);
+  make_keyframe(s, slot, true);
+  if (c.window_ba && s.kf_count >= 2) window_bundle_adjustment(s);
+  s.frames_since_kf = 0;
+  s.since_kf_s = 0;
+  return true;
+}
+
+}  // namespace
+
+FrameResult Odometry::process(const FrameInput& in) {
+  FrameResult out;
+  if (!state_) return out;
+  State& s = *state_;
+  s.retired_count = 0;
+  const bool chain_broken = in.chain_broken || in.shutter_event;
+  if (s.have_prev && !chain_broken && repeats(in.raw.first(plane(s.cfg)), s.raw)) {
+    // Processed as a frame it would pose the camera where it was a frame ago, at the new time,
+    // and pair two identical frames as carry-over.
+    s.predecessor_missing = true;
+    out.state = TrackingState::duplicate;
+    out.tau = s.tau;
+    return out;
   }
+  const double frame_dt_s = s.have_prev ? in.t_s - s.t_s : 0.0;
+  const bool after_repeat = load_frame(s, in, chain_broken);
+  write_tracking_image(s, in);
+  out.tau = s.tau;
+  if (!s.initialised) return initialisation_frame(s, after_repeat, frame_dt_s, out);
+
+  const Keyframe& reference = s.kf[s.order[s.kf_count - 1]];  // the tracking reference
+  const BrightnessStart start = brightness_start(s, in, reference);
+  const Se3 step = motion_step(s);
+  TrackResult best = track_from_guesses(s, step, start);
+  const bool held = track_free_of_hold(s, step, start, best);
+  out.residual_rms = best.rms;
+  out.tracked_points = best.inliers;
+  if (!best.ok) {
+    coast_lost_frame(s, step, out);
+    return out;
+  }
+  adopt_pose(s, best);
+  out.centre_held = held;
+  adopt_brightness(s, in, best, reference, start, out);
+  out.state = TrackingState::tracking;
+  out.has_pose = true;
+  s.posed = true;
+
+  if (uses_carry_model(s.cfg) && s.cfg.estimate_tau) refine_tau(s);
+  follow_map_baseline(s);
+  search_immature_points(s, depth_search_margin(s));
+  out.keyframe = keyframe_if_due(s, best, frame_dt_s);
   update_bridge(s, out.keyframe);
   out.T_wc = s.T_cw.inverse();
   out.tau = s.tau;

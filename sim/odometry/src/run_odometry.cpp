@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bolo/core/frame_collector.hpp"
+#include "bolo/firmware/carry_over_rule.hpp"
 #include "bolo/firmware/two_frame_corrector.hpp"
 #include "bolo/odometry/align.hpp"
 #include "bolo/odometry/pinhole_remap.hpp"
@@ -31,7 +32,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The frames the VO runs over: a recording's, read as they are needed, or a live source's.
+// The frames the VO runs over: a recording's, read as they are needed, or a live source's (read
+// through hal::FrameReader by the caller). A recording is not read through the HAL: the VO needs
+// the whole run's median frame interval before its first frame, --reverse reads it last to first,
+// and the VO's times are frames.csv's seconds as written (a FrameHeader rounds them to ns).
 struct Input {
   std::string name;  // the recording folder or the spec, as errors and summary.json name it
   fs::path csv;      // what errors about a frame's row name: frames.csv, or the spec
@@ -184,6 +188,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   for (std::uint64_t i = 1; i < frames; ++i) intervals.push_back(*rows[i].t_s - *rows[i - 1].t_s);
   std::sort(intervals.begin(), intervals.end());
   const double period = intervals.empty() ? 0.0 : intervals[intervals.size() / 2];
+  const std::uint64_t period_ns = static_cast<std::uint64_t>(std::llround(period * 1e9));
 
   OdometrySummary summary;
   summary.ir_on_tone_mapped = ir && input.units == rec::Units::counts8;
@@ -259,6 +264,19 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   const auto vo_time = [&](std::uint64_t j) {
     return options.reverse ? *rows[0].t_s + *rows[frames - 1].t_s - *rows[j].t_s : *rows[j].t_s;
   };
+  // The header of the frame fed i-th as the VO gets it: reversed, counted and timed in the order
+  // fed, with the shutter flag of the later of it and the frame fed before (the event lies between).
+  const auto fed_header = [&](std::uint64_t i) {
+    const std::uint64_t j = frame_of(i);
+    fw::FrameHeader header = rec::header_from_row(rows[j], w, h, csv);
+    if (options.reverse) {
+      header.sequence = i;
+      header.timestamp_ns = std::llround(vo_time(j) * 1e9);
+      if (i > 0) header.ffc = rec::header_from_row(rows[frame_of(i - 1)], w, h, csv).ffc;
+    }
+    return header;
+  };
+  fw::FrameHeader previous_header;
   for (std::uint64_t i = 0; i < frames; ++i) {
     const std::uint64_t j = frame_of(i), before = i > 0 ? frame_of(i - 1) : j;
     if (remap.identity()) {
@@ -273,9 +291,11 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     in.t_s = vo_time(j);
     in.exposure_s = timing[j].exposure_s;
     in.readout_prev_s = i > 0 ? timing[before].readout_s : 0.0;
-    // A shutter event lies between a frame and the one before it in time, whichever is fed first.
-    in.shutter_event = i > 0 && rows[std::max(j, before)].ffc.value_or(false);
-    in.chain_broken = i == 0 || in.shutter_event || (period > 0 && in.t_s - vo_time(before) > 1.5 * period);
+    // The carry-over chain breaks where the corrector's does (a shutter event, a gap in time).
+    fw::FrameHeader header = fed_header(i);
+    in.shutter_event = i > 0 && header.ffc == fw::FfcState::completed;
+    in.chain_broken = i == 0 || fw::carry_over_between(previous_header, header, period_ns) != fw::CarryOver::applied;
+    previous_header = header;
     // A repeated frame is skipped by the VO; the corrector does not see it either, so the frame
     // sequence it gets has a gap and it restarts its carry-over chain after it.
     const bool repeated = !in.chain_broken && raw == previous_raw;
@@ -283,8 +303,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     if (options.photometric == vo::Photometric::ir_loop && !repeated) {
       const vo::Tau tau = odometry.tau();
       corrector.set_time_constants({to_ns(tau.h), to_ns(tau.c)});
-      // The row's header with the timing resolved above (assumed where frames.csv has none).
-      fw::FrameHeader header = rec::header_from_row(row, w, h, csv);
+      // The frame's header with the timing resolved above (assumed where frames.csv has none).
       header.exposure_ns = to_ns(in.exposure_s);
       header.readout_ns = to_ns(timing[j].readout_s);
       corrector.begin_frame(header);

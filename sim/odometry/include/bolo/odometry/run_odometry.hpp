@@ -2,7 +2,8 @@
 // Runs the VO core over a recording, or over frames a caller read from another source and holds in
 // memory (the host side of `bolo odometry`): feeds raw frames
 // (resampled onto a pinhole first when camera.json has lens distortion, pinhole_remap.hpp) with
-// their timing and carry-over chain state, runs the firmware corrector in front for ir-loop with
+// their timing and carry-over chain state (broken where the corrector's rule breaks it,
+// bolo/firmware/carry_over_rule.hpp), runs the firmware corrector in front for ir-loop with
 // the VO's current tau, and writes trajectory.tum, stats.csv, points.ply, trajectory.svg and
 // summary.json into the output folder (temporary folder + rename).
 
