@@ -32,17 +32,28 @@ std::vector<SpecOption> parse_spec_options(const std::string& text) {
   return options;
 }
 
+std::string unexpected_option(const SpecOption& option, const std::string& expected) {
+  std::string text = "'";
+  text += option.key;
+  text += '=';
+  text += option.value;
+  text += "': expected ";
+  text += expected;
+  return text;
+}
+
 GpioConfig parse_gpio_spec(const std::string& text) {
   GpioConfig c;
   const std::size_t colon = text.find(':');
   c.chip = text.substr(0, colon);
   if (c.chip.empty()) throw std::invalid_argument("expected CHIP:sync=N,shutter=N,imminent=N");
   if (colon == std::string::npos) throw std::invalid_argument("no lines given (sync=N, shutter=N, imminent=N)");
-  for (const auto& [key, value] : parse_spec_options(text.substr(colon + 1))) {
+  for (const SpecOption& option : parse_spec_options(text.substr(colon + 1))) {
+    const auto& [key, value] = option;
     if (key == "sync") c.sync_line = line_number(key, value);
     else if (key == "shutter") c.shutter_line = line_number(key, value);
     else if (key == "imminent") c.ffc_imminent_line = line_number(key, value);
-    else throw std::invalid_argument("'" + key + "=" + value + "': expected sync=N, shutter=N or imminent=N");
+    else throw std::invalid_argument(unexpected_option(option, "sync=N, shutter=N or imminent=N"));
   }
   return c;
 }

@@ -37,10 +37,10 @@ V4l2Config v4l2_config_of(const std::string& argument) {
   const std::size_t question = argument.find('?');
   V4l2Config config{.path = argument.substr(0, question)};
   if (question == std::string::npos) return config;
-  for (const auto& [key, value] : parse_spec_options(argument.substr(question + 1))) {
-    if (key != "format") throw std::invalid_argument("'" + key + "=" + value + "': expected format=Y16|GREY|YUYV|UYVY");
-    config.pixels = v4l2_pixels_named(value);
-    if (!config.pixels) throw std::invalid_argument("format=" + value + ": expected Y16, GREY, YUYV or UYVY");
+  for (const SpecOption& option : parse_spec_options(argument.substr(question + 1))) {
+    if (option.key != "format") throw std::invalid_argument(unexpected_option(option, "format=Y16|GREY|YUYV|UYVY"));
+    config.pixels = v4l2_pixels_named(option.value);
+    if (!config.pixels) throw std::invalid_argument("format=" + option.value + ": expected Y16, GREY, YUYV or UYVY");
   }
   return config;
 }

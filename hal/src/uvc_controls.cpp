@@ -130,7 +130,7 @@ bool is_purethermal_node(const std::string& node, const std::filesystem::path& s
 }
 
 std::function<bool()> v4l2_shutter_command(const std::string& node, bool purethermal,
-                                           std::shared_ptr<UvcExtensionUnit> xu) {
+                                           const std::shared_ptr<UvcExtensionUnit>& xu) {
   if (!purethermal || !xu) return {};
   auto lepton = std::make_shared<PureThermalControls>(node, *xu);
   return [lepton, xu] { return lepton->run_ffc(); };

@@ -36,10 +36,10 @@ void Y16Frame::image_row(std::uint32_t row, std::span<std::uint16_t> out) const 
       for (std::uint32_t x = 0; x < n; ++x) out[x] = line[x];
       break;
     case V4l2Pixels::yuyv:  // Y0 U Y1 V: luma at even bytes
-      for (std::uint32_t x = 0; x < n; ++x) out[x] = line[std::size_t{x} * 2];
+      for (std::uint32_t x = 0; x < n; ++x) out[x] = line[2 * static_cast<std::size_t>(x)];
       break;
     case V4l2Pixels::uyvy:  // U Y0 V Y1: luma at odd bytes
-      for (std::uint32_t x = 0; x < n; ++x) out[x] = line[std::size_t{x} * 2 + 1];
+      for (std::uint32_t x = 0; x < n; ++x) out[x] = line[2 * static_cast<std::size_t>(x) + 1];
       break;
   }
 }

@@ -16,6 +16,8 @@ struct SpecOption {
 };
 // "k=v,k2=v2" in order ("" gives none; a bare "k" has an empty value); an item without a key throws.
 std::vector<SpecOption> parse_spec_options(const std::string& text);
+// The refusal of an option a spec does not take: "'key=value': expected EXPECTED".
+std::string unexpected_option(const SpecOption& option, const std::string& expected);
 
 GpioConfig parse_gpio_spec(const std::string& text);
 // Whether this build has the backend (libusb / libgpiod found at configure time).

@@ -89,7 +89,7 @@ bool is_purethermal_node(const std::string& node, const std::filesystem::path& s
 // The shutter command a V4L2 camera offers: Lepton SYS Run FFC through `xu` on a PureThermal,
 // none on another camera. `xu` is kept alive by the function.
 std::function<bool()> v4l2_shutter_command(const std::string& node, bool purethermal,
-                                           std::shared_ptr<UvcExtensionUnit> xu);
+                                           const std::shared_ptr<UvcExtensionUnit>& xu);
 
 // What `bolo devices` shows of a V4L2 camera: its controls and, on a PureThermal (`lepton` given),
 // the FPA and housing (AUX) temperatures read through the extension unit.
