@@ -37,6 +37,8 @@ void GpioSyncedSource::mark(fw::FrameHeader& header) {
     marks_.after_shutter = true;
     header.ffc = fw::FfcState::completed;
     shutter_pending_ = false;
+  } else if (marks_.ffc_imminent && !fw::shutter_event(header.ffc)) {
+    header.ffc = fw::FfcState::imminent;  // the line announces an event; the source saw none here
   }
   if (header.timestamp_valid) {
     for (std::size_t i = 0; i < edge_count_; ++i) {

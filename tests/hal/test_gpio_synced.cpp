@@ -120,7 +120,7 @@ TEST_CASE("gpio: extra counters are the inner source's, then the GPIO ones", "[h
   CHECK(extra.items()[2].value == 1);
 }
 
-TEST_CASE("gpio: shutter on request marks the next frame, FFC-imminent frames are marked", "[hal][gpio]") {
+TEST_CASE("gpio: shutter on request marks the next frame, FFC-imminent frames are marked in the header", "[hal][gpio]") {
   FakeLines lines;
   TimedFrames frames({1, 2, 3, 4});
   hal::GpioSyncedSource source(frames, lines);
@@ -130,6 +130,7 @@ TEST_CASE("gpio: shutter on request marks the next frame, FFC-imminent frames ar
   lines.imminent = true;
   REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);
   CHECK(source.last_marks().ffc_imminent);
+  CHECK(sink.header().ffc == fw::FfcState::imminent);  // into the header, as a core's telemetry would put it
   CHECK(source.request_shutter());
   lines.imminent = false;
   REQUIRE(source.stream_frame(sink) == hal::StreamStatus::frame);

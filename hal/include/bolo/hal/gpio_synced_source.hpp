@@ -1,8 +1,9 @@
 #pragma once
 // Any FrameSource with the camera's GPIO lines beside it: each delivered frame is matched to the
 // latest frame-sync edge at or before its timestamp (sync-to-frame latency), marked when the
-// "FFC imminent" input was active, and a shutter triggered on request makes the next frame an
-// FFC frame (FrameHeader::ffc = completed). Board-safe: no allocation after construction.
+// "FFC imminent" input was active (FrameHeader::ffc = imminent unless the frame shows an event),
+// and a shutter triggered on request makes the next frame an FFC frame (FrameHeader::ffc =
+// completed). Board-safe: no allocation after construction.
 
 #include <cstdint>
 
