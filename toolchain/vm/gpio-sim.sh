@@ -17,11 +17,7 @@ source "$here/kernel-cache.sh"
 hil_module_start "$arch" gpio-sim
 hil_module_cached gpio-sim.ko kver && exit 0
 
-series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"  # 6.1
-root="$cache/$arch/kbuild-$kver"
-rm -rf "$root" "$out"
-mkdir -p "$root" "$out"
-headers="$(hil_kbuild_tree "$arch" "$cache" "$kver" "$root")"
+hil_module_kbuild
 
 sources="$(hil_kernel_sources "$cache" "$series")"
 cp "$sources"/drivers/gpio/gpiolib*.h "$sources/kernel/irq/irq_sim.c" "$out/"
@@ -32,5 +28,5 @@ sed -i 's/handle_simple_irq(irq_to_desc(irqnum));/generic_handle_irq(irqnum);/' 
 printf 'obj-m := gpio-sim.o\ngpio-sim-y := gpio-sim-main.o irq_sim.o\n' >"$out/Kbuild"
 make -s -C "$headers" M="$out" "${HIL_MAKE_ARGS[@]}" modules >&2
 echo "$kver" >"$out/kver"
-rm -rf "$root"  # the unpacked headers/kbuild (~300 MB); the .debs stay in the cache
+rm -rf "$module_root"
 echo "$out/gpio-sim.ko"

@@ -128,8 +128,8 @@ hil_module_make_args() {
 
 # The common start of an out-of-tree module script (gpio-sim.sh, uvc-gadget.sh, v4l2loopback.sh)
 # for ARCH: sets cache (BOLO_HIL_CACHE), HIL_MAKE_ARGS, kver (the VM kernel's version), out
-# ($cache/ARCH/NAME, the module's folder) and stamp (kver, then EXTRA if given: what a cached
-# module must have been built for). Called as a plain command, so that set -e stops on its errors.
+# ($cache/ARCH/NAME, the module's folder), stamp (kver, then EXTRA if given: what a cached
+# module must have been built for) and series (6.1). Called as a plain command, so that set -e stops on its errors.
 hil_module_start() {
   local arch="$1" name="$2" extra="${3:-}"
   cache="${BOLO_HIL_CACHE:-$HOME/.cache/bolo-hil}"
@@ -139,6 +139,17 @@ hil_module_start() {
   kver="$(cat "$kernel_dir/version")"  # e.g. 6.1.0-56-amd64
   out="$cache/$arch/$name"
   stamp="$kver${extra:+ $extra}"
+  series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"  # 6.1
+  module_arch="$arch"
+  module_root="$cache/$arch/kbuild-$name-$kver"
+}
+
+# After hil_module_start, for a module that is not cached: empties out, unpacks the kbuild tree
+# into module_root (the script removes it when done: ~300 MB) and sets headers to build against.
+hil_module_kbuild() {
+  rm -rf "$module_root" "$out"
+  mkdir -p "$module_root" "$out"
+  headers="$(hil_kbuild_tree "$module_arch" "$cache" "$kver" "$module_root")"
 }
 
 # Prints out/MODULE and succeeds when it is cached with hil_module_start's stamp in out/STAMP_FILE.

@@ -19,11 +19,7 @@ source "$here/kernel-cache.sh"
 hil_module_start "$arch" raw-gadget
 hil_module_cached raw_gadget.ko kver && exit 0
 
-series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"  # 6.1
-root="$cache/$arch/kbuild-raw-$kver"
-rm -rf "$root" "$out"
-mkdir -p "$root" "$out"
-headers="$(hil_kbuild_tree "$arch" "$cache" "$kver" "$root")"
+hil_module_kbuild
 
 cp "$(hil_kernel_sources "$cache" "$series")/drivers/usb/gadget/legacy/raw_gadget.c" "$out/"
 if grep -h '^#include "' "$out/raw_gadget.c"; then
@@ -33,5 +29,5 @@ fi
 printf 'obj-m := raw_gadget.o\n' >"$out/Kbuild"
 make -s -C "$headers" M="$out" "${HIL_MAKE_ARGS[@]}" modules >&2
 echo "$kver" >"$out/kver"
-rm -rf "$root"  # the unpacked headers/kbuild (~300 MB); the .debs stay in the cache
+rm -rf "$module_root"
 echo "$out/raw_gadget.ko"

@@ -20,11 +20,7 @@ patch_file="$here/uvc-gadget-bulk.patch"
 source "$here/kernel-cache.sh"
 hil_module_start "$arch" uvc-gadget "$(sha256sum "$patch_file" | cut -c1-16)"
 hil_module_cached usb_f_uvc.ko stamp && exit 0
-series="${kver%%.*}.$(echo "$kver" | cut -d. -f2)"  # 6.1
-root="$cache/$arch/kbuild-uvc-$kver"
-rm -rf "$root" "$out"
-mkdir -p "$root" "$out"
-headers="$(hil_kbuild_tree "$arch" "$cache" "$kver" "$root")"
+hil_module_kbuild
 
 src="$(hil_kernel_sources "$cache" "$series")/drivers/usb/gadget/function"
 files=(f_uvc.c f_uvc.h u_uvc.h uvc.h uvc_configfs.c uvc_configfs.h uvc_queue.c uvc_queue.h
@@ -42,5 +38,5 @@ make -s -C "$headers" M="$out" "${HIL_MAKE_ARGS[@]}" modules >&2
 modinfo -F parm "$out/usb_f_uvc.ko" | grep -q '^bulk_payload:' ||
   { echo "uvc-gadget: the built module has no bulk_payload parameter" >&2; exit 1; }
 echo "$stamp" >"$out/stamp"
-rm -rf "$root"  # the unpacked headers/kbuild (~300 MB); the .debs stay in the cache
+rm -rf "$module_root"
 echo "$out/usb_f_uvc.ko"

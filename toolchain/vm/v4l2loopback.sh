@@ -16,16 +16,13 @@ source "$here/kernel-cache.sh"
 hil_module_start "$arch" v4l2loopback
 hil_module_cached v4l2loopback.ko kver && exit 0
 
-root="$cache/$arch/kbuild-v4l2loopback-$kver"
-rm -rf "$root" "$out"
-mkdir -p "$root" "$out"
-headers="$(hil_kbuild_tree "$arch" "$cache" "$kver" "$root")"
-hil_fetch_deb v4l2loopback-dkms "$root/dkms" "$cache" >&2
-src="$(ls -d "$root"/dkms/usr/src/v4l2loopback-*/ | head -1)"
+hil_module_kbuild
+hil_fetch_deb v4l2loopback-dkms "$module_root/dkms" "$cache" >&2
+src="$(ls -d "$module_root"/dkms/usr/src/v4l2loopback-*/ | head -1)"
 [ -f "$src/v4l2loopback.c" ] || { echo "v4l2loopback: no v4l2loopback.c in the v4l2loopback-dkms package" >&2; exit 1; }
 cp "$src"/*.c "$src"/*.h "$out/"
 printf 'obj-m := v4l2loopback.o\n' >"$out/Kbuild"
 make -s -C "$headers" M="$out" "${HIL_MAKE_ARGS[@]}" modules >&2
 echo "$kver" >"$out/kver"
-rm -rf "$root"  # the unpacked headers/kbuild; the .debs stay in the cache
+rm -rf "$module_root"
 echo "$out/v4l2loopback.ko"
