@@ -204,12 +204,7 @@ TEST_CASE("lepton FFC states through a V4L2 stream: the corrector breaks the car
   V4l2BufferStream stream(Y16Layout{80, 60, 3, 0});
   SourceStats st;
   bolo::test::HashingCollector out(80, 60);
-  bolo::fw::CorrectorConfig config;
-  config.width = 80;
-  config.height = 60;
-  config.tau = {12'000'000, 12'000'000};
-  config.default_exposure_ns = 10'000'000;
-  config.default_readout_ns = 6'000'000;
+  const bolo::fw::CorrectorConfig config = bolo::test::lepton_corrector_config(80, 60);
   std::vector<bolo::fw::Pixel> storage(bolo::fw::TwoFrameCorrector::storage_pixels(80, 60));
   bolo::fw::TwoFrameCorrector corrector(config, storage, out);
   using L = LeptonFfcState;

@@ -239,12 +239,7 @@ TEST_CASE("v4l2 buffers: the frame after frames the camera skipped is not correc
   V4l2BufferStream stream(Y16Layout{160, 120, 2, 320});
   SourceStats st;
   bolo::test::HashingCollector out(160, 120);
-  bolo::fw::CorrectorConfig config;
-  config.width = 160;
-  config.height = 120;
-  config.tau = {12'000'000, 12'000'000};
-  config.default_exposure_ns = 10'000'000;
-  config.default_readout_ns = 6'000'000;
+  const bolo::fw::CorrectorConfig config = bolo::test::lepton_corrector_config(160, 120);
   std::vector<bolo::fw::Pixel> storage(bolo::fw::TwoFrameCorrector::storage_pixels(160, 120));
   bolo::fw::TwoFrameCorrector corrector(config, storage, out);
   std::vector<std::uint64_t> sequence;
