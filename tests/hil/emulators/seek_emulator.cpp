@@ -217,6 +217,8 @@ void serve_ep0(FunctionFs& ffs, Link& link) {
         }
       }
       const Bytes data = ffs.accept_setup(r.wLength);
+      // A data stage cut short by an unplug (the emulator's own disconnect fault) is no request to judge.
+      if (data.size() != r.wLength) continue;
       std::lock_guard lock(link.mutex);
       const Expected* e = expected_step(link);
       const std::uint32_t pixels = link.layout->pixels();
