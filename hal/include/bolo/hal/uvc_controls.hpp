@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bolo/hal/device_spec.hpp"
 #include "bolo/hal/purethermal_xu.hpp"
 
 namespace bolo::hal {
@@ -69,6 +70,9 @@ class PureThermalControls {
   // SYS Run FFC: the shutter closes and the core recalibrates. False when refused (last_error()).
   bool run_ffc() { return set(kLeptonRunFfc, 0); }
   bool set(const LeptonXuCommand& command, std::uint32_t value);
+  // SET_CUR of each setting given: gain mode, radiometry, AGC, in that order. False at the first
+  // refusal (last_error()); the ones before it stay set.
+  bool apply(const LeptonSettings& settings);
   // GET_CUR decoded (purethermal_xu.hpp); nothing when refused or unreadable (last_error()).
   std::optional<std::int32_t> get(const LeptonXuCommand& command);
   const std::string& last_error() const { return last_error_; }
