@@ -9,7 +9,11 @@
 # recording is there: `bolo capture --device v4l2:/dev/videoN` of the recording played once must
 # hold exactly its pixels; 6) the real-camera check (`hil_uvc_hal --real`, no send log): passes a
 # clean stream, fails one with short frames; 7) where v4l2loopback is built, `bolo run` from the
-# camera into it, read back bit for bit against `bolo correct` of the recording.
+# camera into it, read back bit for bit against `bolo correct` of the recording; 8) the Lepton
+# command interface over the extension units (hil_uvc_xu: detection by descriptors, temperatures,
+# gain mode / radiometry / AGC from a v4l2: spec read back, the source's shutter = SYS Run FFC in
+# the stream at the frame the emulator put it in; the emulator refused nothing), and a board that
+# refuses every extension-unit request must fail it.
 # BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 3000 on x86-64, 2000 on arm64; 10000 for the endurance run) sets the clean run's length; the fault
 # run streams a quarter of it.
 # device: v4l2
@@ -137,5 +141,34 @@ if [ -x ./bolo ] && [ -x ./hil_loopback_reader ] && [ -n "$recording" ]; then
     wait $emulator
   fi
   echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+fi
+# 8) The Lepton command interface (60 frames, the FFC requested before frame 20), then the same
+# against an emulator told to refuse: hil_uvc_xu must fail and the emulator must have refused.
+if [ -x ./hil_uvc_xu ]; then
+  for name in uvc_xu uvc_xu_refused; do
+    echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
+    refuse=""
+    [ "$name" = uvc_xu_refused ] && refuse=--refuse-xu
+    ./uvc_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" --done "/tmp/$name.done" \
+      --finished "/tmp/$name.finished" --credit "/tmp/$name.progress:3" --xu-log "/tmp/$name.xu" \
+      --frames 60 $refuse &
+    emulator=$!
+    if [ -z "$refuse" ]; then
+      ./hil_uvc_xu --xu-log "/tmp/$name.xu" --frames 60 --shutter-at 20 --progress "/tmp/$name.progress" || failed=1
+    elif ./hil_uvc_xu --xu-log "/tmp/$name.xu" --frames 60 --shutter-at 20 --progress "/tmp/$name.progress"; then
+      echo "HIL-STEP $name: the Lepton check passed a board that refuses its commands"; failed=1
+    fi
+    touch "/tmp/$name.finished"
+    wait $emulator || [ -n "$refuse" ] || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+    summary="$(grep '^xu ' "/tmp/$name.xu")"
+    echo "HIL-STEP $name: emulator $summary"
+    case "$refuse:$summary" in
+      :*" refused 0 "*" ffc 1") ;;
+      --refuse-xu:*" refused 0 "*) echo "HIL-STEP $name: the emulator refused nothing"; failed=1 ;;
+      --refuse-xu:*) ;;
+      *) echo "HIL-STEP $name: want refused 0, ffc 1"; failed=1 ;;
+    esac
+    echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+  done
 fi
 exit $failed
