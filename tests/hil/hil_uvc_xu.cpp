@@ -9,8 +9,8 @@
 //    capture --device` opens it) has set them: read back 1, 0, 1;
 // 4) streaming from it, the source's shutter (SYS Run FFC) requested before frame K shows as the
 //    one FFC in the frame headers, in the frame the emulator says it put it in (its --xu-log
-//    "ffc INDEX COUNTER", matched by telemetry counter), K <= INDEX <= K + 8 (the frames already
-//    made: the emulator runs with --credit 3, below the source's 4 buffers), no frame dropped.
+//    "ffc INDEX COUNTER", matched by telemetry counter), K <= INDEX <= K + 16 (frames made before
+//    the emulator took the request: its --credit 3 and a batch of its buffers), no frame dropped.
 // Any refusal fails with the HAL's message (exit 1): an emulator told to refuse must fail it.
 //
 //   hil_uvc_xu --xu-log FILE --frames N --shutter-at K [--progress FILE] [--device /dev/videoN]
@@ -210,7 +210,7 @@ int main(int argc, char** argv) {
       // By the telemetry counter: uvcvideo may swap two frames' order under load.
       expect(seen[0] == sent[0].second, "FFC in the frame of counter " + std::to_string(seen[0]) +
                                             ", the emulator put it in counter " + std::to_string(sent[0].second));
-      expect(sent[0].first >= shutter_at && sent[0].first <= shutter_at + 8,
+      expect(sent[0].first >= shutter_at && sent[0].first <= shutter_at + 16,
              "FFC in frame " + std::to_string(sent[0].first) + ", requested before frame " + std::to_string(shutter_at));
     }
     std::uint32_t highest = 0;

@@ -257,7 +257,9 @@ class Emulator {
     }
   }
 
+  // uvcvideo's probes of the standard controls at each enumeration are left out.
   void report() {
+    if (lepton_.last_was_standard()) return;
     std::printf("uvc_emulator: %s\n", lepton_.last().c_str());
     std::fflush(stdout);
   }

@@ -86,7 +86,8 @@ std::uint32_t LeptonXu::current(const hal::LeptonXuCommand& c) const {
 
 bool LeptonXu::refuse(std::uint8_t unit, std::uint8_t selector, RequestError why, const char* request) {
   error_ = why;
-  ++(standard_entity(unit) ? refused_other_ : refused_);
+  last_standard_ = standard_entity(unit);
+  ++(last_standard_ ? refused_other_ : refused_);
   last_ = std::string(request) + " " + where(unit, selector) + ": refused (error code " +
           std::to_string(static_cast<int>(why)) + ")";
   return false;
@@ -96,7 +97,7 @@ std::optional<std::vector<std::uint8_t>> LeptonXu::get(std::uint8_t request, std
                                                        std::uint8_t selector, std::uint16_t length) {
   const std::string name = request_name(request);
   if (unit == 0 && selector == kRequestErrorCodeControl && (request == kGetCur || request == kGetInfo)) {
-    // Reading the code leaves it as it is (the next request sets it).
+    // Reading the code leaves it as it is (the next request sets it), and who it concerned.
     last_ = name + " request error code: " + std::to_string(static_cast<int>(error_));
     return little_endian(request == kGetCur ? static_cast<std::uint8_t>(error_) : kInfoGet, 1, length);
   }
@@ -133,6 +134,7 @@ std::optional<std::vector<std::uint8_t>> LeptonXu::get(std::uint8_t request, std
       return std::nullopt;
   }
   error_ = RequestError::none;
+  last_standard_ = false;
   ++answered_;
   last_ = name + " " + c->name + " " + where(unit, selector) + ": " + std::to_string(value);
   return little_endian(value, request == kGetLen ? 2 : request == kGetInfo ? 1 : size, length);
@@ -167,6 +169,7 @@ void LeptonXu::set(std::uint8_t unit, std::uint8_t selector, std::span<const std
     values_[c->command_id] = value;
   }
   error_ = RequestError::none;
+  last_standard_ = false;
   ++answered_;
   last_ = std::string("SET_CUR ") + c->name + " " + where(unit, selector) + ": " +
           (c->value == hal::LeptonValue::none ? std::string("run") : std::to_string(values_[c->command_id]));

@@ -49,6 +49,8 @@ class LeptonXu {
   std::uint64_t refused_other() const { return refused_other_; }
   // What the last request got, e.g. "GET_CUR SYS gain mode (unit 6, selector 19): 1".
   const std::string& last() const { return last_; }
+  // Whether it was uvcvideo probing a standard control (or reading the error code after one).
+  bool last_was_standard() const { return last_standard_; }
 
  private:
   const hal::LeptonXuCommand* command(std::uint8_t unit, std::uint8_t selector) const;
@@ -62,6 +64,7 @@ class LeptonXu {
   std::uint64_t ffc_runs_ = 0, answered_ = 0, refused_ = 0, refused_other_ = 0;
   RequestError error_ = RequestError::none;
   std::string last_;
+  bool last_standard_ = false;
 };
 
 // The request's name as UVC 1.1 table A-8 spells it ("GET_CUR"), "request 0xNN" for another.

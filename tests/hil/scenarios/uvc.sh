@@ -6,8 +6,9 @@
 # 1) 160x122 without faults, FFC every 100 frames: none lost, every image and telemetry counter
 # bit-exact, every FFC seen; 2) 160x120 (no telemetry rows); 3) 1 % faults, drawn among short frame,
 # duplicate, silence; 4) unplug/replug (2 % of 300 frames); 5) where the CLI is built and the
-# recording is there: `bolo capture --device v4l2:/dev/videoN` of the recording played once must
-# hold exactly its pixels; 6) the real-camera check (`hil_uvc_hal --real`, no send log): passes a
+# recording is there: `bolo capture --device v4l2:/dev/videoN --shutter-at 80` of the recording
+# played once must hold exactly its pixels, and its frames.csv one FFC, in the frame the emulator
+# ran the Lepton Run FFC into; 6) the real-camera check (`hil_uvc_hal --real`, no send log): passes a
 # clean stream, fails one with short frames; 7) where v4l2loopback is built, `bolo run` from the
 # camera into it, read back bit for bit against `bolo correct` of the recording; 8) the Lepton
 # command interface over the extension units (hil_uvc_xu: detection by descriptors, temperatures,
@@ -88,12 +89,12 @@ if [ -x ./bolo ] && [ -n "$recording" ]; then
   echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
   # 160 frames = the recording once; 30 frames/s: bolo capture keeps up without a credit.
   ./uvc_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" --done "/tmp/$name.done" \
-    --finished "/tmp/$name.finished" $recording --frames 160 --fps 30 &
+    --finished "/tmp/$name.finished" --xu-log "/tmp/$name.xu" $recording --frames 160 --fps 30 &
   emulator=$!
   node="$(wait_host_node)"
   if [ -z "$node" ]; then
     echo "HIL-STEP $name: no uvcvideo node of the emulator"; failed=1
-  elif ./bolo capture --device "v4l2:$node" --out /tmp/uvc-rec --frames 160 --no-progress; then
+  elif ./bolo capture --device "v4l2:$node" --out /tmp/uvc-rec --frames 160 --shutter-at 80 --no-progress; then
     # The pixels (the .npy header's padding may differ): the last 160x120x160x2 bytes.
     tail -c 6144000 /tmp/uvc-rec/frames.npy >/tmp/uvc-rec.pixels
     tail -c 6144000 lepton3-possum/frames.npy >/tmp/possum.pixels
@@ -103,6 +104,14 @@ if [ -x ./bolo ] && [ -n "$recording" ]; then
       echo "HIL-STEP $name: bolo capture's frames differ from the recording"; failed=1
     fi
     cat /tmp/uvc-rec/capture.json
+    # frames.csv: index,t_s,exposure_s,readout_s,ffc,...; the emulator's "ffc INDEX COUNTER".
+    csv_ffc="$(awk -F, 'NR > 1 && $5 == 1 { printf "%s%s", s, $1; s = " " }' /tmp/uvc-rec/frames.csv)"
+    sent_ffc="$(awk '$1 == "ffc" { printf "%s%s", s, $2; s = " " }' "/tmp/$name.xu")"
+    if [ -n "$csv_ffc" ] && [ "$csv_ffc" = "$sent_ffc" ]; then
+      echo "HIL-STEP $name: --shutter-at 80: one FFC, in frame $csv_ffc as the emulator ran it"
+    else
+      echo "HIL-STEP $name: --shutter-at 80: FFC frames in frames.csv '$csv_ffc', run by the emulator '$sent_ffc'"; failed=1
+    fi
   else
     echo "HIL-STEP $name: bolo capture failed"; failed=1
   fi
