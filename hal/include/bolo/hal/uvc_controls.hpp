@@ -1,8 +1,11 @@
 #pragma once
 // A V4L2 camera's controls: plain V4L2 controls (VIDIOC_QUERYCTRL, G_CTRL, S_CTRL) and UVC
 // extension-unit requests (UVCIOC_CTRL_QUERY), each behind an interface tests can fake, and the
-// Lepton commands of a PureThermal board over the latter (purethermal_xu.hpp). Host code: opening
-// throws std::runtime_error naming the node; a refused request is returned, never thrown.
+// Lepton commands of a PureThermal board over the latter (purethermal_xu.hpp): readings, the
+// settings a v4l2: spec asks for (device_spec.hpp), Run FFC as the shutter. Unit-tested against a
+// fake extension unit, and in the HIL VM through uvcvideo against the emulated board
+// (tests/hil/hil_uvc_xu.cpp). Host code: opening throws std::runtime_error naming the node; a
+// refused request is returned, never thrown.
 
 #include <cstdint>
 #include <filesystem>
