@@ -60,20 +60,20 @@ GpioConfig parse_gpio_spec(const std::string& text) {
 }
 
 bool parse_lepton_option(const SpecOption& option, LeptonSettings& settings) {
-  const auto& [key, value] = option;
-  const auto pick = [&](std::initializer_list<const char*> words) -> std::uint32_t {
+  // The value's index among `words`; another value is refused naming them all.
+  const auto pick = [&option](std::initializer_list<const char*> words) -> std::uint32_t {
     std::uint32_t i = 0;
     std::string expected;
     for (const char* word : words) {
-      if (value == word) return i;
+      if (option.value == word) return i;
       expected += (i++ == 0 ? "" : "|");
       expected += word;
     }
-    throw std::invalid_argument(unexpected_option(option, key + "=" + expected));
+    throw std::invalid_argument(unexpected_option(option, option.key + "=" + expected));
   };
-  if (key == "gain") settings.gain_mode = pick({"high", "low", "auto"});
-  else if (key == "radiometry") settings.radiometry = pick({"off", "on"});
-  else if (key == "agc") settings.agc = pick({"off", "on"});
+  if (option.key == "gain") settings.gain_mode = pick({"high", "low", "auto"});
+  else if (option.key == "radiometry") settings.radiometry = pick({"off", "on"});
+  else if (option.key == "agc") settings.agc = pick({"off", "on"});
   else return false;
   return true;
 }
