@@ -13,8 +13,9 @@
 # camera into it, read back bit for bit against `bolo correct` of the recording; 8) the Lepton
 # command interface over the extension units (hil_uvc_xu: detection by descriptors, temperatures,
 # gain mode / radiometry / AGC from a v4l2: spec read back, the source's shutter = SYS Run FFC in
-# the stream at the frame the emulator put it in; the emulator refused nothing), and a board that
-# refuses every extension-unit request must fail it.
+# the stream at the frame the emulator put it in; the emulator refused nothing; `bolo devices`
+# shows the temperatures), and a board that refuses every extension-unit request must fail it
+# (`bolo devices`: unread).
 # BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 3000 on x86-64, 2000 on arm64; 10000 for the endurance run) sets the clean run's length; the fault
 # run streams a quarter of it.
 # device: v4l2
@@ -162,10 +163,23 @@ if [ -x ./hil_uvc_xu ]; then
       --finished "/tmp/$name.finished" --credit "/tmp/$name.progress:3" --xu-log "/tmp/$name.xu" \
       --frames 60 $refuse &
     emulator=$!
+    want_temps="FPA 26.85 C, housing 28.35 C"
     if [ -z "$refuse" ]; then
       ./hil_uvc_xu --xu-log "/tmp/$name.xu" --frames 60 --shutter-at 20 --progress "/tmp/$name.progress" || failed=1
-    elif ./hil_uvc_xu --xu-log "/tmp/$name.xu" --frames 60 --shutter-at 20 --progress "/tmp/$name.progress"; then
-      echo "HIL-STEP $name: the Lepton check passed a board that refuses its commands"; failed=1
+    else
+      want_temps="FPA unread, housing unread"
+      if ./hil_uvc_xu --xu-log "/tmp/$name.xu" --frames 60 --shutter-at 20 --progress "/tmp/$name.progress"; then
+        echo "HIL-STEP $name: the Lepton check passed a board that refuses its commands"; failed=1
+      fi
+    fi
+    # `bolo devices` lists the board with the temperatures it reads through the extension unit.
+    if [ -x ./bolo ]; then
+      ./bolo devices >"/tmp/$name.devices" 2>&1
+      if grep -q "PureThermal (Lepton commands): $want_temps" "/tmp/$name.devices"; then
+        echo "HIL-STEP $name: bolo devices: $want_temps"
+      else
+        echo "HIL-STEP $name: bolo devices does not say '$want_temps':"; cat "/tmp/$name.devices"; failed=1
+      fi
     fi
     touch "/tmp/$name.finished"
     wait $emulator || [ -n "$refuse" ] || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
