@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <initializer_list>
 #include <stdexcept>
 
 namespace bolo::hal {
@@ -56,6 +57,25 @@ GpioConfig parse_gpio_spec(const std::string& text) {
     else throw std::invalid_argument(unexpected_option(option, "sync=N, shutter=N or imminent=N"));
   }
   return c;
+}
+
+bool parse_lepton_option(const SpecOption& option, LeptonSettings& settings) {
+  // The value's index among `words`; another value is refused naming them all.
+  const auto pick = [&option](std::initializer_list<const char*> words) -> std::uint32_t {
+    std::uint32_t i = 0;
+    std::string expected;
+    for (const char* word : words) {
+      if (option.value == word) return i;
+      expected += (i++ == 0 ? "" : "|");
+      expected += word;
+    }
+    throw std::invalid_argument(unexpected_option(option, option.key + "=" + expected));
+  };
+  if (option.key == "gain") settings.gain_mode = pick({"high", "low", "auto"});
+  else if (option.key == "radiometry") settings.radiometry = pick({"off", "on"});
+  else if (option.key == "agc") settings.agc = pick({"off", "on"});
+  else return false;
+  return true;
 }
 
 bool usb_backend_available() {

@@ -32,17 +32,35 @@ std::unique_ptr<OpenedSource> open_flirone(BulkInTransport& transport, std::shar
 constexpr const char* kNoUsb =
     "this build has no USB backend (libusb-1.0 was not found when it was configured; see `bolo devices`)";
 
-// "/dev/video0?format=GREY": the node and the options after '?' (format=Y16|GREY|YUYV|UYVY).
-V4l2Config v4l2_config_of(const std::string& argument) {
+struct V4l2Spec {
+  V4l2Config config;
+  LeptonSettings lepton;  // for a PureThermal's extension units
+};
+
+// "/dev/video0?format=GREY,gain=low": the node and the options after '?' (format=Y16|GREY|YUYV|UYVY,
+// the Lepton settings of device_spec.hpp).
+V4l2Spec v4l2_spec_of(const std::string& argument) {
   const std::size_t question = argument.find('?');
-  V4l2Config config{.path = argument.substr(0, question)};
-  if (question == std::string::npos) return config;
+  V4l2Spec spec;
+  spec.config.path = argument.substr(0, question);
+  if (question == std::string::npos) return spec;
   for (const SpecOption& option : parse_spec_options(argument.substr(question + 1))) {
-    if (option.key != "format") throw std::invalid_argument(unexpected_option(option, "format=Y16|GREY|YUYV|UYVY"));
-    config.pixels = v4l2_pixels_named(option.value);
-    if (!config.pixels) throw std::invalid_argument("format=" + option.value + ": expected Y16, GREY, YUYV or UYVY");
+    if (parse_lepton_option(option, spec.lepton)) continue;
+    if (option.key != "format")
+      throw std::invalid_argument(unexpected_option(option, std::string("format=Y16|GREY|YUYV|UYVY or ") + kLeptonOptions));
+    spec.config.pixels = v4l2_pixels_named(option.value);
+    if (!spec.config.pixels) throw std::invalid_argument("format=" + option.value + ": expected Y16, GREY, YUYV or UYVY");
   }
-  return config;
+  return spec;
+}
+
+// The spec's Lepton settings sent to the PureThermal (`xu` null: the camera is none). Throws naming
+// the node and, for a refusal, the command.
+void apply_lepton_settings(const std::string& node, const LeptonSettings& settings, UvcExtensionUnit* xu) {
+  if (xu == nullptr)
+    throw std::runtime_error(node + ": " + kLeptonOptions + " need a PureThermal (Lepton extension units); this camera has none");
+  PureThermalControls lepton(node, *xu);
+  if (!lepton.apply(settings)) throw std::runtime_error(lepton.last_error());
 }
 
 SourceBackend v4l2_backend() {
@@ -50,10 +68,12 @@ SourceBackend v4l2_backend() {
   b.scheme = "v4l2";
   b.argument = "/dev/videoN";
   b.argument_help = "a device node, e.g. v4l2:/dev/video0";
-  b.summary = "UVC camera: Y16 (Lepton on PureThermal: 160x122 / 80x63 with telemetry, FFC as shutter), else 8-bit GREY/YUYV/UYVY";
-  b.check = [](const std::string& argument) { (void)v4l2_config_of(argument); };
+  b.summary = "UVC camera: Y16 (Lepton on PureThermal: 160x122 / 80x63 with telemetry, FFC as shutter, "
+              "?gain=high|low|auto,radiometry=on|off,agc=on|off), else 8-bit GREY/YUYV/UYVY";
+  b.check = [](const std::string& argument) { (void)v4l2_spec_of(argument); };
   b.open = [](const std::string& argument, const SourceOptions&) {
-    const V4l2Config config = v4l2_config_of(argument);
+    const V4l2Spec spec = v4l2_spec_of(argument);
+    const V4l2Config& config = spec.config;
     auto v4l2 = std::make_unique<V4l2Source>(config);
     const V4l2Negotiated& n = v4l2->negotiated();
     std::string sensor = n.card + " (V4L2 " + v4l2_pixels_name(n.pixels) +
@@ -63,6 +83,7 @@ SourceBackend v4l2_backend() {
     std::shared_ptr<V4l2NodeControls> controls;
     if (purethermal) controls = std::make_shared<V4l2NodeControls>(config.path);
     auto shutter = v4l2_shutter_command(config.path, purethermal, controls);
+    if (!spec.lepton.empty()) apply_lepton_settings(config.path, spec.lepton, controls.get());
     return std::make_unique<OpenedSource>(std::move(v4l2), std::move(sensor), std::move(controls), std::move(shutter));
   };
   return b;

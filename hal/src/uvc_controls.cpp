@@ -102,6 +102,12 @@ bool PureThermalControls::set(const LeptonXuCommand& command, std::uint32_t valu
   return error == 0 || fail(command, "SET_CUR", std::strerror(error));
 }
 
+bool PureThermalControls::apply(const LeptonSettings& settings) {
+  return (!settings.gain_mode || set(kLeptonGainMode, *settings.gain_mode)) &&
+         (!settings.radiometry || set(kLeptonRadiometry, *settings.radiometry)) &&
+         (!settings.agc || set(kLeptonAgc, *settings.agc));
+}
+
 std::optional<std::int32_t> PureThermalControls::get(const LeptonXuCommand& command) {
   std::array<std::uint8_t, 4> data{};
   const std::size_t length = purethermal_xu_length(command);

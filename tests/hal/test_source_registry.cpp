@@ -122,8 +122,13 @@ TEST_CASE("source registry: unknown and malformed specs are refused naming the s
   CHECK(refusal("flirone-log:") == "flirone-log:: flirone-log: needs a transfer-log folder");
   // v4l2:NODE?KEY=VALUE: the options are checked by the parse, before the node is opened.
   CHECK(refusal("v4l2:/dev/null?format=RGB3") == "v4l2:/dev/null?format=RGB3: format=RGB3: expected Y16, GREY, YUYV or UYVY");
-  CHECK(refusal("v4l2:/dev/null?fps=9") == "v4l2:/dev/null?fps=9: 'fps=9': expected format=Y16|GREY|YUYV|UYVY");
+  CHECK(refusal("v4l2:/dev/null?fps=9") == "v4l2:/dev/null?fps=9: 'fps=9': expected format=Y16|GREY|YUYV|UYVY or "
+                                             "gain=high|low|auto, radiometry=on|off, agc=on|off");
   CHECK(refusal("v4l2:/dev/null?format=grey") == "(accepted)");
+  // A PureThermal's Lepton settings (device_spec.hpp), checked as words before anything opens.
+  CHECK(refusal("v4l2:/dev/null?gain=low,radiometry=off,agc=on,format=Y16") == "(accepted)");
+  CHECK(refusal("v4l2:/dev/null?gain=medium") == "v4l2:/dev/null?gain=medium: 'gain=medium': expected gain=high|low|auto");
+  CHECK(refusal("v4l2:/dev/null?agc=1") == "v4l2:/dev/null?agc=1: 'agc=1': expected agc=off|on");
   CHECK(refusal("", scheme_only).rfind(": unknown device", 0) == 0);
   // Opening: the backend's reason after the spec.
   try {

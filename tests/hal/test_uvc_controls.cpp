@@ -157,3 +157,38 @@ TEST_CASE("bolo devices' readout: controls, and a PureThermal's temperatures thr
   REQUIRE(pt.errors.size() == 1);
   CHECK(bolo::test::contains(pt.errors[0], "/dev/video7: Lepton SYS AUX (housing) temperature (XU unit 6, selector 5)"));
 }
+
+TEST_CASE("a v4l2: spec's Lepton settings: the words parsed, then one SET_CUR each through the extension unit",
+          "[hal][purethermal]") {
+  hal::LeptonSettings s;
+  CHECK(s.empty());
+  CHECK(hal::parse_lepton_option({"gain", "auto"}, s));
+  CHECK(hal::parse_lepton_option({"radiometry", "off"}, s));
+  CHECK(hal::parse_lepton_option({"agc", "on"}, s));
+  CHECK_FALSE(hal::parse_lepton_option({"format", "Y16"}, s));  // another key: not taken
+  CHECK((s.gain_mode == 2u && s.radiometry == 0u && s.agc == 1u));
+  CHECK(hal::parse_lepton_option({"gain", "high"}, s));
+  CHECK(s.gain_mode == 0u);
+  CHECK(hal::parse_lepton_option({"gain", "low"}, s));
+  CHECK(s.gain_mode == 1u);
+  CHECK_THROWS_WITH(hal::parse_lepton_option({"radiometry", "yes"}, s), "'radiometry=yes': expected radiometry=off|on");
+
+  FakeUvcXu xu;
+  hal::PureThermalControls lepton("/dev/video7", xu);
+  CHECK(lepton.apply(s));
+  REQUIRE(xu.log.size() == 3);
+  // Gain mode low: SYS unit 6, selector 19; radiometry off: RAD 5/5; AGC on: AGC 3/1. Two words each.
+  CHECK((xu.log[0].unit == 6 && xu.log[0].selector == 19 && xu.log[0].request == hal::UvcRequest::set_cur));
+  CHECK(xu.log[0].data == std::vector<std::uint8_t>{1, 0, 0, 0});
+  CHECK((xu.log[1].unit == 5 && xu.log[1].selector == 5 && xu.log[1].data == std::vector<std::uint8_t>{0, 0, 0, 0}));
+  CHECK((xu.log[2].unit == 3 && xu.log[2].selector == 1 && xu.log[2].data == std::vector<std::uint8_t>{1, 0, 0, 0}));
+
+  xu.log.clear();
+  CHECK(lepton.apply({.agc = 0}));  // only what is given
+  REQUIRE(xu.log.size() == 1);
+  CHECK(xu.log[0].unit == 3);
+  xu.refuse = EIO;
+  CHECK_FALSE(lepton.apply(s));  // the first refusal stops it
+  CHECK(xu.log.size() == 2);
+  CHECK(lepton.last_error() == "/dev/video7: Lepton SYS gain mode (XU unit 6, selector 19): SET_CUR: Input/output error");
+}

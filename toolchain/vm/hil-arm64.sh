@@ -12,9 +12,10 @@ targets=(flirone_emulator hil_flirone)
 # Listed once: `ninja ... | grep -q` under pipefail fails at random (grep's early exit kills
 # ninja with SIGPIPE), which once dropped hil_flirone_hal from a CI build.
 available=$(ninja -C "$dir" -t targets all)
-# The HAL's FLIR ONE source (where libusb was found), the UVC emulator and its V4L2 host side; the
-# Seek and GPIO scenarios have their VM run on x86-64 only and skip here (tests/hil/CMakeLists.txt).
-for optional in hil_flirone_hal uvc_emulator hil_uvc_hal; do
+# The HAL's FLIR ONE source (where libusb was found), the UVC emulator and its V4L2 and Lepton
+# extension-unit host sides; the Seek and GPIO scenarios have their VM run on x86-64 only and
+# skip here (tests/hil/CMakeLists.txt).
+for optional in hil_flirone_hal uvc_emulator hil_uvc_hal hil_uvc_xu; do
   grep -q "^$optional:" <<<"$available" && targets+=("$optional")
 done
 cmake --build "$dir" -j "$(nproc)" --target "${targets[@]}"

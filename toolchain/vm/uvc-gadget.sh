@@ -1,13 +1,17 @@
 #!/usr/bin/env bash
 # Builds usb_f_uvc.ko (the configfs UVC gadget function, "uvc") for the HIL VM's kernel out of
 # tree, with bulk streaming instead of isochronous: dummy_hcd carries no isochronous transfers,
-# and Debian's module declares its streaming endpoint isochronous only. Cached in
+# and Debian's module declares its streaming endpoint isochronous only; and with a PureThermal's
+# Lepton extension units in its VideoControl interface (6.1's configfs has no XU support). Cached in
 # $BOLO_HIL_CACHE/<arch>/uvc-gadget/usb_f_uvc.ko; hil-vm.sh packs it in place of Debian's.
 # Sources: drivers/usb/gadget/function/{f_uvc,uvc_*}.[ch], u_uvc.h from Debian's linux-source-6.1,
 # changed by uvc-gadget-bulk.patch (one alternate setting with a bulk IN endpoint, 512-byte
-# packets at high speed, one USB request per payload of `bulk_payload` bytes), built against the
+# packets at high speed, one USB request per payload of `bulk_payload` bytes), then by
+# uvc-gadget-purethermal-xu.patch (static extension units 3-7 with the PureThermal GUIDs fed by the
+# processing unit, the output terminal moved to ID 8; their requests reach the emulator as
+# UVC_EVENT_SETUP like the probe/commit ones), built against the
 # matching linux-headers/kbuild packages unpacked into the cache (apt-get download, nothing
-# installed). The patch must apply exactly: upstream changes fail the build loudly.
+# installed). The patches must apply exactly: upstream changes fail the build loudly.
 #
 # For aarch64 the module is cross-built (kernel-cache.sh: hil_module_make_args).
 #
@@ -15,10 +19,10 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 arch="${1:-x86_64}"
-patch_file="$here/uvc-gadget-bulk.patch"
+patches=("$here/uvc-gadget-bulk.patch" "$here/uvc-gadget-purethermal-xu.patch")
 # shellcheck source=kernel-cache.sh
 source "$here/kernel-cache.sh"
-hil_module_start "$arch" uvc-gadget "$(sha256sum "$patch_file" | cut -c1-16)"
+hil_module_start "$arch" uvc-gadget "$(cat "${patches[@]}" | sha256sum | cut -c1-16)"
 hil_module_cached usb_f_uvc.ko stamp && exit 0
 hil_module_kbuild
 
@@ -31,8 +35,10 @@ if grep -h '^#include "' "$out"/*.[ch] | grep -v -E '"(f_uvc|u_uvc|uvc|uvc_confi
   echo "uvc-gadget: the sources include a local header that is not extracted (above)" >&2
   exit 1
 fi
-(cd "$out" && patch -p1 --forward --fuzz=0 --no-backup-if-mismatch -r - <"$patch_file" >&2) ||
-  { echo "uvc-gadget: $patch_file does not apply to $kver's sources (upstream changed): check it by hand" >&2; exit 1; }
+for patch_file in "${patches[@]}"; do
+  (cd "$out" && patch -p1 --forward --fuzz=0 --no-backup-if-mismatch -r - <"$patch_file" >&2) ||
+    { echo "uvc-gadget: $patch_file does not apply to $kver's sources (upstream changed): check it by hand" >&2; exit 1; }
+done
 printf 'obj-m := usb_f_uvc.o\nusb_f_uvc-y := f_uvc.o uvc_queue.o uvc_v4l2.o uvc_video.o uvc_configfs.o\n' >"$out/Kbuild"
 make -s -C "$headers" M="$out" "${HIL_MAKE_ARGS[@]}" modules >&2
 modinfo -F parm "$out/usb_f_uvc.ko" | grep -q '^bulk_payload:' ||

@@ -8,7 +8,13 @@
 //   uvc_emulator --log FILE [--frames N] [--recording DIR] [--buffers N] [--ffc-period N]
 //                [--fault-rate R --faults short_transfer,duplicate,timeout,disconnect --seed S]
 //                [--quiet-ms MS] [--fps F] [--credit FILE:N] [--name NAME]
-//                [--ready F --done F --finished F]
+//                [--xu-log FILE] [--refuse-xu] [--ready F --done F --finished F]
+//
+// The Lepton command interface (uvc_lepton.hpp) answers on the extension units of the patched
+// usb_f_uvc; each request and its answer is printed. A SYS Run FFC puts an FFC (a new "time at
+// last FFC" in the telemetry) into the next frame made, as --ffc-period does; --xu-log gets
+// "ffc INDEX COUNTER" for each such frame and, at the end, "xu answered N refused M other K
+// ffc F". --refuse-xu stalls every extension-unit request (a board that does not answer).
 //
 // Frames go out at --fps (0: as fast as the host takes them). A bulk UVC host keeps reading
 // whether or not its application has a buffer free, and uvcvideo drops a frame it has no buffer
@@ -32,6 +38,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -42,6 +49,7 @@
 #include "uvc_device.hpp"
 #include "uvc_frames.hpp"
 #include "uvc_function.hpp"
+#include "uvc_lepton.hpp"
 
 namespace {
 
@@ -62,6 +70,8 @@ struct Options {
   std::string credit_file;
   std::uint64_t credit = 0;
   std::string name = "uvc";
+  std::string xu_log;
+  bool refuse_xu = false;
   std::string ready = "/tmp/uvc.ready", done = "/tmp/uvc.done", finished = "/tmp/uvc.finished";
 };
 
@@ -118,6 +128,8 @@ Options parse(int argc, char** argv) {
       if (o.credit == 0) throw std::runtime_error("--credit N must be at least 1");
     }
     else if (a == "--name") o.name = value();
+    else if (a == "--xu-log") o.xu_log = value();
+    else if (a == "--refuse-xu") o.refuse_xu = true;
     else if (a == "--ready") o.ready = value();
     else if (a == "--done") o.done = value();
     else if (a == "--finished") o.finished = value();
@@ -137,8 +149,13 @@ class Emulator {
  public:
   Emulator(const Options& o, const uvc::FrameFeed& feed, std::uint32_t payload, std::string function_name)
       : o_(o), feed_(feed), payload_(payload), function_(std::move(function_name)), log_(o.log),
-        plan_(o.fault_rate, o.seed, parse_fault_list(o.faults)) {
+        plan_(o.fault_rate, o.seed, parse_fault_list(o.faults)),
+        lepton_(uvc::Telemetry{}.fpa_temp_ck, uvc::Telemetry{}.housing_temp_ck, o.refuse_xu) {
     if (!log_) throw std::runtime_error(o.log + ": cannot write");
+    if (!o.xu_log.empty()) {
+      xu_log_.open(o.xu_log);
+      if (!xu_log_) throw std::runtime_error(o.xu_log + ": cannot write");
+    }
     probe_ = commit_ = uvc::default_control(payload_);
   }
 
@@ -162,6 +179,13 @@ class Emulator {
         done = true;
       }
     }
+    char summary[160];
+    std::snprintf(summary, sizeof summary, "xu answered %llu refused %llu other %llu ffc %llu\n",
+                  static_cast<unsigned long long>(lepton_.answered()), static_cast<unsigned long long>(lepton_.refused()),
+                  static_cast<unsigned long long>(lepton_.refused_other()),
+                  static_cast<unsigned long long>(lepton_.ffc_runs()));
+    std::printf("uvc_emulator: %s", summary);
+    xu_log_ << summary << std::flush;
     return done;
   }
 
@@ -192,10 +216,16 @@ class Emulator {
     const std::uint8_t selector = static_cast<std::uint8_t>(r.wValue >> 8);
     const bool class_request = (r.bRequestType & USB_TYPE_MASK) == USB_TYPE_CLASS;
     const bool to_interface = (r.bRequestType & USB_RECIP_MASK) == USB_RECIP_INTERFACE;
-    // Probe/commit go to the streaming interface (1); the control interface's units and
-    // terminals have no controls here: stalled.
+    // Probe/commit go to the streaming interface (1); the Lepton commands to the control
+    // interface (0), wIndex's high byte naming the unit.
     const bool streaming = class_request && to_interface && (r.wIndex & 0xFF) == 1;
+    const bool control = class_request && to_interface && (r.wIndex & 0xFF) == 0;
     pending_selector_ = 0;
+    pending_unit_.reset();
+    if (control) {
+      lepton_request(r, static_cast<std::uint8_t>(r.wIndex >> 8), selector);
+      return;
+    }
     if (!streaming) {
       device_->respond(std::nullopt);
       return;
@@ -213,9 +243,36 @@ class Emulator {
     device_->respond(uvc::answer(r.bRequest, selector, r.wLength, current, payload_));
   }
 
+  void lepton_request(const usb_ctrlrequest& r, std::uint8_t unit, std::uint8_t selector) {
+    if (r.bRequestType & USB_DIR_IN) {
+      device_->respond(lepton_.get(r.bRequest, unit, selector, r.wLength));
+      report();
+    } else if (lepton_.accepts_set(r.bRequest, unit, selector, r.wLength)) {
+      pending_unit_ = unit;
+      pending_selector_ = selector;
+      device_->accept_out(r.wLength);
+    } else {
+      device_->respond(std::nullopt);
+      report();
+    }
+  }
+
+  // uvcvideo's probes of the standard controls at each enumeration are left out.
+  void report() {
+    if (lepton_.last_was_standard()) return;
+    std::printf("uvc_emulator: %s\n", lepton_.last().c_str());
+    std::fflush(stdout);
+  }
+
   void data(const std::vector<std::uint8_t>& bytes) {
     const std::uint8_t selector = pending_selector_;
     pending_selector_ = 0;
+    if (pending_unit_) {
+      lepton_.set(*pending_unit_, selector, bytes);
+      pending_unit_.reset();
+      report();
+      return;
+    }
     if (selector == uvc::kProbe) {
       probe_ = uvc::settle(uvc::StreamingControl::decode(bytes, probe_), payload_);
     } else if (selector == uvc::kCommit) {
@@ -296,7 +353,16 @@ class Emulator {
       uvc::Telemetry t;
       t.frame_counter = static_cast<std::uint32_t>(index + 1);
       t.uptime_ms = static_cast<std::uint32_t>(1000 + index * 111);
-      if (o_.ffc_period > 0) t.time_at_last_ffc_ms = static_cast<std::uint32_t>(index / o_.ffc_period) * 100 + 1;
+      // The periodic FFC's stamps, or the uptime of the frame after a Run FFC.
+      if (o_.ffc_period > 0 && index % o_.ffc_period == 0)
+        ffc_stamp_ms_ = static_cast<std::uint32_t>(index / o_.ffc_period) * 100 + 1;
+      if (lepton_.take_ffc()) {
+        ffc_stamp_ms_ = t.uptime_ms;
+        xu_log_ << "ffc " << index << " " << t.frame_counter << "\n" << std::flush;
+        std::printf("uvc_emulator: Run FFC shown in frame %llu (counter %u)\n", static_cast<unsigned long long>(index),
+                    t.frame_counter);
+      }
+      t.time_at_last_ffc_ms = ffc_stamp_ms_;
       last_ = feed_.frame(index, size_, t);
       const std::uint64_t image = uvc::fnv1a(last_.data(), uvc::FrameFeed::kPixels * 2);
       char line[160];
@@ -345,6 +411,10 @@ class Emulator {
   std::unique_ptr<uvc::UvcDevice> device_;
   uvc::StreamingControl probe_, commit_;
   std::uint8_t pending_selector_ = 0;
+  std::optional<std::uint8_t> pending_unit_;  // a SET_CUR's data stage for this extension unit
+  uvc::LeptonXu lepton_;
+  std::ofstream xu_log_;
+  std::uint32_t ffc_stamp_ms_ = 0;  // the telemetry's time at last FFC
   uvc::FrameSize size_{};
   std::deque<std::uint32_t> free_;
   std::map<std::uint32_t, std::uint64_t> in_flight_;  // buffer -> frame index

@@ -6,10 +6,16 @@
 # 1) 160x122 without faults, FFC every 100 frames: none lost, every image and telemetry counter
 # bit-exact, every FFC seen; 2) 160x120 (no telemetry rows); 3) 1 % faults, drawn among short frame,
 # duplicate, silence; 4) unplug/replug (2 % of 300 frames); 5) where the CLI is built and the
-# recording is there: `bolo capture --device v4l2:/dev/videoN` of the recording played once must
-# hold exactly its pixels; 6) the real-camera check (`hil_uvc_hal --real`, no send log): passes a
+# recording is there: `bolo capture --device v4l2:/dev/videoN --shutter-at 80` of the recording
+# played once must hold exactly its pixels, and its frames.csv one FFC, in the frame the emulator
+# ran the Lepton Run FFC into; 6) the real-camera check (`hil_uvc_hal --real`, no send log): passes a
 # clean stream, fails one with short frames; 7) where v4l2loopback is built, `bolo run` from the
-# camera into it, read back bit for bit against `bolo correct` of the recording.
+# camera into it, read back bit for bit against `bolo correct` of the recording; 8) the Lepton
+# command interface over the extension units (hil_uvc_xu: detection by descriptors, temperatures,
+# gain mode / radiometry / AGC from a v4l2: spec read back, the source's shutter = SYS Run FFC in
+# the stream at the frame the emulator put it in; the emulator refused nothing; `bolo devices`
+# shows the temperatures), and a board that refuses every extension-unit request must fail it
+# (`bolo devices`: unread).
 # BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 3000 on x86-64, 2000 on arm64; 10000 for the endurance run) sets the clean run's length; the fault
 # run streams a quarter of it.
 # device: v4l2
@@ -84,12 +90,12 @@ if [ -x ./bolo ] && [ -n "$recording" ]; then
   echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
   # 160 frames = the recording once; 30 frames/s: bolo capture keeps up without a credit.
   ./uvc_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" --done "/tmp/$name.done" \
-    --finished "/tmp/$name.finished" $recording --frames 160 --fps 30 &
+    --finished "/tmp/$name.finished" --xu-log "/tmp/$name.xu" $recording --frames 160 --fps 30 &
   emulator=$!
   node="$(wait_host_node)"
   if [ -z "$node" ]; then
     echo "HIL-STEP $name: no uvcvideo node of the emulator"; failed=1
-  elif ./bolo capture --device "v4l2:$node" --out /tmp/uvc-rec --frames 160 --no-progress; then
+  elif ./bolo capture --device "v4l2:$node" --out /tmp/uvc-rec --frames 160 --shutter-at 80 --no-progress; then
     # The pixels (the .npy header's padding may differ): the last 160x120x160x2 bytes.
     tail -c 6144000 /tmp/uvc-rec/frames.npy >/tmp/uvc-rec.pixels
     tail -c 6144000 lepton3-possum/frames.npy >/tmp/possum.pixels
@@ -99,6 +105,14 @@ if [ -x ./bolo ] && [ -n "$recording" ]; then
       echo "HIL-STEP $name: bolo capture's frames differ from the recording"; failed=1
     fi
     cat /tmp/uvc-rec/capture.json
+    # frames.csv: index,t_s,exposure_s,readout_s,ffc,...; the emulator's "ffc INDEX COUNTER".
+    csv_ffc="$(awk -F, 'NR > 1 && $5 == 1 { printf "%s%s", s, $1; s = " " }' /tmp/uvc-rec/frames.csv)"
+    sent_ffc="$(awk '$1 == "ffc" { printf "%s%s", s, $2; s = " " }' "/tmp/$name.xu")"
+    if [ -n "$csv_ffc" ] && [ "$csv_ffc" = "$sent_ffc" ]; then
+      echo "HIL-STEP $name: --shutter-at 80: one FFC, in frame $csv_ffc as the emulator ran it"
+    else
+      echo "HIL-STEP $name: --shutter-at 80: FFC frames in frames.csv '$csv_ffc', run by the emulator '$sent_ffc'"; failed=1
+    fi
   else
     echo "HIL-STEP $name: bolo capture failed"; failed=1
   fi
@@ -137,5 +151,47 @@ if [ -x ./bolo ] && [ -x ./hil_loopback_reader ] && [ -n "$recording" ]; then
     wait $emulator
   fi
   echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+fi
+# 8) The Lepton command interface (60 frames, the FFC requested before frame 20), then the same
+# against an emulator told to refuse: hil_uvc_xu must fail and the emulator must have refused.
+if [ -x ./hil_uvc_xu ]; then
+  for name in uvc_xu uvc_xu_refused; do
+    echo "HIL-STEP $name start $(cut -d' ' -f1 /proc/uptime)"
+    refuse=""
+    [ "$name" = uvc_xu_refused ] && refuse=--refuse-xu
+    ./uvc_emulator --name "$name" --log "/tmp/$name.log" --ready "/tmp/$name.ready" --done "/tmp/$name.done" \
+      --finished "/tmp/$name.finished" --credit "/tmp/$name.progress:3" --xu-log "/tmp/$name.xu" \
+      --frames 60 $refuse &
+    emulator=$!
+    want_temps="FPA 26.85 C, housing 28.35 C"
+    if [ -z "$refuse" ]; then
+      ./hil_uvc_xu --xu-log "/tmp/$name.xu" --frames 60 --shutter-at 20 --progress "/tmp/$name.progress" || failed=1
+    else
+      want_temps="FPA unread, housing unread"
+      if ./hil_uvc_xu --xu-log "/tmp/$name.xu" --frames 60 --shutter-at 20 --progress "/tmp/$name.progress"; then
+        echo "HIL-STEP $name: the Lepton check passed a board that refuses its commands"; failed=1
+      fi
+    fi
+    # `bolo devices` lists the board with the temperatures it reads through the extension unit.
+    if [ -x ./bolo ]; then
+      ./bolo devices >"/tmp/$name.devices" 2>&1
+      if grep -q "PureThermal (Lepton commands): $want_temps" "/tmp/$name.devices"; then
+        echo "HIL-STEP $name: bolo devices: $want_temps"
+      else
+        echo "HIL-STEP $name: bolo devices does not say '$want_temps':"; cat "/tmp/$name.devices"; failed=1
+      fi
+    fi
+    touch "/tmp/$name.finished"
+    wait $emulator || [ -n "$refuse" ] || { echo "HIL-STEP $name: the emulator failed"; failed=1; }
+    summary="$(grep '^xu ' "/tmp/$name.xu")"
+    echo "HIL-STEP $name: emulator $summary"
+    case "$refuse:$summary" in
+      :*" refused 0 "*" ffc 1") ;;
+      --refuse-xu:*" refused 0 "*) echo "HIL-STEP $name: the emulator refused nothing"; failed=1 ;;
+      --refuse-xu:*) ;;
+      *) echo "HIL-STEP $name: want refused 0, ffc 1"; failed=1 ;;
+    esac
+    echo "HIL-STEP $name end $(cut -d' ' -f1 /proc/uptime)"
+  done
 fi
 exit $failed

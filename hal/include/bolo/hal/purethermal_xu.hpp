@@ -4,6 +4,7 @@
 // per command: selector = ((command id & 0xff) >> 2) + 1. GET_CUR / SET_CUR carry the
 // attribute's 16-bit words little endian; a run command is a 1-byte SET_CUR. Command ids from
 // FLIR's Lepton Software IDD. Pure encoding: no I/O, no allocation, no exceptions (board-safe).
+// The HIL emulator's extension units are declared from this table (docs/hil.md).
 
 #include <array>
 #include <cstddef>

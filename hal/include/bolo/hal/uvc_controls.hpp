@@ -1,8 +1,11 @@
 #pragma once
 // A V4L2 camera's controls: plain V4L2 controls (VIDIOC_QUERYCTRL, G_CTRL, S_CTRL) and UVC
 // extension-unit requests (UVCIOC_CTRL_QUERY), each behind an interface tests can fake, and the
-// Lepton commands of a PureThermal board over the latter (purethermal_xu.hpp). Host code: opening
-// throws std::runtime_error naming the node; a refused request is returned, never thrown.
+// Lepton commands of a PureThermal board over the latter (purethermal_xu.hpp): readings, the
+// settings a v4l2: spec asks for (device_spec.hpp), Run FFC as the shutter. Unit-tested against a
+// fake extension unit, and in the HIL VM through uvcvideo against the emulated board
+// (tests/hil/hil_uvc_xu.cpp). Host code: opening throws std::runtime_error naming the node; a
+// refused request is returned, never thrown.
 
 #include <cstdint>
 #include <filesystem>
@@ -13,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "bolo/hal/device_spec.hpp"
 #include "bolo/hal/purethermal_xu.hpp"
 
 namespace bolo::hal {
@@ -69,6 +73,9 @@ class PureThermalControls {
   // SYS Run FFC: the shutter closes and the core recalibrates. False when refused (last_error()).
   bool run_ffc() { return set(kLeptonRunFfc, 0); }
   bool set(const LeptonXuCommand& command, std::uint32_t value);
+  // SET_CUR of each setting given: gain mode, radiometry, AGC, in that order. False at the first
+  // refusal (last_error()); the ones before it stay set.
+  bool apply(const LeptonSettings& settings);
   // GET_CUR decoded (purethermal_xu.hpp); nothing when refused or unreadable (last_error()).
   std::optional<std::int32_t> get(const LeptonXuCommand& command);
   const std::string& last_error() const { return last_error_; }
