@@ -165,7 +165,7 @@ TEST_CASE("odometry runs over the real FLIR ONE transfer log as a live source", 
   CHECK(summary_of(out / "vo")["frames"] == 20);
 }
 
-TEST_CASE("odometry: --max-keyframes sets the sliding window", "[vo][cli]") {
+TEST_CASE("odometry: --max-keyframes sets the sliding window", "[vo][cli][long]") {
   const fs::path& seq = sequence("drive", "0.0002");
   TempDir out;
   const fs::path run = out / "vo", full = out / "vo8";
@@ -181,7 +181,7 @@ TEST_CASE("odometry: --max-keyframes sets the sliding window", "[vo][cli]") {
   CHECK(e["ate_relative"].get<double>() < 0.10);
 }
 
-TEST_CASE("odometry: --marginalisation-prior keeps what retired keyframes knew", "[vo][cli]") {
+TEST_CASE("odometry: --marginalisation-prior keeps what retired keyframes knew", "[vo][cli][long]") {
   // 60 frames and a window of 3 keyframes, so that keyframes retire (the 36-frame sequence of the
   // other tests makes 3 to 5 keyframes, which leaves the prior untested on some builds).
   const fs::path& seq = sequence("drive", "0.0002", "60");
@@ -575,7 +575,7 @@ TEST_CASE("the ir modes hold tau where noise dominates the carry-over pairs (a r
   CHECK(ir["ate_relative"].get<double>() < 0.01);
 }
 
-TEST_CASE("real motion: the Optris clip through its rational lens, forward against reversed", "[vo][cli]") {
+TEST_CASE("real motion: the Optris clip through its rational lens, forward against reversed", "[vo][cli][long]") {
   // ../shared/data/real/optris-pi450-handheld: 100 frames, 382x288, ~28 Hz, handheld over a desk,
   // a strong fixed pattern, camera.json with OpenCV's rational model; no ground truth. The fixed
   // pattern is taken out first (median_nuc.py through bolo correct --nuc, the two-frame correction
@@ -860,6 +860,36 @@ TEST_CASE("odometry: empty exposure_s/readout_s cells are filled", "[vo][cli]") 
   const CliResult plain = run_bolo({"odometry", bare.string(), "--out", (tmp / "plain").string()});
   REQUIRE(plain.code == 0);
   CHECK(plain.out.find("assumed") == std::string::npos);
+}
+
+// A copy of `seq` whose frames from `from` on come `gap_s` later (frames.csv t_s only).
+fs::path with_time_gap(const fs::path& seq, const fs::path& out, std::size_t from, double gap_s) {
+  copy_files(seq, out, {"recording.json", "frames.npy", "camera.json"});
+  std::ifstream in(seq / "frames.csv");
+  std::ofstream csv(out / "frames.csv");
+  std::string line;
+  std::getline(in, line);
+  csv << line << "\n";
+  csv.precision(17);
+  for (std::size_t i = 0; std::getline(in, line); ++i) {
+    const auto c1 = line.find(','), c2 = line.find(',', c1 + 1);
+    const double t = std::stod(line.substr(c1 + 1, c2 - c1 - 1)) + (i >= from ? gap_s : 0.0);
+    csv << line.substr(0, c1 + 1) << t << line.substr(c2) << "\n";
+  }
+  return out;
+}
+
+TEST_CASE("odometry: a gap in time breaks the carry-over chain where the corrector's rule does", "[vo][cli]") {
+  const fs::path& seq = sequence("drive", "0.012");
+  TempDir tmp;
+  odometry(seq, tmp / "whole", {});
+  CHECK(summary_of(tmp / "whole")["carry_over_breaks"] == 0);
+  // Four frame periods missing before frame 18 (a link that dropped frames it did not count).
+  odometry(with_time_gap(seq, tmp / "gap", 18, 4.0 / 60), tmp / "gapped", {});
+  CHECK(summary_of(tmp / "gapped")["carry_over_breaks"] == 1);
+  // Within 1.5 periods the chain holds.
+  odometry(with_time_gap(seq, tmp / "late", 18, 0.4 / 60), tmp / "late-out", {});
+  CHECK(summary_of(tmp / "late-out")["carry_over_breaks"] == 0);
 }
 
 TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothing behind", "[vo][cli][refusal]") {

@@ -324,6 +324,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     summary.keyframes += r.keyframe;
     summary.reinitialisations += r.reinitialised;
     summary.shutter_events += in.shutter_event;
+    summary.carry_over_breaks += i > 0 && in.chain_broken;
     if (r.shutter_tau_s > 0) summary.shutter_taus.push_back({*row.t_s, r.shutter_tau_s});
     if (r.centre_held) {
       if (!held_before) summary.scale_bridges.push_back({*row.t_s, *row.t_s});
@@ -405,6 +406,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
                       {"tau_h_s", summary.tau_h_s},
                       {"tau_c_s", summary.tau_c_s},
                       {"shutter_events", summary.shutter_events},
+                      {"carry_over_breaks", summary.carry_over_breaks},
                       {"tau_from_shutter_events", shutter_json},
                       {"tau_source", to_string(summary.tau_source)},
                       {"vo_seconds", summary.seconds},

@@ -79,6 +79,9 @@ struct OdometrySummary {
   // tau each one's step response gave (time of the frame after the event, tau).
   std::uint64_t shutter_events = 0;
   std::vector<std::pair<double, double>> shutter_taus;
+  // Frames after the first whose carry-over chain broke (fw::carry_over_between: shutter events,
+  // skipped frame counters, time that stood still, went back or jumped over 1.5 frame periods).
+  std::uint64_t carry_over_breaks = 0;
   TauSource tau_source = TauSource::none;
   // Look-arounds over which the camera centre was held on its velocity before the turn (the
   // times of the first and last held frames), and the frames held.
