@@ -5,10 +5,10 @@
 # (fuzz/corpus/<target>, fuzz/regressions/<target>; new inputs go to a scratch folder). Fails on
 # any crash, leak, timeout or broken property; the input that did it is kept in
 # build-asan/artifacts/<target>/ and printed (base64) with the report.
-#   scripts/fuzz-smoke.sh [SECONDS]      (per target; default 10, or $BOLO_FUZZ_SECONDS)
+#   scripts/fuzz-smoke.sh [SECONDS]      (per target; default 5, or $BOLO_FUZZ_SECONDS)
 set -uo pipefail
 cd "$(dirname "$0")/.."
-seconds=${1:-${BOLO_FUZZ_SECONDS:-10}}
+seconds=${1:-${BOLO_FUZZ_SECONDS:-5}}
 jobs=$(nproc)
 
 cmake --preset asan >/dev/null || exit 1

@@ -32,7 +32,7 @@ std::string numpy_python() {
 }  // namespace
 
 TEST_CASE("blobs moving within the exposure (second generator): a null, diagnosed on its moving pixels",
-          "[diagnose][null][timing]") {
+          "[diagnose][null][timing][long]") {
   // Its blobs' sharp edges cross pixels within an exposure. With the edges masked (before: 13 %
   // of the pixel-frames here) what leaked past the masks was named rolling_readout.
   const std::string py = numpy_python();

@@ -37,7 +37,7 @@ void check_null(const nlohmann::json& d) {
 
 }  // namespace
 
-TEST_CASE("exposure and readout jittered frame to frame (0.5 %, logged exactly): a null", "[diagnose][null][timing]") {
+TEST_CASE("exposure and readout jittered frame to frame (0.5 %, logged exactly): a null", "[diagnose][null][timing][long]") {
   TempDir tmp;
   const fs::path rec = simulate(tmp, "jitter", {}, 31, {"--timing-jitter", "0.005"});
   // The simulator wrote a different exposure for (nearly) every frame.

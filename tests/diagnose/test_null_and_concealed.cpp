@@ -76,7 +76,7 @@ TEST_CASE("null with sub-frame motion (demo 96x72, 4 sub-steps): edge misses are
 // The demo disc at 160x128 moves several pixels per frame: its misses at the edges (motion within
 // the exposure, 4 sub-steps) do not read as a timing shift, so only the direct large-miss mask
 // keeps them out (at 320x256 they gave eight false findings, agc and rolling_readout first).
-TEST_CASE("null with fast sub-frame motion (demo 160x128, 4 sub-steps): no findings", "[diagnose][null]") {
+TEST_CASE("null with fast sub-frame motion (demo 160x128, 4 sub-steps): no findings", "[diagnose][null][long]") {
   TempDir tmp;
   const nlohmann::json d =
       diagnose(simulate(tmp, "fast", {}, 4, {"--size", "160x128", "--substeps", "4"}), tmp / "fast.d");
@@ -106,7 +106,7 @@ TEST_CASE("a static gain pattern below the noise is named gain_fpn, not offset_f
   CHECK((*finding(d, "gain_fpn"))["params"]["sigma"].get<double>() == Approx(1.667e-4).epsilon(0.2));
 }
 
-TEST_CASE("gain and offset patterns together are both named", "[diagnose][concealed]") {
+TEST_CASE("gain and offset patterns together are both named", "[diagnose][concealed][long]") {
   TempDir tmp;
   const nlohmann::json d =
       diagnose(simulate(tmp, "gainoff", {"gain_fpn:sigma=0.0003", "offset_fpn:sigma=2"}, 4), tmp / "gainoff.d");

@@ -167,7 +167,7 @@ TEST_CASE("pixels somewhat noisier than the rest are not reported as blinking", 
 // a step, whatever its sign (2 counts for the demo's 1000-count edges, 8 for its 4000-count disc).
 // Most of it lands on the large steps the baseline fit masks as misses. No catalogue effect may
 // be named for it, and it must be reported as residual where the simulated input changes.
-TEST_CASE("a response to input steps outside the catalogue is reported where the input changes", "[diagnose][unexplained]") {
+TEST_CASE("a response to input steps outside the catalogue is reported where the input changes", "[diagnose][unexplained][long]") {
   TempDir tmp;
   const fs::path rec = simulate(tmp, "steps", {}, 3);
   const std::vector<float> scene = read_scene(rec);
