@@ -11,7 +11,7 @@
 using namespace bolo;
 using namespace bolo::test;
 
-TEST_CASE("diagnose writes diagnosis.json, report.html and simulate.cfg", "[diagnose][cli]") {
+TEST_CASE("diagnose writes diagnosis.json, report.html and simulate.cfg", "[diagnose][cli][long]") {
   TempDir tmp;
   const fs::path rec = simulate(tmp, "rec", {"column_fpn:sigma=3"}, 2);
   const nlohmann::json d = diagnose(rec, tmp / "out");

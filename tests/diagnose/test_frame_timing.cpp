@@ -158,7 +158,7 @@ TEST_CASE("motion within the exposure does not pull tau_c when the timing is jit
   CHECK(d["baseline"]["params"]["tau_h_s"].get<double>() == Approx(kPanTau).epsilon(0.05));
 }
 
-TEST_CASE("pixels frozen in a panning scene are found as dead pixels", "[diagnose][concealed]") {
+TEST_CASE("pixels frozen in a panning scene are found as dead pixels", "[diagnose][concealed][long]") {
   // A pixel stuck at its first reading: its mean residual is small (the pan passes both ways
   // around its value) but it is off the model in every frame.
   TempDir tmp;

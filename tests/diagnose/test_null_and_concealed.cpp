@@ -33,7 +33,7 @@ TEST_CASE("null recordings: baseline only gives no findings", "[diagnose][null][
   }
 }
 
-TEST_CASE("null at 8.7 Hz (lepton3 preset): no findings", "[diagnose][null]") {
+TEST_CASE("null at 8.7 Hz (lepton3 preset): no findings", "[diagnose][null][long]") {
   TempDir tmp;
   const fs::path rec = simulate(tmp, "slow", {}, 21, {"--preset", "lepton3"});
   const nlohmann::json d = diagnose(rec, tmp / "slow.d");
@@ -148,7 +148,7 @@ TEST_CASE("dead pixels and repeated frames are found", "[diagnose][concealed]") 
   CHECK((*finding(d, "frame_duplication"))["params"]["every"] == 10);
 }
 
-TEST_CASE("two repeated frames in a recording are found wherever the held-out blocks fall", "[diagnose][concealed]") {
+TEST_CASE("two repeated frames in a recording are found wherever the held-out blocks fall", "[diagnose][concealed][long]") {
   // every=50 over 120 frames: frames 49 and 99 repeat. A training set holding one or none of them
   // cannot show a period; the bit-identity rule still marks the held-out repeat.
   TempDir tmp;
@@ -194,7 +194,7 @@ TEST_CASE("slow AGC (one sigma over the recording) is found with its damping and
 // Its gain is set by the first frame's range, so hotter later frames clip at the 14-bit ceiling
 // (3.6 % of pixel-frames here). Clipped readings must stay out of every fit: before they did, the
 // baseline's bad-pixel screen dropped every pixel the hot disc crossed and tau ran to 1 ms.
-TEST_CASE("clipped readings stay out of the fits: the baseline's tau survives an AGC that clips", "[diagnose][concealed]") {
+TEST_CASE("clipped readings stay out of the fits: the baseline's tau survives an AGC that clips", "[diagnose][concealed][long]") {
   TempDir tmp;
   const nlohmann::json d = diagnose(simulate(tmp, "clip", {"agc:damping=7e-6"}, 2), tmp / "clip.d");
   CHECK(d["baseline"]["params"]["tau_c_s"].get<double>() == Approx(0.012).epsilon(0.05));

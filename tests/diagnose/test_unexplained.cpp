@@ -81,7 +81,7 @@ TEST_CASE("drifting row bands outside the catalogue are reported as unexplained,
 // Random-telegraph (blinking) pixels: 16 isolated pixels that jump between their level and 6
 // counts (3 noise sigma) above it at random. Their variance is 1.5-3 times the others'; no
 // catalogue effect has that signature (dead_pixels is about the mean, or too little variance).
-TEST_CASE("blinking pixels outside the catalogue are reported as unexplained, not named", "[diagnose][unexplained]") {
+TEST_CASE("blinking pixels outside the catalogue are reported as unexplained, not named", "[diagnose][unexplained][long]") {
   TempDir tmp;
   const fs::path rec = simulate(tmp, "blink", {}, 41);
   const int frames = 120;

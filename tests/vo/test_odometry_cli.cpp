@@ -650,7 +650,7 @@ TEST_CASE("the ir modes hold the scale on a handheld sequence once the carry-ove
   CHECK(summary_of(tmp / "full")["carry_coring"] == 0.0);
 }
 
-TEST_CASE("odometry: --hfov stands in for a missing camera.json", "[vo][cli]") {
+TEST_CASE("odometry: --hfov stands in for a missing camera.json", "[vo][cli][long]") {
   const fs::path& seq = sequence("drive", "0.0002");
   TempDir tmp;
   const fs::path nocam = tmp / "nocam";
@@ -820,7 +820,7 @@ fs::path without_frame_timing(const fs::path& seq, const fs::path& out) {
   return out;
 }
 
-TEST_CASE("odometry: empty exposure_s/readout_s cells are filled", "[vo][cli]") {
+TEST_CASE("odometry: empty exposure_s/readout_s cells are filled", "[vo][cli][long]") {
   // The sequence's timing is the simulator's default split, half the frame period each.
   const fs::path& seq = sequence("drive", "0.012");
   TempDir tmp;
