@@ -100,6 +100,50 @@ LinearFit fit_gain_offset(const DiagnoseData& d, const std::vector<float>& sim, 
   return f;
 }
 
+// The normal equations of x = [sim, 1, rate, motion] and y'y, summed term by term as a rank-one
+// update of the lower triangle would (x_i x_j per pixel-frame, in pixel-frame order), written out:
+// the generic update of a 4x4 per pixel-frame was most of the tau searches' time. A column left
+// out (kRate, kMotion false) is zero, and its sums stay 0 without being taken.
+struct NormalSums {
+  double s00 = 0, s10 = 0, s11 = 0, s20 = 0, s21 = 0, s22 = 0, s30 = 0, s31 = 0, s32 = 0, s33 = 0;
+  double t0 = 0, t1 = 0, t2 = 0, t3 = 0, yy = 0;
+};
+template <bool kRate, bool kMotion>
+NormalSums normal_sums(const DiagnoseData& d, const std::vector<float>& sim, const std::vector<float>& motion,
+                       const std::vector<std::uint8_t>& use) {
+  const std::size_t P = d.shape.pixels();
+  NormalSums a;
+  // Centred on a typical reading: the sums stay small beside the residual they are to resolve.
+  const double centre = d.recorded.empty() ? 0.0 : d.recorded[d.recorded.size() / 2];
+  for (int n = 0; n < d.shape.n; ++n) {
+    const bool inner = kRate && n > 0 && n + 1 < d.shape.n;
+    const std::size_t first = std::size_t(n) * P;
+    const std::uint8_t* valid = d.valid.data() + first;
+    const float* s = sim.data() + first;
+    const float* y_n = d.recorded.data() + first;
+    const float* m = kMotion ? motion.data() + first : nullptr;
+    for (std::size_t p = 0; p < P; ++p) {
+      if (!valid[p] || !use[p]) continue;
+      const double x0 = s[p] - centre, x1 = 1.0;
+      const double y = y_n[p] - centre;
+      a.s00 += x0 * x0; a.s10 += x0 * x1; a.s11 += x1 * x1;
+      a.t0 += x0 * y; a.t1 += x1 * y;
+      double x2 = 0;
+      if constexpr (kRate) {
+        x2 = inner ? 0.5 * (double(s[p + P]) - s[p - P]) : 0.0;
+        a.s20 += x0 * x2; a.s21 += x1 * x2; a.s22 += x2 * x2; a.t2 += x2 * y;
+      }
+      if constexpr (kMotion) {
+        const double x3 = m[p];
+        a.s30 += x0 * x3; a.s31 += x1 * x3; a.s33 += x3 * x3; a.t3 += x3 * y;
+        if constexpr (kRate) a.s32 += x2 * x3;
+      }
+      a.yy += y * y;
+    }
+  }
+  return a;
+}
+
 // The residual of a least-squares fit of the recording on [sim, 1, sim's central frame difference
 // if `shift`, motion if not empty]: gain, offset, the timing shift and the response to motion
 // within the exposure (exposure_motion) as the final fit (fit_two_frame, below) has them. The tau
@@ -111,38 +155,13 @@ LinearFit fit_gain_offset(const DiagnoseData& d, const std::vector<float>& sim, 
 double fit_sse(const DiagnoseData& d, const std::vector<float>& sim, const std::vector<float>& motion, bool shift,
                const std::vector<std::uint8_t>& use) {
   if (!shift && motion.empty()) return fit_gain_offset(d, sim, use).sse;
-  const std::size_t P = d.shape.pixels();
-  // The normal equations of x = [sim, 1, rate, motion], summed term by term as a rank-one update
-  // of the lower triangle would (x_i x_j per pixel-frame, in pixel-frame order), written out: the
-  // generic update of a 4x4 per pixel-frame was most of the tau searches' time.
-  double s00 = 0, s10 = 0, s11 = 0, s20 = 0, s21 = 0, s22 = 0, s30 = 0, s31 = 0, s32 = 0, s33 = 0;
-  double t0 = 0, t1 = 0, t2 = 0, t3 = 0, yy = 0;
-  // Centred on a typical reading: the sums stay small beside the residual they are to resolve.
-  const double centre = d.recorded.empty() ? 0.0 : d.recorded[d.recorded.size() / 2];
-  for (int n = 0; n < d.shape.n; ++n) {
-    const bool inner = shift && n > 0 && n + 1 < d.shape.n;
-    const std::size_t first = std::size_t(n) * P;
-    const std::uint8_t* valid = d.valid.data() + first;
-    const float* s = sim.data() + first;
-    const float* y_n = d.recorded.data() + first;
-    const float* m = motion.empty() ? nullptr : motion.data() + first;
-    for (std::size_t p = 0; p < P; ++p) {
-      if (!valid[p] || !use[p]) continue;
-      const double x0 = s[p] - centre, x1 = 1.0;
-      const double x2 = inner ? 0.5 * (double(s[p + P]) - s[p - P]) : 0.0;
-      const double x3 = m ? double(m[p]) : 0.0;
-      const double y = y_n[p] - centre;
-      s00 += x0 * x0; s10 += x0 * x1; s20 += x0 * x2; s30 += x0 * x3;
-      s11 += x1 * x1; s21 += x1 * x2; s31 += x1 * x3;
-      s22 += x2 * x2; s32 += x2 * x3;
-      s33 += x3 * x3;
-      t0 += x0 * y; t1 += x1 * y; t2 += x2 * y; t3 += x3 * y;
-      yy += y * y;
-    }
-  }
+  const NormalSums a = shift ? (motion.empty() ? normal_sums<true, false>(d, sim, motion, use)
+                                               : normal_sums<true, true>(d, sim, motion, use))
+                             : normal_sums<false, true>(d, sim, motion, use);
   Eigen::Matrix4d xtx;
-  xtx << s00, s10, s20, s30, s10, s11, s21, s31, s20, s21, s22, s32, s30, s31, s32, s33;
-  const Eigen::Vector4d xty(t0, t1, t2, t3);
+  xtx << a.s00, a.s10, a.s20, a.s30, a.s10, a.s11, a.s21, a.s31, a.s20, a.s21, a.s22, a.s32, a.s30, a.s31, a.s32, a.s33;
+  const Eigen::Vector4d xty(a.t0, a.t1, a.t2, a.t3);
+  const double yy = a.yy;
   if (!shift) xtx(2, 2) = 1;  // columns left out: zero, solved as 0
   if (motion.empty()) xtx(3, 3) = 1;
   const Eigen::Vector4d beta = xtx.ldlt().solve(xty);
