@@ -38,6 +38,7 @@ int run_diagnose(const DiagnoseOptions& o, std::ostream& out) {
   const fs::path dir = o.output.has_filename() ? o.output : o.output.parent_path();
   rec::AtomicFolder folder(dir, o.overwrite);  // the destination checked before the work
 
+  diag::keep_freed_memory_for_reuse();
   const auto start = std::chrono::steady_clock::now();
   diag::DiagnoseData data = diag::load_for_diagnosis(o.input);  // throws naming the file/frame/field
   diag::Options options;

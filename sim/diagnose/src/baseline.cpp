@@ -83,10 +83,14 @@ struct LinearFit {
 LinearFit fit_gain_offset(const DiagnoseData& d, const std::vector<float>& sim, const std::vector<std::uint8_t>& use) {
   double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
   const std::size_t P = d.shape.pixels();
-  for (std::size_t i = 0; i < sim.size(); ++i) {
-    if (!d.valid[i] || !use[i % P]) continue;
-    const double x = sim[i], y = d.recorded[i];
-    n += 1; sx += x; sy += y; sxx += x * x; sxy += x * y; syy += y * y;
+  for (std::size_t first = 0; first < sim.size(); first += P) {
+    const std::uint8_t* valid = d.valid.data() + first;
+    const float *s = sim.data() + first, *r = d.recorded.data() + first;
+    for (std::size_t p = 0; p < P; ++p) {
+      if (!valid[p] || !use[p]) continue;
+      const double x = s[p], y = r[p];
+      n += 1; sx += x; sy += y; sxx += x * x; sxy += x * y; syy += y * y;
+    }
   }
   LinearFit f;
   const double vx = sxx - sx * sx / n, cxy = sxy - sx * sy / n, vy = syy - sy * sy / n;
@@ -94,6 +98,50 @@ LinearFit fit_gain_offset(const DiagnoseData& d, const std::vector<float>& sim, 
   f.offset = (sy - f.gain * sx) / n;
   f.sse = std::max(0.0, vy - f.gain * cxy);
   return f;
+}
+
+// The normal equations of x = [sim, 1, rate, motion] and y'y, summed term by term as a rank-one
+// update of the lower triangle would (x_i x_j per pixel-frame, in pixel-frame order), written out:
+// the generic update of a 4x4 per pixel-frame was most of the tau searches' time. A column left
+// out (kRate, kMotion false) is zero, and its sums stay 0 without being taken.
+struct NormalSums {
+  double s00 = 0, s10 = 0, s11 = 0, s20 = 0, s21 = 0, s22 = 0, s30 = 0, s31 = 0, s32 = 0, s33 = 0;
+  double t0 = 0, t1 = 0, t2 = 0, t3 = 0, yy = 0;
+};
+template <bool kRate, bool kMotion>
+NormalSums normal_sums(const DiagnoseData& d, const std::vector<float>& sim, const std::vector<float>& motion,
+                       const std::vector<std::uint8_t>& use) {
+  const std::size_t P = d.shape.pixels();
+  NormalSums a;
+  // Centred on a typical reading: the sums stay small beside the residual they are to resolve.
+  const double centre = d.recorded.empty() ? 0.0 : d.recorded[d.recorded.size() / 2];
+  for (int n = 0; n < d.shape.n; ++n) {
+    const bool inner = kRate && n > 0 && n + 1 < d.shape.n;
+    const std::size_t first = std::size_t(n) * P;
+    const std::uint8_t* valid = d.valid.data() + first;
+    const float* s = sim.data() + first;
+    const float* y_n = d.recorded.data() + first;
+    const float* m = kMotion ? motion.data() + first : nullptr;
+    for (std::size_t p = 0; p < P; ++p) {
+      if (!valid[p] || !use[p]) continue;
+      const double x0 = s[p] - centre, x1 = 1.0;
+      const double y = y_n[p] - centre;
+      a.s00 += x0 * x0; a.s10 += x0 * x1; a.s11 += x1 * x1;
+      a.t0 += x0 * y; a.t1 += x1 * y;
+      double x2 = 0;
+      if constexpr (kRate) {
+        x2 = inner ? 0.5 * (double(s[p + P]) - s[p - P]) : 0.0;
+        a.s20 += x0 * x2; a.s21 += x1 * x2; a.s22 += x2 * x2; a.t2 += x2 * y;
+      }
+      if constexpr (kMotion) {
+        const double x3 = m[p];
+        a.s30 += x0 * x3; a.s31 += x1 * x3; a.s33 += x3 * x3; a.t3 += x3 * y;
+        if constexpr (kRate) a.s32 += x2 * x3;
+      }
+      a.yy += y * y;
+    }
+  }
+  return a;
 }
 
 // The residual of a least-squares fit of the recording on [sim, 1, sim's central frame difference
@@ -107,28 +155,13 @@ LinearFit fit_gain_offset(const DiagnoseData& d, const std::vector<float>& sim, 
 double fit_sse(const DiagnoseData& d, const std::vector<float>& sim, const std::vector<float>& motion, bool shift,
                const std::vector<std::uint8_t>& use) {
   if (!shift && motion.empty()) return fit_gain_offset(d, sim, use).sse;
-  const std::size_t P = d.shape.pixels();
-  Eigen::Matrix4d xtx = Eigen::Matrix4d::Zero();
-  Eigen::Vector4d xty = Eigen::Vector4d::Zero();
-  double yy = 0;
-  // Centred on a typical reading: the sums stay small beside the residual they are to resolve.
-  const double centre = d.recorded.empty() ? 0.0 : d.recorded[d.recorded.size() / 2];
-  Eigen::Vector4d x(0, 1, 0, 0);
-  for (int n = 0; n < d.shape.n; ++n) {
-    const bool inner = shift && n > 0 && n + 1 < d.shape.n;
-    for (std::size_t p = 0; p < P; ++p) {
-      const std::size_t i = std::size_t(n) * P + p;
-      if (!d.valid[i] || !use[p]) continue;
-      x[0] = sim[i] - centre;
-      x[2] = inner ? 0.5 * (double(sim[i + P]) - sim[i - P]) : 0.0;
-      x[3] = motion.empty() ? 0.0 : motion[i];
-      const double y = d.recorded[i] - centre;
-      xtx.selfadjointView<Eigen::Lower>().rankUpdate(x);
-      xty += x * y;
-      yy += y * y;
-    }
-  }
-  xtx = xtx.selfadjointView<Eigen::Lower>();
+  const NormalSums a = shift ? (motion.empty() ? normal_sums<true, false>(d, sim, motion, use)
+                                               : normal_sums<true, true>(d, sim, motion, use))
+                             : normal_sums<false, true>(d, sim, motion, use);
+  Eigen::Matrix4d xtx;
+  xtx << a.s00, a.s10, a.s20, a.s30, a.s10, a.s11, a.s21, a.s31, a.s20, a.s21, a.s22, a.s32, a.s30, a.s31, a.s32, a.s33;
+  const Eigen::Vector4d xty(a.t0, a.t1, a.t2, a.t3);
+  const double yy = a.yy;
   if (!shift) xtx(2, 2) = 1;  // columns left out: zero, solved as 0
   if (motion.empty()) xtx(3, 3) = 1;
   const Eigen::Vector4d beta = xtx.ldlt().solve(xty);

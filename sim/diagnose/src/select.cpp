@@ -1,7 +1,11 @@
 // Greedy forward selection over the catalogue with held-out blocks (diagnose.hpp).
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "bolo/diagnose/diagnose.hpp"
 #include "bolo/effects/catalogue.hpp"
@@ -214,6 +218,13 @@ std::vector<std::pair<int, int>> active_frames(const std::vector<double>& gain) 
 double rms_of(double sse, double count) { return count > 0 ? std::sqrt(sse / count) : 0.0; }
 
 }  // namespace
+
+void keep_freed_memory_for_reuse() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_MAX, 0);             // large blocks from the heap, not mapped one by one
+  mallopt(M_TRIM_THRESHOLD, INT_MAX);  // and not handed back to the system when freed
+#endif
+}
 
 Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* views, const ProgressFn& progress) {
   auto report = [&](const std::string& stage, int done, int total) {

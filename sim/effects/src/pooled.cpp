@@ -35,6 +35,28 @@ class PooledFit final : public FittedEffect {
   Where where_;
 };
 
+// One frame's X'r and X'X (lower triangle mirrored) for K regressors in one pass over the
+// pixels: each sum is taken in pixel order, as one loop per entry would (so equal to it), the
+// entries interleaved.
+template <int K>
+void frame_products(const Regressors& X, std::size_t first, std::size_t P, const std::uint8_t* v, const float* r,
+                    std::vector<double>& xtx, std::vector<double>& xtr) {
+  const float* x[K];
+  for (int i = 0; i < K; ++i) x[i] = X[i].data() + first;
+  double sr[K] = {}, sx[K][K] = {};
+  for (std::size_t p = 0; p < P; ++p) {
+    const bool use = v[p] != 0;
+    for (int i = 0; i < K; ++i) {
+      sr[i] += use ? double(x[i][p]) * r[p] : 0.0;
+      for (int j = 0; j <= i; ++j) sx[i][j] += use ? double(x[i][p]) * x[j][p] : 0.0;
+    }
+  }
+  for (int i = 0; i < K; ++i) {
+    xtr[i] = sr[i];
+    for (int j = 0; j <= i; ++j) xtx[i * K + j] = xtx[j * K + i] = sx[i][j];
+  }
+}
+
 }  // namespace
 
 void PooledLinear::prepare(const DiagnoseData& data, const std::vector<float>& residual) {
@@ -63,18 +85,23 @@ void PooledLinear::prepare(const DiagnoseData& data, const std::vector<float>& r
       std::fill(xtr.begin(), xtr.end(), 0.0);
       const std::uint8_t* v = data.valid_frame(n);
       const float* r = data.frame(residual, n);
-      for (int i = 0; i < k; ++i) {
-        const float* xi = (*X)[i].data() + std::size_t(n) * P;
-        double sr = 0;
-        for (std::size_t p = 0; p < P; ++p) sr += v[p] ? double(xi[p]) * r[p] : 0.0;
-        xtr[i] = sr;
-        for (int j = 0; j <= i; ++j) {
-          const float* xj = (*X)[j].data() + std::size_t(n) * P;
-          double s = 0;
-          for (std::size_t p = 0; p < P; ++p) s += v[p] ? double(xi[p]) * xj[p] : 0.0;
-          xtx[i * k + j] = xtx[j * k + i] = s;
+      const std::size_t first = std::size_t(n) * P;
+      if (k == 1) frame_products<1>(*X, first, P, v, r, xtx, xtr);
+      else if (k == 2) frame_products<2>(*X, first, P, v, r, xtx, xtr);
+      else if (k == 3) frame_products<3>(*X, first, P, v, r, xtx, xtr);
+      else
+        for (int i = 0; i < k; ++i) {
+          const float* xi = (*X)[i].data() + first;
+          double sr = 0;
+          for (std::size_t p = 0; p < P; ++p) sr += v[p] ? double(xi[p]) * r[p] : 0.0;
+          xtr[i] = sr;
+          for (int j = 0; j <= i; ++j) {
+            const float* xj = (*X)[j].data() + first;
+            double s = 0;
+            for (std::size_t p = 0; p < P; ++p) s += v[p] ? double(xi[p]) * xj[p] : 0.0;
+            xtx[i * k + j] = xtx[j * k + i] = s;
+          }
         }
-      }
       per_frame[n].xtx = Eigen::Map<Eigen::MatrixXd>(xtx.data(), k, k);
       per_frame[n].xtr = Eigen::Map<Eigen::VectorXd>(xtr.data(), k);
     }

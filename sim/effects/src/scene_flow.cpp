@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace bolo::diag {
 namespace {
@@ -21,15 +22,56 @@ struct Image {
   float at(int r, int c) const { return v[std::clamp(r, 0, h - 1) * w + std::clamp(c, 0, w - 1)]; }
 };
 
-// Sum of squared differences of next(x) against now(x - d) over the window about (r, c).
-double window_ssd(const Image& now, const Image& next, int r, int c, int dy, int dx, int radius) {
+// An image with its border replicated `pad` pixels outward: reads within the pad equal
+// Image::at's clamped ones, without the clamps in the matching's inner loops.
+struct PaddedImage {
+  int pad = 0, stride = 0;
+  std::vector<float> v;
+  void fill(const Image& im, int border) {
+    pad = border;
+    stride = im.w + 2 * pad;
+    v.resize(std::size_t(im.h + 2 * pad) * stride);
+    for (int r = -pad; r < im.h + pad; ++r)
+      for (int c = -pad; c < im.w + pad; ++c) v[std::size_t(r + pad) * stride + (c + pad)] = im.at(r, c);
+  }
+  const float* at(int r, int c) const { return v.data() + std::ptrdiff_t(r + pad) * stride + (c + pad); }
+};
+
+// Sum of squared differences of next(x) against now(x - d) over the window about (r, c), row by
+// row (the order every matching sum here keeps). Needs pad >= radius + max(|dy|, |dx|).
+double window_ssd(const PaddedImage& now, const PaddedImage& next, int r, int c, int dy, int dx, int radius) {
   double s = 0;
-  for (int i = -radius; i <= radius; ++i)
+  for (int i = -radius; i <= radius; ++i) {
+    const float *nx = next.at(r + i, c), *nw = now.at(r + i - dy, c - dx);
     for (int j = -radius; j <= radius; ++j) {
-      const double e = double(next.at(r + i, c + j)) - now.at(r + i - dy, c + j - dx);
+      const double e = double(nx[j]) - nw[j];
       s += e * e;
     }
+  }
   return s;
+}
+
+// window_ssd for the nine displacements (cy + a, cx + b), a, b in -1..1, row by row in `out`;
+// each sum in window_ssd's order (so equal to it), the nine interleaved. Needs
+// pad >= radius + max(|cy|, |cx|) + 1.
+static_assert(kFineReach == 1, "the fine search's nine displacements are window_ssd_3x3's");
+void window_ssd_3x3(const PaddedImage& now, const PaddedImage& next, int r, int c, int cy, int cx, int radius,
+                    double out[9]) {
+  for (int k = 0; k < 9; ++k) out[k] = 0;
+  for (int i = -radius; i <= radius; ++i) {
+    const float* nx = next.at(r + i, c);
+    const float* nw = now.at(r + i - cy, c - cx);
+    for (int j = -radius; j <= radius; ++j) {
+      const double y = nx[j];
+      for (int a = -1; a <= 1; ++a) {
+        const float* row = nw - std::ptrdiff_t(a) * now.stride + j;
+        for (int b = -1; b <= 1; ++b) {
+          const double e = y - row[-b];
+          out[(a + 1) * 3 + (b + 1)] += e * e;
+        }
+      }
+    }
+  }
 }
 
 // Lower cost wins; within a relative whisker the shorter displacement does (uniform regions
@@ -50,6 +92,44 @@ void bin2(const float* src, int h, int w, std::vector<float>& dst) {
     for (int c = 0; c < w2; ++c)
       dst[std::size_t(r) * w2 + c] = 0.25f * (src[(2 * r) * w + 2 * c] + src[(2 * r) * w + 2 * c + 1] +
                                               src[(2 * r + 1) * w + 2 * c] + src[(2 * r + 1) * w + 2 * c + 1]);
+}
+
+// The coarse search at every `wanted` pixel over displacements up to `reach`, offered to best[]
+// (reset here) in the order of a per-pixel search (dy, then dx, ascending). One displacement at a
+// time: its squared differences once per pixel, then each window's sum in window_ssd's order (so
+// equal to it), whole rows at once. Needs pad >= kCoarseRadius + reach.
+void coarse_match(const PaddedImage& now, const PaddedImage& next, int h, int w, int reach,
+                  const std::vector<std::uint8_t>& wanted, std::vector<Best>& best) {
+  constexpr int R = kCoarseRadius;
+  const int dw = w + 2 * R;
+  best.assign(std::size_t(h) * w, Best{});
+  std::vector<char> row_wanted(h, 0);
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) row_wanted[r] = row_wanted[r] || wanted[std::size_t(r) * w + c];
+  std::vector<double> squares(std::size_t(h + 2 * R) * dw), sums(w);
+  for (int dy = -reach; dy <= reach; ++dy)
+    for (int dx = -reach; dx <= reach; ++dx) {
+      for (int r = -R; r < h + R; ++r) {
+        const float *nx = next.at(r, -R), *nw = now.at(r - dy, -R - dx);
+        double* out = squares.data() + std::size_t(r + R) * dw;
+        for (int c = 0; c < dw; ++c) {
+          const double e = double(nx[c]) - nw[c];
+          out[c] = e * e;
+        }
+      }
+      for (int r = 0; r < h; ++r) {
+        if (!row_wanted[r]) continue;
+        double* s = sums.data();
+        std::fill(sums.begin(), sums.end(), 0.0);
+        for (int i = -R; i <= R; ++i)
+          for (int j = -R; j <= R; ++j) {
+            const double* q = squares.data() + std::size_t(r + i + R) * dw + (j + R);
+            for (int c = 0; c < w; ++c) s[c] += q[c];
+          }
+        for (int c = 0; c < w; ++c)
+          if (wanted[std::size_t(r) * w + c]) best[std::size_t(r) * w + c].offer(s[c], dy, dx);
+      }
+    }
 }
 
 // input[n](x - f (dy, dx)) - input[n](x), bilinear.
@@ -83,6 +163,10 @@ void fill_input_flow(DiagnoseData& d, int max_shift) {
   const int coarse_reach = std::max(1, (std::min(max_shift, 126) + 1) / 2);
   std::vector<float> now2, next2;
   std::vector<std::uint8_t> changed(P), near_change(P);
+  const int h2 = H / 2, w2 = W / 2;
+  std::vector<std::uint8_t> wanted(std::size_t(h2) * w2);
+  std::vector<Best> coarse;
+  PaddedImage coarse_now, coarse_next, fine_now, fine_next;
   for (int n = 0; n + 1 < N; ++n) {
     const float *a = d.frame(d.input, n), *b = d.frame(d.input, n + 1);
     bool any = false;
@@ -101,34 +185,33 @@ void fill_input_flow(DiagnoseData& d, int max_shift) {
             std::fill_n(near_change.begin() + std::ptrdiff_t(i) * W + std::max(0, c - k), std::min(W - 1, c + k) - std::max(0, c - k) + 1, 1);
     bin2(a, H, W, now2);
     bin2(b, H, W, next2);
-    const int h2 = H / 2, w2 = W / 2;
-    const Image coarse_now{h2, w2, now2.data()}, coarse_next{h2, w2, next2.data()};
-    std::vector<std::int8_t> coarse_dy(std::size_t(h2) * w2, 0), coarse_dx(std::size_t(h2) * w2, 0);
+    std::fill(wanted.begin(), wanted.end(), 0);
     for (int r = 0; r < h2; ++r)
       for (int c = 0; c < w2; ++c) {
         const std::size_t q = std::size_t(2 * r) * W + 2 * c;
-        if (!(near_change[q] || near_change[q + 1] || near_change[q + W] || near_change[q + W + 1])) continue;
-        Best best;
-        for (int dy = -coarse_reach; dy <= coarse_reach; ++dy)
-          for (int dx = -coarse_reach; dx <= coarse_reach; ++dx)
-            best.offer(window_ssd(coarse_now, coarse_next, r, c, dy, dx, kCoarseRadius), dy, dx);
-        coarse_dy[std::size_t(r) * w2 + c] = static_cast<std::int8_t>(best.dy);
-        coarse_dx[std::size_t(r) * w2 + c] = static_cast<std::int8_t>(best.dx);
+        wanted[std::size_t(r) * w2 + c] = near_change[q] || near_change[q + 1] || near_change[q + W] || near_change[q + W + 1];
       }
-    const Image fine_now{H, W, a}, fine_next{H, W, b};
+    coarse_now.fill(Image{h2, w2, now2.data()}, kCoarseRadius + coarse_reach);
+    coarse_next.fill(Image{h2, w2, next2.data()}, kCoarseRadius + coarse_reach);
+    coarse_match(coarse_now, coarse_next, h2, w2, coarse_reach, wanted, coarse);
+    const int fine_pad = kFineRadius + 2 * coarse_reach + kFineReach;
+    fine_now.fill(Image{H, W, a}, fine_pad);
+    fine_next.fill(Image{H, W, b}, fine_pad);
     std::int8_t* fy = d.input_flow_dy.data() + std::size_t(n) * P;
     std::int8_t* fx = d.input_flow_dx.data() + std::size_t(n) * P;
     for (int r = 0; r < H; ++r)
       for (int c = 0; c < W; ++c) {
         if (!near_change[std::size_t(r) * W + c]) continue;
         const std::size_t q = std::size_t(std::min(r / 2, h2 - 1)) * w2 + std::min(c / 2, w2 - 1);
-        const int cy = 2 * coarse_dy[q], cx = 2 * coarse_dx[q];
+        const int cy = 2 * coarse[q].dy, cx = 2 * coarse[q].dx;
         Best best;
         best.offer(window_ssd(fine_now, fine_next, r, c, 0, 0, kFineRadius), 0, 0);
+        double costs[9];
+        window_ssd_3x3(fine_now, fine_next, r, c, cy, cx, kFineRadius, costs);
         for (int dy = cy - kFineReach; dy <= cy + kFineReach; ++dy)
           for (int dx = cx - kFineReach; dx <= cx + kFineReach; ++dx)
             if (std::abs(dy) <= 127 && std::abs(dx) <= 127 && (dy != 0 || dx != 0))
-              best.offer(window_ssd(fine_now, fine_next, r, c, dy, dx, kFineRadius), dy, dx);
+              best.offer(costs[(dy - cy + 1) * 3 + (dx - cx + 1)], dy, dx);
         fy[std::size_t(r) * W + c] = static_cast<std::int8_t>(best.dy);
         fx[std::size_t(r) * W + c] = static_cast<std::int8_t>(best.dx);
       }
@@ -142,9 +225,13 @@ void subpixel_input_flow(const DiagnoseData& d, int n, std::vector<float>& dy, s
   dx.assign(P, 0.0f);
   if (n < 0 || n + 1 >= d.shape.n || d.input_flow_dy.size() != d.shape.size()) return;
   const float *a = d.frame(d.input, n), *b = d.frame(d.input, n + 1);
-  const Image now{H, W, a}, next{H, W, b};
   const std::int8_t* fy = d.input_flow_dy.data() + std::size_t(n) * P;
   const std::int8_t* fx = d.input_flow_dx.data() + std::size_t(n) * P;
+  int reach = 0;
+  for (std::size_t p = 0; p < P; ++p) reach = std::max({reach, std::abs(int(fy[p])), std::abs(int(fx[p]))});
+  PaddedImage now, next;
+  now.fill(Image{H, W, a}, kFineRadius + reach + 1);
+  next.fill(Image{H, W, b}, kFineRadius + reach + 1);
   // The vertex of the parabola through costs at -1, 0, +1 (0 is the minimum), within half a pixel.
   auto vertex = [](double minus, double centre, double plus) {
     const double curvature = minus + plus - 2 * centre;
@@ -155,10 +242,11 @@ void subpixel_input_flow(const DiagnoseData& d, int n, std::vector<float>& dy, s
       const std::size_t p = std::size_t(r) * W + c;
       const int y = fy[p], x = fx[p];
       if (y == 0 && x == 0 && !(std::fabs(b[p] - a[p]) > 1e-6f * (std::fabs(a[p]) + std::fabs(b[p])) + 1e-12f)) continue;
-      auto cost = [&](int oy, int ox) { return window_ssd(now, next, r, c, y + oy, x + ox, kFineRadius); };
-      const double centre = cost(0, 0);
-      dy[p] = static_cast<float>(y + vertex(cost(-1, 0), centre, cost(1, 0)));
-      dx[p] = static_cast<float>(x + vertex(cost(0, -1), centre, cost(0, 1)));
+      double cost[9];  // at (y + a, x + b), a, b in -1..1
+      window_ssd_3x3(now, next, r, c, y, x, kFineRadius, cost);
+      const double centre = cost[4];
+      dy[p] = static_cast<float>(y + vertex(cost[1], centre, cost[7]));
+      dx[p] = static_cast<float>(x + vertex(cost[3], centre, cost[5]));
     }
 }
 

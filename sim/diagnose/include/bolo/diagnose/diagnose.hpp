@@ -87,6 +87,12 @@ using ProgressFn = std::function<void(const std::string& stage, int done, int to
 Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* views = nullptr,
                    const ProgressFn& progress = {});
 
+// Diagnosis allocates and frees many arrays of the recording's size (residuals, regressors,
+// simulated baselines). With glibc each would be mapped afresh and page-faulted in (most of the
+// system time); this keeps freed memory in the process's heap for the next array instead.
+// Process-wide and lasting: for a process whose work is diagnosis (bolo diagnose, its benchmark).
+void keep_freed_memory_for_reuse();
+
 nlohmann::json to_json(const Diagnosis& d);
 // The simulator configuration of the fitted augmented model, as `bolo simulate --config` reads it.
 std::string simulator_config(const Diagnosis& d, const DiagnoseData& data);
