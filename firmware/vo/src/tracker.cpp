@@ -44,8 +44,8 @@ struct Accumulated {
 Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a, double b,
                        float cutoff, bool with_jacobians, bool mark_inliers, bool select_view = false) {
   Accumulated acc;
-  const Level& cur = s.frame.level[level];
-  const TexelImage& texels = s.frame_texels[level];
+  const Level& cur = s.current.frame.level[level];
+  const TexelImage& texels = s.current.frame_texels[level];
   const Scaled k = camera_at(s.cfg.camera, level);
   const Scaled k0 = camera_at(s.cfg.camera, 0);
   const float scale = 1.0f / static_cast<float>(1u << level);
@@ -62,8 +62,8 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
     for (const Keyframe& kf : s.kf)
       if (kf.used)
         for (std::uint32_t i = 0; i < kf.count; ++i) kf.points[i].inlier = false;
-  for (std::uint32_t i = 0; i < s.ref_count; ++i) {
-    RefPoint& p = s.ref[i];
+  for (std::uint32_t i = 0; i < s.ref.count; ++i) {
+    RefPoint& p = s.ref.points[i];
     if (!select_view && !p.in_view) continue;
     const Eigen::Vector3f n((p.u - k0.cx) / k0.fx, (p.v - k0.cy) / k0.fy, 1.0f);
     const Eigen::Vector3f X = R * n + t * p.idepth;
@@ -141,9 +141,9 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
 }  // namespace
 
 void build_tracking_reference(State& s) {
-  s.ref_count = 0;
-  s.ref_mean_idepth = 0;
-  s.ref_dirty = false;
+  s.ref.count = 0;
+  s.ref.mean_idepth = 0;
+  s.ref.dirty = false;
   if (s.kf_count == 0) return;
   const std::uint32_t ref_slot = s.order[s.kf_count - 1];
   const Keyframe& reference = s.kf[ref_slot];
@@ -152,7 +152,7 @@ void build_tracking_reference(State& s) {
     const Keyframe& host = s.kf[slot];
     if (!host.used) continue;
     const Se3 M = reference.T_cw * host.T_cw.inverse();
-    for (std::uint32_t i = 0; i < host.count && s.ref_count < s.ref.size(); ++i) {
+    for (std::uint32_t i = 0; i < host.count && s.ref.count < s.ref.points.size(); ++i) {
       const Point& p = host.points[i];
       if (p.status != PointStatus::active || !(p.idepth > 0)) continue;
       RefPoint r;
@@ -167,33 +167,33 @@ void build_tracking_reference(State& s) {
         r.idepth = static_cast<float>(1.0 / X.z());
         if (!inside(reference.pyramid.level[0].value, r.u, r.v, 3.0f)) continue;
       }
-      s.ref[s.ref_count++] = r;
+      s.ref.points[s.ref.count++] = r;
     }
   }
   // Enough points for the pose, not more (tracking is most of the VO's time): an even thinning
   // by index keeps the spread over hosts and image regions.
   const std::uint32_t cap = std::max<std::uint32_t>(1000, s.cfg.width * s.cfg.height / kPixelsPerTrackedPoint);
-  if (s.ref_count > cap) {
+  if (s.ref.count > cap) {
     std::uint32_t kept = 0;
-    for (std::uint32_t i = 0; i < s.ref_count; ++i)
-      if (static_cast<std::uint64_t>(i) * cap / s.ref_count != static_cast<std::uint64_t>(i + 1) * cap / s.ref_count)
-        s.ref[kept++] = s.ref[i];
-    s.ref_count = kept;
+    for (std::uint32_t i = 0; i < s.ref.count; ++i)
+      if (static_cast<std::uint64_t>(i) * cap / s.ref.count != static_cast<std::uint64_t>(i + 1) * cap / s.ref.count)
+        s.ref.points[kept++] = s.ref.points[i];
+    s.ref.count = kept;
   }
   double idepth_sum = 0;
-  for (std::uint32_t i = 0; i < s.ref_count; ++i) idepth_sum += s.ref[i].idepth;
-  s.ref_mean_idepth = s.ref_count > 0 ? idepth_sum / s.ref_count : 0.0;
+  for (std::uint32_t i = 0; i < s.ref.count; ++i) idepth_sum += s.ref.points[i].idepth;
+  s.ref.mean_idepth = s.ref.count > 0 ? idepth_sum / s.ref.count : 0.0;
 }
 
 TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness free, std::uint32_t last_level,
                         const TrackResult* resume) {
   TrackResult out;
-  if (s.ref_dirty) build_tracking_reference(s);
+  if (s.ref.dirty) build_tracking_reference(s);
   Se3 T = guess;
   const bool affine = s.cfg.photometric == Photometric::affine;
   const std::uint32_t iterations[kMaxLevels] = {8, 8, 10, 10, 10, 10};
   const float hub = huber_threshold(s);
-  std::uint32_t levels = std::min(s.frame.levels, kMaxLevels);
+  std::uint32_t levels = std::min(s.current.frame.levels, kMaxLevels);
   if (resume != nullptr && resume->level > last_level && resume->level < levels) {
     T = resume->T_cw, a = resume->a, b = resume->b;
     levels = resume->level;
@@ -202,7 +202,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness 
   // the points' mean inverse depth (level 0 pixels).
   const double focal = camera_at(s.cfg.camera, 0).fx;
   const auto step_pixels = [&](const Vec8& delta) {
-    return focal * (delta.segment<3>(3).norm() + delta.head<3>().norm() * s.ref_mean_idepth);
+    return focal * (delta.segment<3>(3).norm() + delta.head<3>().norm() * s.ref.mean_idepth);
   };
   // A step is negligible when it moves the points by a small part of the level's pixel and, on a
   // frame whose gain is freed (it may start far off, as after a shutter event, and would otherwise
@@ -223,7 +223,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness 
     std::uint32_t refused_in_a_row = 0;
     // A weak prior towards the motion model's prediction: at video rates the camera cannot
     // jump, and it keeps directions the points do not constrain (far scenes) from wandering.
-    const Vec3 prior = translation_prior_weight(s, kMotionPrior) * Vec3(acc.H(0, 0), acc.H(1, 1), acc.H(2, 2));
+    const Vec3 prior = translation_prior_weight(s.bridge, s.current.t_s, kMotionPrior) * Vec3(acc.H(0, 0), acc.H(1, 1), acc.H(2, 2));
     const auto prior_energy = [&](const Se3& T_try) {
       const Vec3 off = (T_try * guess.inverse()).t;
       return prior.dot(off.cwiseProduct(off));
