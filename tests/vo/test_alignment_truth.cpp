@@ -91,14 +91,14 @@ TEST_CASE("direct alignment recovers the true motion from true depths", "[vo][tr
   f.keyframe(t0, true);
   f.load(t1);
   const vo::Se3 truth = f.seq.T_cw(t1);
-  const vo::TrackResult r = vo::track_frame(*f.s, f.seq.T_cw(t0), 0, 0, {});
+  const vo::TrackResult r = vo::track_frame(f.s->ref, *f.s, f.s->current, f.s->bridge, f.seq.T_cw(t0), 0, 0, {});
   const vo::Se3 error = truth * r.T_cw.inverse();
   const vo::Se3 motion = truth * f.seq.T_cw(t0).inverse();
   const vo::Se3 estimated = r.T_cw * f.seq.T_cw(t0).inverse();
   INFO("estimated translation " << estimated.t.transpose() << " true " << motion.t.transpose());
   INFO("rms " << r.rms << " inliers " << r.inliers << "/" << r.visible << " translation error " << error.t.norm()
               << " m of " << motion.t.norm() << " m, rotation error " << angle_deg(error.R) << " deg");
-  const vo::TrackResult from_truth = vo::track_frame(*f.s, truth, 0, 0, {});
+  const vo::TrackResult from_truth = vo::track_frame(f.s->ref, *f.s, f.s->current, f.s->bridge, truth, 0, 0, {});
   INFO("started at the truth: ends " << (truth * from_truth.T_cw.inverse()).t.norm() << " m away, rms " << from_truth.rms);
   CHECK(r.ok);
   CHECK(error.t.norm() < 0.1 * motion.t.norm());

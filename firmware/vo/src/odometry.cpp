@@ -271,7 +271,8 @@ bool same_level(const CurrentFrame& f, const Keyframe& kf) {
 }
 
 void write_scene_estimate(State& s) {
-  s.current.carry = carry_coefficients(s.tau_est.tau, s.current.readout_prev_s, s.current.exposure_s);
+  CurrentFrame& f = s.current;
+  f.carry = carry_coefficients(s.tau_est.tau, f.readout_prev_s, f.exposure_s);
   // The scene estimate u = (raw_i - alpha raw_{i-1}) / beta (paper Eq. 6), scaled to the level a
   // static pixel reads at this frame's timing: a static pixel keeps its value whatever tau is, so
   // a refined tau does not shift every pixel's level against the keyframes. Without the scale,
@@ -279,19 +280,20 @@ void write_scene_estimate(State& s) {
   // t_e = t_r, and the tau fit and the tracking then chase each other. At a change of the timing the raw static level
   // itself changes (by the true tau's factor): the tracker and the initialiser free the gain and
   // offset there (same_level).
-  s.current.scene_scale = scene_level_scale(s.tau_est.tau, s.current);
-  const auto alpha = static_cast<float>(s.current.carry.alpha);
-  const auto gain = static_cast<float>(s.current.scene_scale / s.current.carry.beta);
-  float* level0 = s.current.frame.level[0].value.data;
-  for (std::size_t i = 0; i < plane(s.cfg); ++i) level0[i] = (s.current.raw[i] - alpha * s.current.raw_prev[i]) * gain;
+  f.scene_scale = scene_level_scale(s.tau_est.tau, s.current);
+  const auto alpha = static_cast<float>(f.carry.alpha);
+  const auto gain = static_cast<float>(f.scene_scale / f.carry.beta);
+  float* level0 = f.frame.level[0].value.data;
+  for (std::size_t i = 0; i < plane(s.cfg); ++i) level0[i] = (f.raw[i] - alpha * f.raw_prev[i]) * gain;
   core_carry_correction(s, alpha * gain);
 }
 
 void build_frame_images(State& s) {
+  CurrentFrame& f = s.current;
   // Level 0's gradient plane is free until build_pyramid fills it.
-  for (std::uint32_t pass = 0; pass < s.cfg.smoothing; ++pass) smooth_binomial(s.current.frame.level[0].value, s.current.frame.level[0].gx);
-  build_pyramid(s.current.frame);
-  fill_texels(s.current.frame, s.current.frame_texels);
+  for (std::uint32_t pass = 0; pass < s.cfg.smoothing; ++pass) smooth_binomial(f.frame.level[0].value, f.frame.level[0].gx);
+  build_pyramid(f.frame);
+  fill_texels(f.frame, f.frame_texels);
 }
 
 std::size_t Odometry::arena_bytes(const VoConfig& config) {
@@ -365,30 +367,31 @@ namespace {
 // (initialiser, tracker), in affine (as DSO with known exposure times) where the exposures' ratio
 // puts it.
 void follow_timing(State& s) {
-  const bool changed = timing_differs(s.current.exposure_prev_s, s.current.exposure_s) || timing_differs(s.current.readout_prev2_s, s.current.readout_prev_s);
+  CurrentFrame& f = s.current;
+  const bool changed = timing_differs(f.exposure_prev_s, f.exposure_s) || timing_differs(f.readout_prev2_s, f.readout_prev_s);
   if (!changed) {
-    if (s.current.frames_since_timing_change < 0xffffffffu) ++s.current.frames_since_timing_change;
+    if (f.frames_since_timing_change < 0xffffffffu) ++f.frames_since_timing_change;
     return;
   }
-  s.current.frames_since_timing_change = 0;
-  if (uses_carry_model(s.cfg) && s.current.chain_ok) {
-    const double ratio = static_level_factor(s.tau_est.tau, s.current.readout_prev_s, s.current.exposure_s) /
-                         static_level_factor(s.tau_est.tau, s.current.readout_prev2_s, s.current.exposure_prev_s);
+  f.frames_since_timing_change = 0;
+  if (uses_carry_model(s.cfg) && f.chain_ok) {
+    const double ratio = static_level_factor(s.tau_est.tau, f.readout_prev_s, f.exposure_s) /
+                         static_level_factor(s.tau_est.tau, f.readout_prev2_s, f.exposure_prev_s);
     s.brightness.a += std::log(ratio);
     // A camera's raw counts start from an offset, which stays where it is while the scene's share
     // scales by the ratio: the frame's offset starts where the mean scene levels of this frame
     // and the one before put it (3000 counts of offset lost the track at a switch otherwise).
-    if (s.current.chain_ok_prev && s.current.readout_prev2_s > 0 && s.current.exposure_prev_s > 0 && s.current.readout_prev_s > 0 && s.current.exposure_s > 0) {
+    if (f.chain_ok_prev && f.readout_prev2_s > 0 && f.exposure_prev_s > 0 && f.readout_prev_s > 0 && f.exposure_s > 0) {
       const std::size_t n = plane(s.cfg);
-      const double m0 = mean_level(s.current.raw.data(), n), m1 = mean_level(s.current.raw_prev.data(), n), m2 = mean_level(s.current.raw_prev2.data(), n);
-      const double alpha_now = carry_coefficients(s.tau_est.tau, s.current.readout_prev_s, s.current.exposure_s).alpha;
-      const double alpha_before = carry_coefficients(s.tau_est.tau, s.current.readout_prev2_s, s.current.exposure_prev_s).alpha;
+      const double m0 = mean_level(f.raw.data(), n), m1 = mean_level(f.raw_prev.data(), n), m2 = mean_level(f.raw_prev2.data(), n);
+      const double alpha_now = carry_coefficients(s.tau_est.tau, f.readout_prev_s, f.exposure_s).alpha;
+      const double alpha_before = carry_coefficients(s.tau_est.tau, f.readout_prev2_s, f.exposure_prev_s).alpha;
       const double scene_now = (m0 - alpha_now * m1) / (1 - alpha_now), scene_before = (m1 - alpha_before * m2) / (1 - alpha_before);
       s.brightness.b = ratio * s.brightness.b + (scene_now - ratio * scene_before);
     }
     s.brightness.level_unknown = true;
-  } else if (s.cfg.photometric == Photometric::affine && timing_differs(s.current.exposure_prev_s, s.current.exposure_s)) {
-    s.brightness.a += std::log(s.current.exposure_s / s.current.exposure_prev_s);
+  } else if (s.cfg.photometric == Photometric::affine && timing_differs(f.exposure_prev_s, f.exposure_s)) {
+    s.brightness.a += std::log(f.exposure_s / f.exposure_prev_s);
   }
 }
 
@@ -405,49 +408,51 @@ namespace {
 // before it move back); its timing, stuck-pixel, intensity-scale and noise bookkeeping follow.
 // Returns whether the frame follows a repeated one (its sensor predecessor was never delivered).
 bool load_frame(State& s, const FrameInput& in, bool chain_broken) {
+  CurrentFrame& f = s.current;
   const VoConfig& c = s.cfg;
-  std::swap(s.current.raw_prev, s.current.raw_prev2);
-  std::swap(s.current.raw, s.current.raw_prev);
-  for (std::size_t i = 0; i < plane(c); ++i) s.current.raw[i] = static_cast<float>(in.raw[i]);
-  const bool had_prev = s.current.have_prev;
-  s.current.have_prev = true;
-  s.current.chain_ok_prev = s.current.chain_ok;
-  const bool after_repeat = s.current.predecessor_missing && !chain_broken;
-  s.current.predecessor_missing = false;
-  s.current.chain_ok = had_prev && !chain_broken && !after_repeat;
+  std::swap(f.raw_prev, f.raw_prev2);
+  std::swap(f.raw, f.raw_prev);
+  for (std::size_t i = 0; i < plane(c); ++i) f.raw[i] = static_cast<float>(in.raw[i]);
+  const bool had_prev = f.have_prev;
+  f.have_prev = true;
+  f.chain_ok_prev = f.chain_ok;
+  const bool after_repeat = f.predecessor_missing && !chain_broken;
+  f.predecessor_missing = false;
+  f.chain_ok = had_prev && !chain_broken && !after_repeat;
   s.motion.T_prev = s.motion.T_cw;
   s.motion.prev_posed = s.motion.posed;
   s.motion.posed = false;
-  s.current.exposure_prev_s = s.current.exposure_s;
-  s.current.readout_prev2_s = s.current.readout_prev_s;
-  s.current.t_s = in.t_s, s.current.exposure_s = in.exposure_s, s.current.readout_prev_s = in.readout_prev_s;
+  f.exposure_prev_s = f.exposure_s;
+  f.readout_prev2_s = f.readout_prev_s;
+  f.t_s = in.t_s, f.exposure_s = in.exposure_s, f.readout_prev_s = in.readout_prev_s;
   follow_timing(s);
-  s.current.scene_scale = 1.0;
+  f.scene_scale = 1.0;
   const bool ir = uses_carry_model(c);
   if (ir && had_prev) count_unchanged_frames(s.tau_est, s.current, s);
   if (s.intensity_pending && ++s.raw_frames >= 3) measure_intensity_scale(s);
   // Before the tracking image: its carry-over correction is cored against this noise.
-  if (ir && s.current.chain_ok && s.current.chain_ok_prev) update_noise_variance(s.noise, s.current, s.cfg);
+  if (ir && f.chain_ok && f.chain_ok_prev) update_noise_variance(s.noise, s.current, s.cfg);
   return after_repeat;
 }
 
 // The tracking image: what the photometric model says is comparable between frames.
 void write_tracking_image(State& s, const FrameInput& in) {
+  CurrentFrame& f = s.current;
   const VoConfig& c = s.cfg;
-  float* level0 = s.current.frame.level[0].value.data;
-  if (c.photometric == Photometric::ir && s.current.chain_ok) {
+  float* level0 = f.frame.level[0].value.data;
+  if (c.photometric == Photometric::ir && f.chain_ok) {
     write_scene_estimate(s);
-  } else if (c.photometric == Photometric::ir_loop && s.current.chain_ok && in.corrected.size() == plane(c)) {
+  } else if (c.photometric == Photometric::ir_loop && f.chain_ok && in.corrected.size() == plane(c)) {
     // Without its predecessor the corrector only scales the frame by 1/beta, a level the keyframes
     // do not share; the raw frame (like ir's) has their static level and is tracked with a free offset.
     // The corrector ran with this tau; its output is brought to the static level as ir's is.
-    s.current.scene_scale = scene_level_scale(s.tau_est.tau, s.current);
-    const auto scale = static_cast<float>(s.current.scene_scale);
+    f.scene_scale = scene_level_scale(s.tau_est.tau, s.current);
+    const auto scale = static_cast<float>(f.scene_scale);
     for (std::size_t i = 0; i < plane(c); ++i) level0[i] = static_cast<float>(in.corrected[i]) * scale;
-    const CarryCoefficients k = carry_coefficients(s.tau_est.tau, s.current.readout_prev_s, s.current.exposure_s);
-    core_carry_correction(s, static_cast<float>(k.alpha * s.current.scene_scale / k.beta));
+    const CarryCoefficients k = carry_coefficients(s.tau_est.tau, f.readout_prev_s, f.exposure_s);
+    core_carry_correction(s, static_cast<float>(k.alpha * f.scene_scale / k.beta));
   } else {
-    std::memcpy(level0, s.current.raw.data(), plane(c) * sizeof(float));
+    std::memcpy(level0, f.raw.data(), plane(c) * sizeof(float));
   }
   build_frame_images(s);
 }
@@ -493,6 +498,7 @@ struct BrightnessStart {
 };
 
 BrightnessStart brightness_start(State& s, const FrameInput& in, const Keyframe& reference) {
+  const CurrentFrame& f = s.current;
   const VoConfig& c = s.cfg;
   const bool ir = uses_carry_model(c);
   BrightnessStart start;
@@ -501,12 +507,12 @@ BrightnessStart brightness_start(State& s, const FrameInput& in, const Keyframe&
   // settled on the shutter; after a gap it holds the ghost of a frame never seen), and the first
   // frame after it with a free offset that is then kept: a shutter event resets the camera's
   // offsets, which the scene estimate carries from then on.
-  if (ir && !s.current.chain_ok) s.brightness.offset_pending = true;
+  if (ir && !f.chain_ok) s.brightness.offset_pending = true;
   // A frame without its reference keyframe's level (same_level: across a change of exposure or
   // readout) is tracked with a free gain and offset, which are kept.
-  start.level_unknown = ir && s.current.chain_ok && !same_level(s.current, reference);
-  start.free.gain = ir && (!s.current.chain_ok || start.level_unknown);
-  start.free.offset = ir && (!s.current.chain_ok || s.brightness.offset_pending || start.level_unknown);
+  start.level_unknown = ir && f.chain_ok && !same_level(s.current, reference);
+  start.free.gain = ir && (!f.chain_ok || start.level_unknown);
+  start.free.offset = ir && (!f.chain_ok || s.brightness.offset_pending || start.level_unknown);
   // After a shutter event the gain starts where the current tau puts the step response, and the
   // offset where that gain puts the frame's mean level (the settled shutter's share of the counts
   // is unknown: started at the keyframes' offset, every residual would be an outlier).
@@ -515,12 +521,12 @@ BrightnessStart brightness_start(State& s, const FrameInput& in, const Keyframe&
   start.a = s.brightness.a, start.b = s.brightness.b;
   // Back at the reference's level after frames that were not: its gain, and its offset as the
   // camera's shutter events have moved it since.
-  if (ir && s.current.chain_ok && !start.level_unknown && s.brightness.level_unknown)
+  if (ir && f.chain_ok && !start.level_unknown && s.brightness.level_unknown)
     start.a = reference.a, start.b = reference.b + s.brightness.offset_step;
   if (start.shutter_step) {
     const double gain = shutter_step_gain(s.tau_est.tau, in.exposure_s, reference.readout_prev_s, reference.exposure_s);
     start.a = reference.a + std::log(gain);
-    start.b = mean_level(s.current.raw.data(), plane(c)) - gain * (mean_level(reference.pyramid.level[0].value.data, plane(c)) - reference.b);
+    start.b = mean_level(f.raw.data(), plane(c)) - gain * (mean_level(reference.pyramid.level[0].value.data, plane(c)) - reference.b);
   }
   return start;
 }
@@ -537,27 +543,33 @@ bool too_fast(State& s, const TrackResult& r) {
 // only if it fails. (Ranking every guess on every frame was needed while the poses lost their
 // orthonormality and a constant-velocity guess drifted off; it cost a quarter of the VO's time.)
 TrackResult track_from_guesses(State& s, const Se3& step, const BrightnessStart& start) {
+  const CurrentFrame& f = s.current;
   const Se3 half = Se3::exp(0.5 * step.log());
-  const Se3 guesses[] = {held_guess(s.bridge, s.current.t_s, step * s.motion.T_cw), held_guess(s.bridge, s.current.t_s, s.motion.T_cw), held_guess(s.bridge, s.current.t_s, half * s.motion.T_cw),
-                         held_guess(s.bridge, s.current.t_s, step * step * s.motion.T_cw)};
+  const auto held = [&](const Se3& guess) { return held_guess(s.bridge, f.t_s, guess); };
+  const Se3& T = s.motion.T_cw;
+  const Se3 guesses[] = {held(step * T), held(T), held(half * T), held(step * step * T)};
+  // The tracking from a guess down to `last_level`, continuing `resume` (track_frame).
+  const auto track = [&](const Se3& guess, std::uint32_t last_level, const TrackResult* resume = nullptr) {
+    return track_frame(s.ref, s, f, s.bridge, guess, start.a, start.b, start.free, last_level, resume);
+  };
   TrackResult best;
   bool have = false;
-  const std::uint32_t screen_level = s.current.frame.levels > 2 ? s.current.frame.levels - 2 : 0;
+  const std::uint32_t screen_level = f.frame.levels > 2 ? f.frame.levels - 2 : 0;
   constexpr std::size_t kGuesses = sizeof(guesses) / sizeof(guesses[0]);
   std::size_t order[kGuesses] = {0, 1, 2, 3};
   TrackResult screened[kGuesses];
   bool accepted = false;
   if (screen_level > 0) {
-    screened[0] = track_frame(s, guesses[0], start.a, start.b, start.free, screen_level);
+    screened[0] = track(guesses[0], screen_level);
     if (screened[0].ok && s.loop.last_rms > 0) {
-      TrackResult r = track_frame(s, guesses[0], start.a, start.b, start.free, 0, &screened[0]);
+      TrackResult r = track(guesses[0], 0, &screened[0]);
       if (r.ok && !too_fast(s, r) && r.rms <= kRetrackRatio * s.loop.last_rms) best = r, have = true, accepted = true;
     }
   }
   if (screen_level > 0 && !accepted) {
     double energy[kGuesses];
     for (std::size_t g = 0; g < kGuesses; ++g) {
-      if (g > 0) screened[g] = track_frame(s, guesses[g], start.a, start.b, start.free, screen_level);
+      if (g > 0) screened[g] = track(guesses[g], screen_level);
       energy[g] = screened[g].ok ? screened[g].mean_energy : 1e30;
     }
     std::sort(order, order + kGuesses, [&](std::size_t x, std::size_t y) { return energy[x] < energy[y]; });
@@ -565,8 +577,7 @@ TrackResult track_from_guesses(State& s, const Se3& step, const BrightnessStart&
   for (const std::size_t g : order) {
     if (accepted) break;
     // A screened guess continues below the screening level (its coarse levels are not repeated).
-    TrackResult r = track_frame(s, guesses[g], start.a, start.b, start.free, 0,
-                                screen_level > 0 && screened[g].ok ? &screened[g] : nullptr);
+    TrackResult r = track(guesses[g], 0, screen_level > 0 && screened[g].ok ? &screened[g] : nullptr);
     if (r.ok && too_fast(s, r)) r.ok = false;
     if (!have || (r.ok && !best.ok) || (r.ok == best.ok && r.rms < best.rms)) best = r, have = true;
     if (best.ok && screen_level > 0) break;
@@ -583,7 +594,7 @@ bool track_free_of_hold(State& s, const Se3& step, const BrightnessStart& start,
   if (!best.ok && held) {
     s.bridge.suspended = true;
     for (const Se3& g : {step * s.motion.T_cw, s.motion.T_cw}) {
-      const TrackResult r = track_frame(s, g, start.a, start.b, start.free, 0);
+      const TrackResult r = track_frame(s.ref, s, s.current, s.bridge, g, start.a, start.b, start.free, 0);
       if (r.ok && !too_fast(s, r) && (!best.ok || r.rms < best.rms)) best = r;
     }
     s.bridge.suspended = false;

@@ -9,7 +9,9 @@
 
 namespace bolo::vo {
 
-struct State;
+struct CurrentFrame;
+struct MapCore;
+struct ScaleBridge;
 
 // A window point as the tracker sees it: reprojected into the newest keyframe (the tracking
 // reference), so the patterns compared with the frame come from the keyframe nearest to it.
@@ -48,9 +50,12 @@ struct FreeBrightness {
 // mean_energy and the pose at that level only, ok = finite). `resume`: the result of an earlier
 // call with the same guess, a, b and free_offset that stopped at resume->level; the levels down
 // to it are not repeated (the tracking continues from its pose: the same result as a full call).
-TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness free,
-                        std::uint32_t last_level = 0, const TrackResult* resume = nullptr);
-// Rebuilds the tracking reference (s.ref) from the window's active points.
-void build_tracking_reference(State& s);
+// The frame is f, the window map's (whose points' inlier flags it sets); the scale bridge may hold
+// the camera centre (translation_prior_weight). Rebuilds ref first when it is dirty.
+TrackResult track_frame(TrackingReference& ref, MapCore& map, const CurrentFrame& f, const ScaleBridge& bridge,
+                        Se3 guess, double a, double b, FreeBrightness free, std::uint32_t last_level = 0,
+                        const TrackResult* resume = nullptr);
+// Rebuilds the tracking reference from the window's active points.
+void build_tracking_reference(TrackingReference& ref, const MapCore& map);
 
 }  // namespace bolo::vo
