@@ -293,7 +293,7 @@ Solved refine_rotation(State& s, Se3& M, Brightness& br) {
 }
 
 // Two sets of inverse depths (the warm solve's, then the fresh solve's) while another solve runs:
-// BA scratch past the rows that accumulate() writes (odometry.cpp sizes ba_hxr for all three).
+// BA scratch past the rows that accumulate() writes (odometry.cpp sizes MapCore::scratch for all three).
 float* warm_depths(State& s) { return s.scratch.subspan(std::size_t{s.cfg.points_per_keyframe} * 8).data(); }
 float* fresh_depths(State& s) { return s.scratch.subspan(std::size_t{s.cfg.points_per_keyframe} * 9).data(); }
 void save_depths(const Keyframe& host, float* to) {
