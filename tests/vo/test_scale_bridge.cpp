@@ -64,10 +64,10 @@ void walk_then_turn(Bridged& b, int frames) {
 TEST_CASE("scale bridge: a break in a turn holds the centre on the velocity before it", "[vo][bridge]") {
   Bridged b;
   walk_then_turn(b, 72);  // into the turn (t = 1.18 s)
-  REQUIRE(b.s->bridge.velocity_known);
-  CHECK(b.s->bridge.velocity.x() == Approx(0.1).epsilon(0.05));
-  CHECK(std::fabs(b.s->bridge.velocity.y()) < 0.01);
-  CHECK(b.s->bridge.from_t_s < 1.0 + kDt);  // the turn's frames do not move it
+  REQUIRE(b.s->bridge.carry.velocity_known);
+  CHECK(b.s->bridge.carry.velocity.x() == Approx(0.1).epsilon(0.05));
+  CHECK(std::fabs(b.s->bridge.carry.velocity.y()) < 0.01);
+  CHECK(b.s->bridge.carry.from_t_s < 1.0 + kDt);  // the turn's frames do not move it
   CHECK_FALSE(vo::centre_carried(b.s->bridge, b.s->current.t_s));
   CHECK(vo::translation_prior_weight(b.s->bridge, b.s->current.t_s, 0.02) == 0.02);
 
@@ -75,7 +75,7 @@ TEST_CASE("scale bridge: a break in a turn holds the centre on the velocity befo
   REQUIRE(vo::centre_carried(b.s->bridge, b.s->current.t_s));
   CHECK(vo::translation_prior_weight(b.s->bridge, b.s->current.t_s, 0.02) > 1e3);
   // The guess keeps its rotation and gets the carried centre.
-  const vo::Vec3 expected = b.s->bridge.from_centre + b.s->bridge.velocity * (b.s->current.t_s - b.s->bridge.from_t_s);
+  const vo::Vec3 expected = b.s->bridge.carry.from_centre + b.s->bridge.carry.velocity * (b.s->current.t_s - b.s->bridge.carry.from_t_s);
   CHECK((b.held_centre() - expected).norm() < 1e-12);
   CHECK((vo::held_guess(b.s->bridge, b.s->current.t_s, b.pose).R - b.pose.R).norm() < 1e-12);
   // On the turn's fast frames the depth search widens its intervals by a share of the rotation.
@@ -125,7 +125,7 @@ TEST_CASE("scale bridge: a camera standing still has no velocity to carry", "[vo
     const double turn = std::clamp((t - 1.0) / 0.25, 0.0, 1.0) * M_PI / 2;
     b.feed(t, vo::Vec3(0.001 * std::sin(40 * t), 0.001 * std::cos(33 * t), 0), turn);
   }
-  CHECK_FALSE(b.s->bridge.velocity_known);
+  CHECK_FALSE(b.s->bridge.carry.velocity_known);
   vo::note_map_break(b.s->bridge, b.s->cfg, b.s->init.map_without_baseline, b.s->current.t_s);
   CHECK_FALSE(vo::centre_carried(b.s->bridge, b.s->current.t_s));
   CHECK(vo::held_guess(b.s->bridge, b.s->current.t_s, b.pose).t == b.pose.t);

@@ -435,7 +435,7 @@ void start_initialisation(State& s) {
   s.motion.pose_t_s = s.current.t_s;
   // A new map has a scale of its own: nothing of the old one's motion is carried over.
   s.bridge.count = 0;
-  s.bridge = ScaleBridge();
+  s.bridge.carry = CarriedVelocity();
 }
 
 void follow_map_baseline(State& s) {

@@ -592,12 +592,12 @@ TrackResult track_from_guesses(State& s, const Se3& step, const BrightnessStart&
 bool track_free_of_hold(State& s, const Se3& step, const BrightnessStart& start, TrackResult& best) {
   bool held = centre_carried(s.bridge, s.current.t_s);
   if (!best.ok && held) {
-    s.bridge.suspended = true;
+    s.bridge.carry.suspended = true;
     for (const Se3& g : {step * s.motion.T_cw, s.motion.T_cw}) {
       const TrackResult r = track_frame(s.ref, s, s.current, s.bridge, g, start.a, start.b, start.free, 0);
       if (r.ok && !too_fast(s, r) && (!best.ok || r.rms < best.rms)) best = r;
     }
-    s.bridge.suspended = false;
+    s.bridge.carry.suspended = false;
     held = !best.ok;
   }
   return held;

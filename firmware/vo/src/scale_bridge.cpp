@@ -99,8 +99,8 @@ Steady steady_run(const ScaleBridge& b, double from, double to) {
 bool turning(const ScaleBridge& b) { return b.count > 0 && sample_back(b, 0).rotation_rate > kSteadyRotationRate; }
 
 bool carried(const ScaleBridge& b, double t_s) {
-  if (b.suspended || !b.velocity_known || t_s - b.from_t_s > kMaxHoldS) return false;
-  return b.after_break;
+  if (b.carry.suspended || !b.carry.velocity_known || t_s - b.carry.from_t_s > kMaxHoldS) return false;
+  return b.carry.after_break;
 }
 
 }  // namespace
@@ -118,34 +118,36 @@ void record_motion_sample(ScaleBridge& b, const VoConfig& cfg, const Se3& pose, 
   b.head = (b.head + 1) % kMotionHistory;
   b.count = std::min(b.count + 1, kMotionHistory);
   // The velocity to carry: the last steady stretch's (not one the bridge itself held).
-  if (b.after_break || m.rotation_rate > kSteadyRotationRate) return;
+  if (b.carry.after_break || m.rotation_rate > kSteadyRotationRate) return;
   const Steady run = steady_run(b, t_s - kVelocityWindowS, t_s);
   if (run.count < kMinSamples || !run.straight() || run.t_last - run.t_first < 0.5 * kVelocityWindowS) return;
   if (!(run.speed() * ref_mean_idepth * cfg.camera.fx >= kMinFlowPixelsPerS)) {
-    b.velocity_known = false;
+    b.carry.velocity_known = false;
     return;
   }
-  b.velocity_known = true;
-  b.velocity = (run.last - run.first) / (run.t_last - run.t_first);
-  b.from_centre = run.last;
-  b.from_t_s = run.t_last;
+  b.carry.velocity_known = true;
+  b.carry.velocity = (run.last - run.first) / (run.t_last - run.t_first);
+  b.carry.from_centre = run.last;
+  b.carry.from_t_s = run.t_last;
 }
 
-Vec3 held_centre(const ScaleBridge& b, double t_s) { return b.from_centre + b.velocity * (t_s - b.from_t_s); }
+Vec3 held_centre(const ScaleBridge& b, double t_s) {
+  return b.carry.from_centre + b.carry.velocity * (t_s - b.carry.from_t_s);
+}
 
 void note_map_break(ScaleBridge& b, const VoConfig& cfg, bool map_without_baseline, double t_s) {
-  if (!cfg.scale_bridge || b.after_break || map_without_baseline) return;
-  if (!b.velocity_known || t_s - b.from_t_s > kMaxHoldS) return;
+  if (!cfg.scale_bridge || b.carry.after_break || map_without_baseline) return;
+  if (!b.carry.velocity_known || t_s - b.carry.from_t_s > kMaxHoldS) return;
   // A look-around turns the view by a good part of the field of view since the steady stretch; a
   // map that runs out otherwise (a 9 Hz drive's points leave the view in a few frames) is no turn.
   double turned = 0;
-  for (std::uint32_t back = 0; back < b.count && sample_back(b, back).t_s > b.from_t_s; ++back)
+  for (std::uint32_t back = 0; back < b.count && sample_back(b, back).t_s > b.carry.from_t_s; ++back)
     turned += sample_back(b, back).rotation;
   if (turned < kMinTurnAngle) return;
-  b.after_break = true;
-  b.break_s = t_s;
-  b.turn_start_s = b.from_t_s;
-  b.keyframe_since_turn = false;
+  b.carry.after_break = true;
+  b.carry.break_s = t_s;
+  b.carry.turn_start_s = b.carry.from_t_s;
+  b.carry.keyframe_since_turn = false;
 }
 
 double translation_prior_weight(const ScaleBridge& b, double t_s, double normal) {
@@ -167,13 +169,13 @@ float depth_search_margin(const ScaleBridge& b, const VoConfig& cfg, double t_s)
 bool centre_carried(const ScaleBridge& b, double t_s) { return carried(b, t_s); }
 
 bool update_bridge(ScaleBridge& b, double t_s, bool keyframe_made) {
-  if (!b.after_break) return false;
+  if (!b.carry.after_break) return false;
   const bool steady_now = b.count > 0 && !turning(b);
-  if (keyframe_made && steady_now) b.keyframe_since_turn = true;
-  const Steady after = steady_run(b, b.break_s, t_s);
-  const bool settled = steady_now && after.t_last - after.t_first >= kHoldSteadyS && b.keyframe_since_turn;
-  if (settled || t_s - b.break_s > kMaxHoldS) {
-    b.after_break = false;
+  if (keyframe_made && steady_now) b.carry.keyframe_since_turn = true;
+  const Steady after = steady_run(b, b.carry.break_s, t_s);
+  const bool settled = steady_now && after.t_last - after.t_first >= kHoldSteadyS && b.carry.keyframe_since_turn;
+  if (settled || t_s - b.carry.break_s > kMaxHoldS) {
+    b.carry.after_break = false;
     return true;
   }
   return false;

@@ -18,9 +18,8 @@ struct MotionSample {
 };
 inline constexpr std::uint32_t kMotionHistory = 96;  // 1.6 s at 60 Hz
 
-struct ScaleBridge {
-  MotionSample history[kMotionHistory];  // the last posed frames, newest at head - 1
-  std::uint32_t head = 0, count = 0;
+// The velocity carried over a turn and the carry's progress; a new map starts it afresh.
+struct CarriedVelocity {
   bool velocity_known = false;
   Vec3 velocity = Vec3::Zero();     // world, map units a second, of the last steady stretch
   Vec3 from_centre = Vec3::Zero();  // that stretch's last centre, at from_t_s
@@ -29,6 +28,12 @@ struct ScaleBridge {
   double turn_start_s = 0, break_s = 0;
   bool keyframe_since_turn = false;  // a keyframe was made on a steady frame since the break
   bool suspended = false;            // a frame tracked free while held (odometry.cpp)
+};
+
+struct ScaleBridge {
+  MotionSample history[kMotionHistory];  // the last posed frames, newest at head - 1
+  std::uint32_t head = 0, count = 0;
+  CarriedVelocity carry;
 };
 
 // Each tracked frame's centre and rotation rate, from the pose of the frame before (`dt_s`
