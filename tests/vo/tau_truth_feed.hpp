@@ -28,29 +28,29 @@ class ApproxNormal {
   std::uint32_t state_;
 };
 
-// Frame k of an unbroken chain: the raw buffers move back one, fill_raw(s.raw) writes the new
+// Frame k of an unbroken chain: the raw buffers move back one, fill_raw(s.current.raw) writes the new
 // frame, and the frame's pose becomes T_cw (the previous one T_prev). As Odometry::process() in
 // `ir` mode, the pixel noise is measured and the tracking image is the scene estimate made with
 // the current tau (its carry-over correction cored against that noise).
 template <typename FillRaw>
 void push_truth_frame(vo::State& s, int k, double exposure_s, double readout_s, double t_s, const vo::Se3& T_cw,
                       FillRaw fill_raw) {
-  std::swap(s.raw_prev, s.raw_prev2);
-  std::swap(s.raw, s.raw_prev);
-  fill_raw(s.raw);
-  s.have_prev = k > 0;
-  s.chain_ok_prev = k > 1;
-  s.chain_ok = k > 0;
-  s.exposure_prev_s = s.exposure_s;
-  s.exposure_s = exposure_s, s.readout_prev_s = readout_s, s.t_s = t_s;
-  s.T_prev = s.T_cw;
-  s.prev_posed = k > 0;
-  s.T_cw = T_cw;
-  if (s.chain_ok && s.chain_ok_prev) vo::update_noise_variance(s);
-  if (s.chain_ok) {
+  std::swap(s.current.raw_prev, s.current.raw_prev2);
+  std::swap(s.current.raw, s.current.raw_prev);
+  fill_raw(s.current.raw);
+  s.current.have_prev = k > 0;
+  s.current.chain_ok_prev = k > 1;
+  s.current.chain_ok = k > 0;
+  s.current.exposure_prev_s = s.current.exposure_s;
+  s.current.exposure_s = exposure_s, s.current.readout_prev_s = readout_s, s.current.t_s = t_s;
+  s.motion.T_prev = s.motion.T_cw;
+  s.motion.prev_posed = k > 0;
+  s.motion.T_cw = T_cw;
+  if (s.current.chain_ok && s.current.chain_ok_prev) vo::update_noise_variance(s.noise, s.current, s.cfg);
+  if (s.current.chain_ok) {
     vo::write_scene_estimate(s);
   } else {
-    std::copy(s.raw.begin(), s.raw.end(), s.frame.level[0].value.data);
+    std::copy(s.current.raw.begin(), s.current.raw.end(), s.current.frame.level[0].value.data);
   }
   vo::build_frame_images(s);
 }

@@ -55,15 +55,15 @@ struct Fixture {
       f = g;
     }
     for (float& v : f) v = static_cast<float>(std::exp(a) * v + b);
-    for (std::size_t i = 0; i < f.size(); ++i) s->frame.level[0].value.data[i] = f[i], s->raw[i] = f[i];
+    for (std::size_t i = 0; i < f.size(); ++i) s->current.frame.level[0].value.data[i] = f[i], s->current.raw[i] = f[i];
     vo::build_frame_images(*s);
-    s->t_s = t;
+    s->current.t_s = t;
   }
   // A keyframe at time t with points at their true depth (active) or unknown (immature).
   vo::Keyframe& keyframe(double t, bool true_depth, int blur = 0, double a = 0, double b = 0) {
     load(t, blur, a, b);
-    s->a = a, s->b = b;
-    s->T_cw = seq.T_cw(t);
+    s->brightness.a = a, s->brightness.b = b;
+    s->motion.T_cw = seq.T_cw(t);
     const std::uint32_t slot = vo::new_keyframe_slot(*s);
     vo::make_keyframe(*s, slot, true);
     vo::Keyframe& kf = s->kf[slot];
@@ -91,14 +91,14 @@ TEST_CASE("direct alignment recovers the true motion from true depths", "[vo][tr
   f.keyframe(t0, true);
   f.load(t1);
   const vo::Se3 truth = f.seq.T_cw(t1);
-  const vo::TrackResult r = vo::track_frame(*f.s, f.seq.T_cw(t0), 0, 0, {});
+  const vo::TrackResult r = vo::track_frame(f.s->ref, *f.s, f.s->current, f.s->bridge, f.seq.T_cw(t0), 0, 0, {});
   const vo::Se3 error = truth * r.T_cw.inverse();
   const vo::Se3 motion = truth * f.seq.T_cw(t0).inverse();
   const vo::Se3 estimated = r.T_cw * f.seq.T_cw(t0).inverse();
   INFO("estimated translation " << estimated.t.transpose() << " true " << motion.t.transpose());
   INFO("rms " << r.rms << " inliers " << r.inliers << "/" << r.visible << " translation error " << error.t.norm()
               << " m of " << motion.t.norm() << " m, rotation error " << angle_deg(error.R) << " deg");
-  const vo::TrackResult from_truth = vo::track_frame(*f.s, truth, 0, 0, {});
+  const vo::TrackResult from_truth = vo::track_frame(f.s->ref, *f.s, f.s->current, f.s->bridge, truth, 0, 0, {});
   INFO("started at the truth: ends " << (truth * from_truth.T_cw.inverse()).t.norm() << " m away, rms " << from_truth.rms);
   CHECK(r.ok);
   CHECK(error.t.norm() < 0.1 * motion.t.norm());
@@ -114,7 +114,7 @@ TEST_CASE("epipolar search recovers true inverse depths from the true pose", "[v
   for (int k = 1; k <= 6; ++k) {
     const double t = t0 + k / 60.0;
     f.load(t);
-    f.s->T_cw = f.seq.T_cw(t);
+    f.s->motion.T_cw = f.seq.T_cw(t);
     vo::search_immature_points(*f.s);
   }
   vo::activate_mature_points(*f.s, /*tracked_points=*/1000);  // a well-tracked frame
@@ -172,7 +172,7 @@ TEST_CASE("window bundle adjustment's system matches finite differences of its e
   for (int k = 0; k < 3; ++k) f.keyframe(times[k], true, 25, 0.25 * k, 20.0 * k);
   vo::State& s = *f.s;
   vo::window_system(s);
-  const vo::BaVector b = s.ba_b;
+  const vo::BaVector b = s.ba.b;
   // Parameter q of keyframe `place` moved by `step`.
   const auto nudge = [&s](std::uint32_t place, int q, double step) {
     vo::Keyframe& kf = s.kf[s.order[place]];

@@ -73,13 +73,13 @@ TrackingImageError tracking_image_error(float coring) {
       }
     });
     if (k < kMeasuredFrom) continue;
-    const float* image = s->frame.level[0].value.data;
+    const float* image = s->current.frame.level[0].value.data;
     for (std::size_t i = 0; i < n; ++i) {
       const double truth = static_level * scene[0][i];
       double held = 0;
       for (int h = 1; h < kHistory; ++h) held = std::max(held, static_level * std::fabs(scene[h][i] - scene[0][i]));
       const double change = static_level * std::fabs(scene[0][i] - scene[1][i]);
-      const double d = image[i] - truth, d_raw = s->raw[i] - truth;
+      const double d = image[i] - truth, d_raw = s->current.raw[i] - truth;
       if (held < 0.5 * sigma) e.still += d * d, ++still_n;
       if (change > 20 * sigma) e.moving += d * d, e.raw_moving += d_raw * d_raw, ++moving_n;
     }

@@ -31,8 +31,8 @@ struct Window {
     s.cfg.camera = {140.0f, 140.0f, 79.5f, 59.5f};
     s.cfg.max_keyframes = kMaxKeyframes;
     s.cfg.retirement = retirement;
-    s.ba_hxr = scratch;
-    s.retired = retired;
+    s.scratch = scratch;
+    s.retired.points = retired;
     points.resize(centres.size());
     images.resize(centres.size(), std::vector<float>(pyramid_floats(160, 120, 1)));
     for (std::uint32_t k = 0; k < centres.size(); ++k) {
@@ -80,7 +80,7 @@ TEST_CASE("a keyframe made for a turn leaves before the oldest, which holds the 
     CHECK(s.kf_count == kMaxKeyframes - 1);
     CHECK(s.order[0] == 0);
     for (std::uint32_t k = 1; k < s.kf_count; ++k) CHECK(s.kf[s.order[k]].id > s.kf[s.order[k - 1]].id);
-    CHECK(s.retired_count == kPointsEach);  // the leaving keyframe's points are map output
+    CHECK(s.retired.count == kPointsEach);  // the leaving keyframe's points are map output
   }
   SECTION("with --retirement oldest, or with the marginalisation prior (built from the oldest), the oldest leaves") {
     s.cfg.retirement = Retirement::oldest;

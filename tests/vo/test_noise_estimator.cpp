@@ -60,7 +60,7 @@ double measured_sigma(double white_sigma, double row_sigma, double fixed_pattern
       }
     });
   }
-  return std::sqrt(s->noise_var);
+  return std::sqrt(s->noise.var);
 }
 
 }  // namespace

@@ -36,24 +36,24 @@ TEST_CASE("stuck pixels are told from flat and from quiet live ones", "[vo][stuc
     raw[dead] = 0.0f;
     raw[hot] = 65535.0f;
   };
-  frame(s->raw);
+  frame(s->current.raw);
   int quiet_worst = 0;
   for (int k = 1; k <= 40; ++k) {
-    std::swap(s->raw, s->raw_prev);
-    frame(s->raw);
-    vo::count_unchanged_frames(*s);
-    quiet_worst = std::max<int>(quiet_worst, s->unchanged_frames[quiet]);
+    std::swap(s->current.raw, s->current.raw_prev);
+    frame(s->current.raw);
+    vo::count_unchanged_frames(s->tau_est, s->current, *s);
+    quiet_worst = std::max<int>(quiet_worst, s->tau_est.unchanged_frames[quiet]);
     if (k == 8) {
-      CHECK(s->unchanged_frames[dead] >= 4);  // checked every other frame: stuck after 8 frames
-      CHECK(s->unchanged_frames[hot] >= 4);
+      CHECK(s->tau_est.unchanged_frames[dead] >= 4);  // checked every other frame: stuck after 8 frames
+      CHECK(s->tau_est.unchanged_frames[hot] >= 4);
     }
   }
-  CHECK(s->unchanged_frames[flat] == 0);
-  CHECK(s->unchanged_frames[edge] == 0);  // the uniform surface's edge, next to the live half
+  CHECK(s->tau_est.unchanged_frames[flat] == 0);
+  CHECK(s->tau_est.unchanged_frames[edge] == 0);  // the uniform surface's edge, next to the live half
   // A live pixel may keep its value a frame or two, but it does not stand out from its
   // neighbours by 64 counts, so it is never counted.
   CHECK(quiet_worst == 0);
   std::size_t stuck = 0;
-  for (const std::uint8_t c : s->unchanged_frames) stuck += c >= 4;
+  for (const std::uint8_t c : s->tau_est.unchanged_frames) stuck += c >= 4;
   CHECK(stuck == 2);
 }

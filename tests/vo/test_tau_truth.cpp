@@ -66,9 +66,9 @@ double estimate_after_2s(unsigned supersample, double tau, double tau_start, con
                                    [](double z) { return 1 / z; });
       have_keyframe = true;
     }
-    if (have_keyframe) vo::refine_tau(*s);
+    if (have_keyframe) vo::refine_tau(s->tau_est, *s, s->current, s->motion, s->noise.var);
   }
-  return s->tau.c;
+  return s->tau_est.tau.c;
 }
 
 }  // namespace

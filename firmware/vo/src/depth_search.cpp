@@ -73,31 +73,31 @@ float pattern_energy(const Level& cur, const float* ref, float gain, float offse
 
 }  // namespace
 
-float typical_idepth(State& s) {
-  float* v = s.ba_hxr.data();
+float typical_idepth(MapCore& s) {
+  float* v = s.scratch.data();
   std::size_t n = 0;
   for (const Keyframe& kf : s.kf)
     if (kf.used)
-      for (std::uint32_t i = 0; i < kf.count && n < s.ba_hxr.size(); ++i)
+      for (std::uint32_t i = 0; i < kf.count && n < s.scratch.size(); ++i)
         if (kf.points[i].status == PointStatus::active) v[n++] = kf.points[i].idepth;
   return upper_median(v, n);
 }
 
 void search_immature_points(State& s, float extra_margin_px) {
-  const Level& cur = s.frame.level[0];
+  const Level& cur = s.current.frame.level[0];
   const Scaled k = camera_at(s.cfg.camera, 0);
   const float hub = huber_threshold(s);
   const float good_energy = kPattern * hub * hub * 4.0f;
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
     Keyframe& host = s.kf[slot];
     if (!host.used) continue;
-    const Se3 M = s.T_cw * host.T_cw.inverse();
+    const Se3 M = s.motion.T_cw * host.T_cw.inverse();
     if (M.t.norm() < 1e-9) continue;
     const Eigen::Matrix3f R = M.R.cast<float>();
     const Eigen::Vector3f t = M.t.cast<float>();
     const Level& ref = host.pyramid.level[0];
-    const float gain = static_cast<float>(std::exp(s.a - host.a));
-    const float offset = static_cast<float>(s.b - std::exp(s.a - host.a) * host.b);
+    const float gain = static_cast<float>(std::exp(s.brightness.a - host.a));
+    const float offset = static_cast<float>(s.brightness.b - std::exp(s.brightness.a - host.a) * host.b);
     for (std::uint32_t i = 0; i < host.count; ++i) {
       Point& p = host.points[i];
       if (p.status != PointStatus::immature) continue;
@@ -167,7 +167,7 @@ void search_immature_points(State& s, float extra_margin_px) {
       for (int it = 0; it < 3; ++it) {
         float H = 0, g = 0;
         for (std::uint32_t j = 0; j < kPattern; ++j) {
-          const Sample c = bilinear_with_gradient(s.frame_texels[0], u0 + ex * sb + kPatternX[j], v0 + ey * sb + kPatternY[j]);
+          const Sample c = bilinear_with_gradient(s.current.frame_texels[0], u0 + ex * sb + kPatternX[j], v0 + ey * sb + kPatternY[j]);
           const float r = c.value - (gain * refv[j] + offset);
           const float J = c.gx * ex + c.gy * ey;
           const float w = huber_weight(r, hub);
@@ -212,7 +212,7 @@ void search_immature_points(State& s, float extra_margin_px) {
 }
 
 void activate_mature_points(State& s, std::uint32_t tracked_points) {
-  s.ref_dirty = true;
+  s.ref.dirty = true;
   // A point is ready when its interval is narrow against the scene's typical inverse depth, not
   // against its own estimate: relative to its own, the points whose inverse depth came out too
   // large (too near) pass first, and a map built from them shrinks the next motion estimates,
@@ -252,7 +252,7 @@ void activate_mature_points(State& s, std::uint32_t tracked_points) {
     }
   }
   // The new view's points have no depth of their own: the map's scale breaks here.
-  if (placed_without_baseline) note_map_break(s);
+  if (placed_without_baseline) note_map_break(s.bridge, s.cfg, s.init.map_without_baseline, s.current.t_s);
 }
 
 }  // namespace bolo::vo

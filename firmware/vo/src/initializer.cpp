@@ -53,7 +53,7 @@ struct Brightness {
 };
 bool brightness_free(const State& s) {
   const Keyframe& host = s.kf[s.order[0]];
-  return (uses_carry_model(s.cfg) || s.cfg.photometric == Photometric::affine) && !same_level(s, host);
+  return (uses_carry_model(s.cfg) || s.cfg.photometric == Photometric::affine) && !same_level(s.current, host);
 }
 
 constexpr std::uint32_t kCells = 8;  // prior target: the mean inverse depth of the point's cell
@@ -82,7 +82,7 @@ double mean_idepth(const Keyframe& host) {
   return n ? sum / n : 1.0;
 }
 
-// Per point, in s.ba_hxr (stride 8): coupling to the pose (6), H_rr, g_r. kFree: the brightness
+// Per point, in s.scratch (stride 8): coupling to the pose (6), H_rr, g_r. kFree: the brightness
 // is free (a compile-time choice: the frames without it are most of the initialiser's time).
 template <bool kFree>
 InitSystem accumulate_with(State& s, std::uint32_t level, const Se3& M, const Brightness& br, bool with_jacobians) {
@@ -90,7 +90,7 @@ InitSystem accumulate_with(State& s, std::uint32_t level, const Se3& M, const Br
   Keyframe& host = init_host(s);
   const auto gain = kFree ? static_cast<float>(std::exp(br.a - host.a)) : 1.0f;
   const auto host_b = static_cast<float>(host.b), offset = static_cast<float>(br.b);
-  const Level& cur = s.frame.level[level];
+  const Level& cur = s.current.frame.level[level];
   const Level& ref = host.pyramid.level[level];
   const Scaled k = camera_at(s.cfg.camera, level), k0 = camera_at(s.cfg.camera, 0);
   const float scale = 1.0f / static_cast<float>(1u << level);
@@ -104,7 +104,7 @@ InitSystem accumulate_with(State& s, std::uint32_t level, const Se3& M, const Br
     Point& p = host.points[i];
     const double mean = means[(static_cast<std::uint32_t>(p.v) * kCells / s.cfg.height) * kCells +
                               static_cast<std::uint32_t>(p.u) * kCells / s.cfg.width];
-    float* row = s.ba_hxr.data() + std::size_t{i} * 8;
+    float* row = s.scratch.data() + std::size_t{i} * 8;
     for (int q = 0; q < 8; ++q) row[q] = 0;
     if (p.status != PointStatus::immature) continue;
     const Eigen::Vector3f n((p.u - k0.cx) / k0.fx, (p.v - k0.cy) / k0.fy, 1.0f);
@@ -128,7 +128,7 @@ InitSystem accumulate_with(State& s, std::uint32_t level, const Se3& M, const Br
     float energy = 0;
     float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], z[kPattern];
     for (std::uint32_t j = 0; j < kPattern; ++j) {
-      const Sample c = bilinear_with_gradient(s.frame_texels[level], u + kPatternX[j], v + kPatternY[j]);
+      const Sample c = bilinear_with_gradient(s.current.frame_texels[level], u + kPatternX[j], v + kPatternY[j]);
       const float reference = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
       if constexpr (kFree) {
         z[j] = reference - host_b;
@@ -206,7 +206,7 @@ Brightness brightness_step(const InitSystem& sys, const Brightness& br, double l
 template <class Propose, class Undo>
 Solved coarse_to_fine(State& s, Se3& M, Brightness& br, Propose propose, Undo undo) {
   Solved out;
-  for (int level = static_cast<int>(s.frame.levels) - 1; level >= 0; --level) {
+  for (int level = static_cast<int>(s.current.frame.levels) - 1; level >= 0; --level) {
     const auto l = static_cast<std::uint32_t>(level);
     double lambda = 0.1;
     InitSystem sys = accumulate(s, l, M, br, true);
@@ -240,7 +240,7 @@ Solved refine(State& s, Se3& M, Brightness& br) {
     Mat6 Hs = sys.H;
     Vec6 gs = sys.g;
     for (std::uint32_t i = 0; i < host.count; ++i) {
-      const float* row = s.ba_hxr.data() + std::size_t{i} * 8;
+      const float* row = s.scratch.data() + std::size_t{i} * 8;
       if (host.points[i].status != PointStatus::immature || row[6] <= 0) continue;
       const double hrr = row[6] * (1 + lambda);
       Vec6 hpr;
@@ -256,7 +256,7 @@ Solved refine(State& s, Se3& M, Brightness& br) {
     to = Se3::exp(dx) * from;
     for (std::uint32_t i = 0; i < host.count; ++i) {
       Point& p = host.points[i];
-      const float* row = s.ba_hxr.data() + std::size_t{i} * 8;
+      const float* row = s.scratch.data() + std::size_t{i} * 8;
       if (p.status != PointStatus::immature || row[6] <= 0) continue;
       double hpr_dx = 0;
       for (int q = 0; q < 6; ++q) hpr_dx += row[q] * dx[q];
@@ -293,9 +293,9 @@ Solved refine_rotation(State& s, Se3& M, Brightness& br) {
 }
 
 // Two sets of inverse depths (the warm solve's, then the fresh solve's) while another solve runs:
-// BA scratch past the rows that accumulate() writes (odometry.cpp sizes ba_hxr for all three).
-float* warm_depths(State& s) { return s.ba_hxr.subspan(std::size_t{s.cfg.points_per_keyframe} * 8).data(); }
-float* fresh_depths(State& s) { return s.ba_hxr.subspan(std::size_t{s.cfg.points_per_keyframe} * 9).data(); }
+// BA scratch past the rows that accumulate() writes (odometry.cpp sizes MapCore::scratch for all three).
+float* warm_depths(State& s) { return s.scratch.subspan(std::size_t{s.cfg.points_per_keyframe} * 8).data(); }
+float* fresh_depths(State& s) { return s.scratch.subspan(std::size_t{s.cfg.points_per_keyframe} * 9).data(); }
 void save_depths(const Keyframe& host, float* to) {
   for (std::uint32_t i = 0; i < host.count; ++i) to[i] = host.points[i].idepth;
 }
@@ -408,12 +408,12 @@ bool solve_afresh_if_better(State& s, Se3& M, Brightness& br, Solved& solved) {
 // docs/odometry-study.md, "Accuracy").
 constexpr std::uint32_t kBasinWaitFrames = 30;
 bool keep_waiting_for_the_basin(const State& s, bool basins_differ) {
-  return basins_differ && s.init_frames < kBasinWaitFrames;
+  return basins_differ && s.init.frames < kBasinWaitFrames;
 }
 
 }  // namespace
 
-double baseline_flow_needed(const State& s) { return kInitFlow * (s.cfg.width + s.cfg.height); }
+double baseline_flow_needed(const VoConfig& cfg) { return kInitFlow * (cfg.width + cfg.height); }
 
 void start_initialisation(State& s) {
   // A restart retires the whole map: its points are still output.
@@ -427,31 +427,31 @@ void start_initialisation(State& s) {
   make_keyframe(s, slot, true);
   Keyframe& host = s.kf[slot];
   for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = 1.0f;
-  s.initialised = false;
-  s.init_frames = 0;
-  s.map_without_baseline = false;
-  s.motion = Se3();
-  s.motion_dt_s = 0;
-  s.pose_t_s = s.t_s;
+  s.init.initialised = false;
+  s.init.frames = 0;
+  s.init.map_without_baseline = false;
+  s.motion.step = Se3();
+  s.motion.step_dt_s = 0;
+  s.motion.pose_t_s = s.current.t_s;
   // A new map has a scale of its own: nothing of the old one's motion is carried over.
-  s.motion_count = 0;
-  s.bridge = ScaleBridge();
+  s.bridge.count = 0;
+  s.bridge.carry = CarriedVelocity();
 }
 
 void follow_map_baseline(State& s) {
-  if (!s.map_without_baseline) return;
-  const Se3 M = s.T_cw * s.map_origin.inverse();
-  if (s.cfg.camera.fx * M.t.norm() >= baseline_flow_needed(s)) s.map_without_baseline = false;
+  if (!s.init.map_without_baseline) return;
+  const Se3 M = s.motion.T_cw * s.init.map_origin.inverse();
+  if (s.cfg.camera.fx * M.t.norm() >= baseline_flow_needed(s.cfg)) s.init.map_without_baseline = false;
 }
 
 bool initialise_step(State& s) {
   Keyframe& host = init_host(s);
-  Se3 M = motion_step(s) * (s.T_cw * host.T_cw.inverse());  // constant-velocity guess
+  Se3 M = motion_step(s.motion, s.current.t_s) * (s.motion.T_cw * host.T_cw.inverse());  // constant-velocity guess
   // Where the frame has the host's level it has the host's brightness.
   const bool level_unknown = brightness_free(s);
-  Brightness br = level_unknown ? Brightness{s.a, s.b, true} : Brightness{host.a, host.b, false};
+  Brightness br = level_unknown ? Brightness{s.brightness.a, s.brightness.b, true} : Brightness{host.a, host.b, false};
   Solved solved = refine(s, M, br);
-  const bool basins_differ = s.init_frames > 0 && solve_afresh_if_better(s, M, br, solved);
+  const bool basins_differ = s.init.frames > 0 && solve_afresh_if_better(s, M, br, solved);
   const std::uint32_t finest_inliers = solved.inliers;
   // Keep the mean inverse depth at 1: the scale of monocular odometry is free.
   const double mean = mean_idepth(host);
@@ -463,32 +463,32 @@ bool initialise_step(State& s) {
   // tracked from (a view of a blank wall): restart from the next frame.
   if (!M.t.allFinite() || !M.R.allFinite() || M.t.norm() > 10.0 || finest_inliers * 5 < host.count ||
       host.count < kMinInitPoints) {
-    s.init_frames = kGiveUp;
+    s.init.frames = kGiveUp;
     return false;
   }
-  ++s.init_frames;
+  ++s.init.frames;
   const double baseline_flow = s.cfg.camera.fx * M.t.norm();
   // The first keyframe's patterns must still match at the end: a slow camera (9 Hz) moves as far
   // in 10 frames as a 60 Hz one in 67, so it may stop at the time 10 frames take at 30 Hz.
-  const bool long_enough = s.init_frames >= kMinInitFrames ||
-                           (s.init_frames >= 2 && s.t_s - host.t_s >= kMinInitSeconds - 1e-6);
-  const bool ready = long_enough && baseline_flow >= baseline_flow_needed(s);
+  const bool long_enough = s.init.frames >= kMinInitFrames ||
+                           (s.init.frames >= 2 && s.current.t_s - host.t_s >= kMinInitSeconds - 1e-6);
+  const bool ready = long_enough && baseline_flow >= baseline_flow_needed(s.cfg);
   const bool rotation = ready && explained_by_rotation(s, M, br);
-  const Se3 previous = s.T_cw;
-  s.T_cw = (M * host.T_cw).orthonormalised();
-  s.a = br.a, s.b = br.b;
-  s.brightness_level_unknown = level_unknown;
-  record_motion(s, previous);
+  const Se3 previous = s.motion.T_cw;
+  s.motion.T_cw = (M * host.T_cw).orthonormalised();
+  s.brightness.a = br.a, s.brightness.b = br.b;
+  s.brightness.level_unknown = level_unknown;
+  record_motion(s.motion, previous, s.current.t_s);
   if (!ready) return false;
   if (rotation) {
     // The camera has turned about its centre since the host: the map starts flat, the motion
     // model turns at the average rate, and there is no basin to wait for.
     for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = 1.0f;
-    const double frames = static_cast<double>(s.init_frames);
-    s.motion = Se3::exp(M.log() / frames).orthonormalised();
-    s.motion_dt_s = (s.t_s - host.t_s) / frames;
-    s.map_without_baseline = true;
-    s.map_origin = host.T_cw;
+    const double frames = static_cast<double>(s.init.frames);
+    s.motion.step = Se3::exp(M.log() / frames).orthonormalised();
+    s.motion.step_dt_s = (s.current.t_s - host.t_s) / frames;
+    s.init.map_without_baseline = true;
+    s.init.map_origin = host.T_cw;
   } else if (keep_waiting_for_the_basin(s, basins_differ)) {
     return false;
   }
@@ -504,8 +504,8 @@ bool initialise_step(State& s) {
     p.status = PointStatus::active;
     p.idepth_min = p.idepth * 0.5f, p.idepth_max = p.idepth * 2.0f;
   }
-  s.initialised = true;
-  s.ref_dirty = true;
+  s.init.initialised = true;
+  s.ref.dirty = true;
   return true;
 }
 

@@ -2,7 +2,11 @@
 
 #include <algorithm>
 
-#include "state.hpp"
+#include "keyframe_retirement.hpp"
+
+#include "depth_search.hpp"
+#include "initializer.hpp"
+#include "map.hpp"
 
 namespace bolo::vo {
 namespace {
@@ -16,14 +20,14 @@ double centre_distance(const Keyframe& a, const Keyframe& b) { return (a.T_cw * 
 
 }  // namespace
 
-std::uint32_t keyframe_to_retire(State& s) {
+std::uint32_t keyframe_to_retire(MapCore& s) {
   if (s.cfg.retirement == Retirement::oldest || builds_marginalisation_prior(s.cfg) || s.kf_count < 4) return 0;
   const Keyframe& oldest = s.kf[s.order[0]];
   const Keyframe& newest = s.kf[s.order[s.kf_count - 1]];
   const double span = centre_distance(oldest, newest);
   // A window without a baseline (a pan, a turn on the spot) has none to keep.
   const float typical = typical_idepth(s);
-  if (!(typical > 0) || s.cfg.camera.fx * span * typical < baseline_flow_needed(s)) return 0;
+  if (!(typical > 0) || s.cfg.camera.fx * span * typical < baseline_flow_needed(s.cfg)) return 0;
   const double spacing = span / (s.kf_count - 1);
   std::uint32_t pick = 0;
   double nearest = kCrowdedSpacing * spacing;

@@ -17,7 +17,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "state.hpp"
+#include "noise_estimator.hpp"
+
+#include "frame_state.hpp"
 
 namespace bolo::vo {
 namespace {
@@ -38,12 +40,12 @@ std::size_t noise_block_count(std::uint32_t width, std::uint32_t height) {
   return std::size_t{width / 2} * (height / 2);
 }
 
-double frame_noise_variance(State& s) {
-  const std::uint32_t w = s.cfg.width, h = s.cfg.height;
+double frame_noise_variance(NoiseEstimate& noise, const CurrentFrame& f, const VoConfig& cfg) {
+  const std::uint32_t w = cfg.width, h = cfg.height;
   const std::size_t blocks = noise_block_count(w, h);
-  if (blocks < 16 || s.noise_scratch.size() < blocks) return -1.0;
-  float* scratch = s.noise_scratch.data();
-  const float* before = s.raw_prev2.data();
+  if (blocks < 16 || noise.scratch.size() < blocks) return -1.0;
+  float* scratch = noise.scratch.data();
+  const float* before = f.raw_prev2.data();
   std::size_t b = 0;
   for (std::uint32_t y = 0; y + 1 < h; y += 2)
     for (std::uint32_t x = 0; x + 1 < w; x += 2) scratch[b++] = block_roughness(before, std::size_t{y} * w + x, w);
@@ -56,7 +58,7 @@ double frame_noise_variance(State& s) {
     for (std::uint32_t x = 0; x + 1 < w; x += 2) {
       const std::size_t o = std::size_t{y} * w + x;
       if (block_roughness(before, o, w) > flat) continue;
-      const auto d = [&](std::size_t i) { return s.raw[i] - s.raw_prev[i]; };
+      const auto d = [&](std::size_t i) { return f.raw[i] - f.raw_prev[i]; };
       scratch[n++] = 0.5f * (d(o) - d(o + 1) - d(o + w) + d(o + w + 1));
     }
   if (n < 16) return -1.0;
@@ -82,11 +84,11 @@ double frame_noise_variance(State& s) {
   return std::isfinite(frame_var) ? frame_var : -1.0;
 }
 
-void update_noise_variance(State& s) {
-  const double frame_var = frame_noise_variance(s);
+void update_noise_variance(NoiseEstimate& noise, const CurrentFrame& f, const VoConfig& cfg) {
+  const double frame_var = frame_noise_variance(noise, f, cfg);
   if (!(frame_var >= 0)) return;
-  s.noise_var = s.noise_var > 0
-                    ? kNoiseVarianceForget * s.noise_var + (1 - kNoiseVarianceForget) * frame_var
+  noise.var = noise.var > 0
+                    ? kNoiseVarianceForget * noise.var + (1 - kNoiseVarianceForget) * frame_var
                     : frame_var;
 }
 

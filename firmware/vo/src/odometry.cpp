@@ -34,7 +34,7 @@ constexpr std::uint32_t kIntensityMeasureFrames = 30;  // the intensity scale st
 
 // The points tracked at the next keyframe if they keep leaving the view as fast as since the last.
 std::uint32_t tracked_at_next_keyframe(const State& s, std::uint32_t tracked) {
-  const std::uint32_t lost = s.inliers_after_kf > tracked ? s.inliers_after_kf - tracked : 0;
+  const std::uint32_t lost = s.loop.inliers_after_kf > tracked ? s.loop.inliers_after_kf - tracked : 0;
   return tracked > lost ? tracked - lost : 0;
 }
 
@@ -53,29 +53,29 @@ State* lay_out(const VoConfig& config, Arena& arena) {
   const std::size_t pyr = pyramid_floats(c.width, c.height, c.levels);
   const std::size_t ppk = c.points_per_keyframe;
   auto frame = arena.take<float>(pyr);
-  if (!frame.empty()) s.frame = make_pyramid(frame, c.width, c.height, c.levels);
+  if (!frame.empty()) s.current.frame = make_pyramid(frame, c.width, c.height, c.levels);
   auto texels = arena.take<Texel>(texel_count(c.width, c.height, c.levels));
-  if (!texels.empty()) make_texels(texels, c.width, c.height, c.levels, s.frame_texels);
-  s.raw = arena.take<float>(plane(c));
-  s.raw_prev = arena.take<float>(plane(c));
-  s.raw_prev2 = arena.take<float>(plane(c));
-  s.noise_scratch = arena.take<float>(noise_block_count(c.width, c.height));
-  s.unchanged_frames = arena.take<std::uint8_t>(plane(c));
-  s.occupied = arena.take<std::uint8_t>(plane(c));
-  s.candidates = arena.take<PixelPoint>(ppk);
-  s.selector.block_threshold = arena.take<float>(selector_block_count(c.width, c.height));
-  s.selector.histogram = arena.take<std::uint16_t>(64);
+  if (!texels.empty()) make_texels(texels, c.width, c.height, c.levels, s.current.frame_texels);
+  s.current.raw = arena.take<float>(plane(c));
+  s.current.raw_prev = arena.take<float>(plane(c));
+  s.current.raw_prev2 = arena.take<float>(plane(c));
+  s.noise.scratch = arena.take<float>(noise_block_count(c.width, c.height));
+  s.tau_est.unchanged_frames = arena.take<std::uint8_t>(plane(c));
+  s.selection.occupied = arena.take<std::uint8_t>(plane(c));
+  s.selection.candidates = arena.take<PixelPoint>(ppk);
+  s.selection.scratch.block_threshold = arena.take<float>(selector_block_count(c.width, c.height));
+  s.selection.scratch.histogram = arena.take<std::uint16_t>(64);
   for (std::uint32_t k = 0; k < c.max_keyframes; ++k) {
     auto storage = arena.take<float>(pyr);
     if (!storage.empty()) s.kf[k].pyramid = make_pyramid(storage, c.width, c.height, c.levels);
     s.kf[k].points = arena.take<Point>(ppk);
   }
-  s.retired = arena.take<WorldPoint>(std::size_t{c.max_keyframes} * ppk);  // a restart retires all
+  s.retired.points = arena.take<WorldPoint>(std::size_t{c.max_keyframes} * ppk);  // a restart retires all
   // The window BA's rows, or the initialiser's 8 floats a point plus two depth backups.
-  s.ba_hxr = arena.take<float>(std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 10));
-  s.ba_index = arena.take<std::uint32_t>(std::size_t{c.max_keyframes} * ppk);
-  s.ref = arena.take<RefPoint>(std::size_t{c.max_keyframes} * ppk);
-  s.tau.h = s.tau.c = c.tau_init_s;
+  s.scratch = arena.take<float>(std::max(std::size_t{c.max_keyframes} * ppk * kBaStride, ppk * 10));
+  s.ba.index = arena.take<std::uint32_t>(std::size_t{c.max_keyframes} * ppk);
+  s.ref.points = arena.take<RefPoint>(std::size_t{c.max_keyframes} * ppk);
+  s.tau_est.tau.h = s.tau_est.tau.c = c.tau_init_s;
   return arena.failed() ? nullptr : &s;
 }
 
@@ -94,7 +94,7 @@ Vec3 world_point(const Keyframe& kf, const Point& p, const Camera& cam) {
 // Pixel flow of the latest keyframe's points to the current frame: translation only and full.
 void keyframe_flow(const State& s, double& flow_t, double& flow_rt, std::uint32_t& points) {
   const Keyframe& kf = s.kf[s.order[s.kf_count - 1]];
-  const Se3 M = s.T_cw * kf.T_cw.inverse();
+  const Se3 M = s.motion.T_cw * kf.T_cw.inverse();
   const Scaled k = camera_at(s.cfg.camera, 0);
   double st = 0, srt = 0;
   points = 0;
@@ -117,12 +117,12 @@ void keyframe_flow(const State& s, double& flow_t, double& flow_rt, std::uint32_
 // translation (every point collapses onto one pixel) makes it huge.
 double step_translation_flow(State& s, const Se3& step) {
   const Scaled k = camera_at(s.cfg.camera, 0);
-  float* flows = s.ba_hxr.data();
+  float* flows = s.scratch.data();
   std::size_t n = 0;
   for (const Keyframe& host : s.kf) {
     if (!host.used) continue;
-    const Se3 H = s.T_cw * host.T_cw.inverse();
-    for (std::uint32_t i = 0; i < host.count && n < s.ba_hxr.size(); ++i) {
+    const Se3 H = s.motion.T_cw * host.T_cw.inverse();
+    for (std::uint32_t i = 0; i < host.count && n < s.scratch.size(); ++i) {
       const Point& p = host.points[i];
       if (p.status != PointStatus::active) continue;
       const Vec3 X = H * (Vec3((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0) / p.idepth);
@@ -150,11 +150,11 @@ std::uint32_t active_in_window(const State& s) {
 }  // namespace
 
 void retire_points(State& s, const Keyframe& old) {
-  for (std::uint32_t i = 0; i < old.count && s.retired_count < s.retired.size(); ++i) {
+  for (std::uint32_t i = 0; i < old.count && s.retired.count < s.retired.points.size(); ++i) {
     const Point& p = old.points[i];
     if (p.status != PointStatus::active || p.idepth <= 0) continue;
     const Vec3 X = world_point(old, p, s.cfg.camera);
-    s.retired[s.retired_count++] = {static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()),
+    s.retired.points[s.retired.count++] = {static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()),
                                     old.pyramid.level[0].value.at(static_cast<std::uint32_t>(p.u), static_cast<std::uint32_t>(p.v))};
   }
 }
@@ -179,24 +179,24 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
   Keyframe& kf = s.kf[slot];
   kf.used = true;
   kf.id = s.kf_created++;
-  s.ref_dirty = true;
-  kf.T_cw = s.T_cw;
-  kf.a = s.a, kf.b = s.b;
-  kf.t_s = s.t_s, kf.exposure_s = s.exposure_s, kf.readout_prev_s = s.readout_prev_s;
-  kf.chain_ok = s.chain_ok;
-  kf.settled = s.frames_since_timing_change >= kTimingSettleFrames;
-  s.offset_step = 0;
+  s.ref.dirty = true;
+  kf.T_cw = s.motion.T_cw;
+  kf.a = s.brightness.a, kf.b = s.brightness.b;
+  kf.t_s = s.current.t_s, kf.exposure_s = s.current.exposure_s, kf.readout_prev_s = s.current.readout_prev_s;
+  kf.chain_ok = s.current.chain_ok;
+  kf.settled = s.current.frames_since_timing_change >= kTimingSettleFrames;
+  s.brightness.offset_step = 0;
   kf.count = 0;
-  copy_pyramid(s.frame, kf.pyramid, s.cfg);
+  copy_pyramid(s.current.frame, kf.pyramid, s.cfg);
   s.order[s.kf_count++] = slot;
   if (!select_points_now) return;
   // Where the window's active points already land, no new point is needed.
-  std::memset(s.occupied.data(), 0, s.occupied.size());
+  std::memset(s.selection.occupied.data(), 0, s.selection.occupied.size());
   const Scaled k = camera_at(s.cfg.camera, 0);
   const auto radius = static_cast<int>(std::sqrt(static_cast<float>(plane(s.cfg)) / static_cast<float>(s.cfg.points_per_keyframe)) * 0.5f);
   for (const Keyframe& other : s.kf) {
     if (!other.used || &other == &kf) continue;
-    const Se3 M = s.T_cw * other.T_cw.inverse();
+    const Se3 M = s.motion.T_cw * other.T_cw.inverse();
     for (std::uint32_t i = 0; i < other.count; ++i) {
       const Point& p = other.points[i];
       if (p.status != PointStatus::active) continue;
@@ -207,15 +207,15 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
       for (int y = v - radius; y <= v + radius; ++y)
         for (int x = u - radius; x <= u + radius; ++x)
           if (x >= 0 && y >= 0 && x < static_cast<int>(s.cfg.width) && y < static_cast<int>(s.cfg.height))
-            s.occupied[static_cast<std::size_t>(y) * s.cfg.width + static_cast<std::size_t>(x)] = 1;
+            s.selection.occupied[static_cast<std::size_t>(y) * s.cfg.width + static_cast<std::size_t>(x)] = 1;
     }
   }
-  const std::size_t n = select_points(s.frame.level[0], s.occupied, s.cfg.points_per_keyframe, 4,
-                                      s.selector, s.candidates, s.intensity);
+  const std::size_t n = select_points(s.current.frame.level[0], s.selection.occupied, s.cfg.points_per_keyframe, 4,
+                                      s.selection.scratch, s.selection.candidates, s.intensity);
   for (std::size_t i = 0; i < n && kf.count < kf.points.size(); ++i) {
     Point& p = kf.points[kf.count++];
     p = Point();
-    p.u = s.candidates[i].x, p.v = s.candidates[i].y;
+    p.u = s.selection.candidates[i].x, p.v = s.selection.candidates[i].y;
     p.status = PointStatus::immature;
     p.idepth = 1.0f, p.idepth_min = 0.0f, p.idepth_max = -1.0f;
   }
@@ -225,7 +225,7 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
 // noisier frames (a larger gain, or another renderer's scale) get them in proportion. Measured
 // once, from the first three frames, so that thresholds do not move under a running map.
 void measure_intensity_scale(State& s) {
-  const double var = frame_noise_variance(s);
+  const double var = frame_noise_variance(s.noise, s.current, s.cfg);
   if (var < 0 && s.raw_frames < kIntensityMeasureFrames) return;  // too few flat blocks: try the next frame
   s.intensity_pending = false;
   const double sigma = var > 0 ? std::sqrt(var) : 0.0;
@@ -239,11 +239,11 @@ namespace {
 // filter's, and moving edges (a correction far above the noise) are still deghosted. Until the
 // noise is measured, nothing is taken back.
 void core_carry_correction(State& s, float gain_alpha) {
-  if (!(s.cfg.carry_coring > 0) || !(s.noise_var > 0)) return;
-  const auto limit = static_cast<float>(s.cfg.carry_coring * std::sqrt(2.0 * s.noise_var)) * gain_alpha;
-  float* level0 = s.frame.level[0].value.data;
+  if (!(s.cfg.carry_coring > 0) || !(s.noise.var > 0)) return;
+  const auto limit = static_cast<float>(s.cfg.carry_coring * std::sqrt(2.0 * s.noise.var)) * gain_alpha;
+  float* level0 = s.current.frame.level[0].value.data;
   for (std::size_t i = 0; i < plane(s.cfg); ++i) {
-    const float correction = gain_alpha * (s.raw[i] - s.raw_prev[i]);
+    const float correction = gain_alpha * (s.current.raw[i] - s.current.raw_prev[i]);
     level0[i] -= std::max(-limit, std::min(limit, correction));
   }
 }
@@ -263,15 +263,16 @@ double static_level_factor(Tau tau, double readout_prev_s, double exposure_s) {
 }
 }  // namespace
 
-double scene_level_scale(const State& s) { return static_level_factor(s.tau, s.readout_prev_s, s.exposure_s); }
+double scene_level_scale(Tau tau, const CurrentFrame& f) { return static_level_factor(tau, f.readout_prev_s, f.exposure_s); }
 
-bool same_level(const State& s, const Keyframe& kf) {
-  return s.frames_since_timing_change >= kTimingSettleFrames && kf.settled &&
-         !timing_differs(kf.exposure_s, s.exposure_s) && !timing_differs(kf.readout_prev_s, s.readout_prev_s);
+bool same_level(const CurrentFrame& f, const Keyframe& kf) {
+  return f.frames_since_timing_change >= kTimingSettleFrames && kf.settled &&
+         !timing_differs(kf.exposure_s, f.exposure_s) && !timing_differs(kf.readout_prev_s, f.readout_prev_s);
 }
 
 void write_scene_estimate(State& s) {
-  s.carry = carry_coefficients(s.tau, s.readout_prev_s, s.exposure_s);
+  CurrentFrame& f = s.current;
+  f.carry = carry_coefficients(s.tau_est.tau, f.readout_prev_s, f.exposure_s);
   // The scene estimate u = (raw_i - alpha raw_{i-1}) / beta (paper Eq. 6), scaled to the level a
   // static pixel reads at this frame's timing: a static pixel keeps its value whatever tau is, so
   // a refined tau does not shift every pixel's level against the keyframes. Without the scale,
@@ -279,19 +280,20 @@ void write_scene_estimate(State& s) {
   // t_e = t_r, and the tau fit and the tracking then chase each other. At a change of the timing the raw static level
   // itself changes (by the true tau's factor): the tracker and the initialiser free the gain and
   // offset there (same_level).
-  s.scene_scale = scene_level_scale(s);
-  const auto alpha = static_cast<float>(s.carry.alpha);
-  const auto gain = static_cast<float>(s.scene_scale / s.carry.beta);
-  float* level0 = s.frame.level[0].value.data;
-  for (std::size_t i = 0; i < plane(s.cfg); ++i) level0[i] = (s.raw[i] - alpha * s.raw_prev[i]) * gain;
+  f.scene_scale = scene_level_scale(s.tau_est.tau, s.current);
+  const auto alpha = static_cast<float>(f.carry.alpha);
+  const auto gain = static_cast<float>(f.scene_scale / f.carry.beta);
+  float* level0 = f.frame.level[0].value.data;
+  for (std::size_t i = 0; i < plane(s.cfg); ++i) level0[i] = (f.raw[i] - alpha * f.raw_prev[i]) * gain;
   core_carry_correction(s, alpha * gain);
 }
 
 void build_frame_images(State& s) {
+  CurrentFrame& f = s.current;
   // Level 0's gradient plane is free until build_pyramid fills it.
-  for (std::uint32_t pass = 0; pass < s.cfg.smoothing; ++pass) smooth_binomial(s.frame.level[0].value, s.frame.level[0].gx);
-  build_pyramid(s.frame);
-  fill_texels(s.frame, s.frame_texels);
+  for (std::uint32_t pass = 0; pass < s.cfg.smoothing; ++pass) smooth_binomial(f.frame.level[0].value, f.frame.level[0].gx);
+  build_pyramid(f.frame);
+  fill_texels(f.frame, f.frame_texels);
 }
 
 std::size_t Odometry::arena_bytes(const VoConfig& config) {
@@ -319,13 +321,13 @@ Odometry::Odometry(const VoConfig& config, std::span<std::byte> arena) {
   state_ = lay_out(config, a);
 }
 
-Tau Odometry::tau() const { return state_ ? state_->tau : Tau{}; }
+Tau Odometry::tau() const { return state_ ? state_->tau_est.tau : Tau{}; }
 std::uint32_t Odometry::keyframes_created() const { return state_ ? state_->kf_created : 0; }
 float Odometry::intensity_scale() const { return state_ ? state_->intensity : 1.0f; }
 
 std::span<const WorldPoint> Odometry::retired_points() const {
   if (!state_) return {};
-  return {state_->retired.data(), state_->retired_count};
+  return {state_->retired.points.data(), state_->retired.count};
 }
 
 std::size_t Odometry::window_points(std::span<WorldPoint> out) const {
@@ -344,19 +346,19 @@ std::size_t Odometry::window_points(std::span<WorldPoint> out) const {
   return n;
 }
 
-Se3 motion_step(const State& s) {
-  const double dt = s.t_s - s.pose_t_s;
-  if (!(s.motion_dt_s > 0) || !(dt > 0)) return s.motion;
-  const double ratio = dt / s.motion_dt_s;
-  if (std::fabs(ratio - 1) < 0.25) return s.motion;  // timing jitter: the step as measured
+Se3 motion_step(const MotionModel& m, double t_s) {
+  const double dt = t_s - m.pose_t_s;
+  if (!(m.step_dt_s > 0) || !(dt > 0)) return m.step;
+  const double ratio = dt / m.step_dt_s;
+  if (std::fabs(ratio - 1) < 0.25) return m.step;  // timing jitter: the step as measured
   // Beyond a few frames constant velocity is a poor guess anyway (the identity guess remains).
-  return Se3::exp(std::min(ratio, 4.0) * s.motion.log());
+  return Se3::exp(std::min(ratio, 4.0) * m.step.log());
 }
 
-void record_motion(State& s, const Se3& previous) {
-  s.motion = (s.T_cw * previous.inverse()).orthonormalised();
-  s.motion_dt_s = s.t_s - s.pose_t_s;
-  s.pose_t_s = s.t_s;
+void record_motion(MotionModel& m, const Se3& previous, double t_s) {
+  m.step = (m.T_cw * previous.inverse()).orthonormalised();
+  m.step_dt_s = t_s - m.pose_t_s;
+  m.pose_t_s = t_s;
 }
 
 namespace {
@@ -365,30 +367,31 @@ namespace {
 // (initialiser, tracker), in affine (as DSO with known exposure times) where the exposures' ratio
 // puts it.
 void follow_timing(State& s) {
-  const bool changed = timing_differs(s.exposure_prev_s, s.exposure_s) || timing_differs(s.readout_prev2_s, s.readout_prev_s);
+  CurrentFrame& f = s.current;
+  const bool changed = timing_differs(f.exposure_prev_s, f.exposure_s) || timing_differs(f.readout_prev2_s, f.readout_prev_s);
   if (!changed) {
-    if (s.frames_since_timing_change < 0xffffffffu) ++s.frames_since_timing_change;
+    if (f.frames_since_timing_change < 0xffffffffu) ++f.frames_since_timing_change;
     return;
   }
-  s.frames_since_timing_change = 0;
-  if (uses_carry_model(s.cfg) && s.chain_ok) {
-    const double ratio = static_level_factor(s.tau, s.readout_prev_s, s.exposure_s) /
-                         static_level_factor(s.tau, s.readout_prev2_s, s.exposure_prev_s);
-    s.a += std::log(ratio);
+  f.frames_since_timing_change = 0;
+  if (uses_carry_model(s.cfg) && f.chain_ok) {
+    const double ratio = static_level_factor(s.tau_est.tau, f.readout_prev_s, f.exposure_s) /
+                         static_level_factor(s.tau_est.tau, f.readout_prev2_s, f.exposure_prev_s);
+    s.brightness.a += std::log(ratio);
     // A camera's raw counts start from an offset, which stays where it is while the scene's share
     // scales by the ratio: the frame's offset starts where the mean scene levels of this frame
     // and the one before put it (3000 counts of offset lost the track at a switch otherwise).
-    if (s.chain_ok_prev && s.readout_prev2_s > 0 && s.exposure_prev_s > 0 && s.readout_prev_s > 0 && s.exposure_s > 0) {
+    if (f.chain_ok_prev && f.readout_prev2_s > 0 && f.exposure_prev_s > 0 && f.readout_prev_s > 0 && f.exposure_s > 0) {
       const std::size_t n = plane(s.cfg);
-      const double m0 = mean_level(s.raw.data(), n), m1 = mean_level(s.raw_prev.data(), n), m2 = mean_level(s.raw_prev2.data(), n);
-      const double alpha_now = carry_coefficients(s.tau, s.readout_prev_s, s.exposure_s).alpha;
-      const double alpha_before = carry_coefficients(s.tau, s.readout_prev2_s, s.exposure_prev_s).alpha;
+      const double m0 = mean_level(f.raw.data(), n), m1 = mean_level(f.raw_prev.data(), n), m2 = mean_level(f.raw_prev2.data(), n);
+      const double alpha_now = carry_coefficients(s.tau_est.tau, f.readout_prev_s, f.exposure_s).alpha;
+      const double alpha_before = carry_coefficients(s.tau_est.tau, f.readout_prev2_s, f.exposure_prev_s).alpha;
       const double scene_now = (m0 - alpha_now * m1) / (1 - alpha_now), scene_before = (m1 - alpha_before * m2) / (1 - alpha_before);
-      s.b = ratio * s.b + (scene_now - ratio * scene_before);
+      s.brightness.b = ratio * s.brightness.b + (scene_now - ratio * scene_before);
     }
-    s.brightness_level_unknown = true;
-  } else if (s.cfg.photometric == Photometric::affine && timing_differs(s.exposure_prev_s, s.exposure_s)) {
-    s.a += std::log(s.exposure_s / s.exposure_prev_s);
+    s.brightness.level_unknown = true;
+  } else if (s.cfg.photometric == Photometric::affine && timing_differs(f.exposure_prev_s, f.exposure_s)) {
+    s.brightness.a += std::log(f.exposure_s / f.exposure_prev_s);
   }
 }
 
@@ -405,49 +408,51 @@ namespace {
 // before it move back); its timing, stuck-pixel, intensity-scale and noise bookkeeping follow.
 // Returns whether the frame follows a repeated one (its sensor predecessor was never delivered).
 bool load_frame(State& s, const FrameInput& in, bool chain_broken) {
+  CurrentFrame& f = s.current;
   const VoConfig& c = s.cfg;
-  std::swap(s.raw_prev, s.raw_prev2);
-  std::swap(s.raw, s.raw_prev);
-  for (std::size_t i = 0; i < plane(c); ++i) s.raw[i] = static_cast<float>(in.raw[i]);
-  const bool had_prev = s.have_prev;
-  s.have_prev = true;
-  s.chain_ok_prev = s.chain_ok;
-  const bool after_repeat = s.predecessor_missing && !chain_broken;
-  s.predecessor_missing = false;
-  s.chain_ok = had_prev && !chain_broken && !after_repeat;
-  s.T_prev = s.T_cw;
-  s.prev_posed = s.posed;
-  s.posed = false;
-  s.exposure_prev_s = s.exposure_s;
-  s.readout_prev2_s = s.readout_prev_s;
-  s.t_s = in.t_s, s.exposure_s = in.exposure_s, s.readout_prev_s = in.readout_prev_s;
+  std::swap(f.raw_prev, f.raw_prev2);
+  std::swap(f.raw, f.raw_prev);
+  for (std::size_t i = 0; i < plane(c); ++i) f.raw[i] = static_cast<float>(in.raw[i]);
+  const bool had_prev = f.have_prev;
+  f.have_prev = true;
+  f.chain_ok_prev = f.chain_ok;
+  const bool after_repeat = f.predecessor_missing && !chain_broken;
+  f.predecessor_missing = false;
+  f.chain_ok = had_prev && !chain_broken && !after_repeat;
+  s.motion.T_prev = s.motion.T_cw;
+  s.motion.prev_posed = s.motion.posed;
+  s.motion.posed = false;
+  f.exposure_prev_s = f.exposure_s;
+  f.readout_prev2_s = f.readout_prev_s;
+  f.t_s = in.t_s, f.exposure_s = in.exposure_s, f.readout_prev_s = in.readout_prev_s;
   follow_timing(s);
-  s.scene_scale = 1.0;
+  f.scene_scale = 1.0;
   const bool ir = uses_carry_model(c);
-  if (ir && had_prev) count_unchanged_frames(s);
+  if (ir && had_prev) count_unchanged_frames(s.tau_est, s.current, s);
   if (s.intensity_pending && ++s.raw_frames >= 3) measure_intensity_scale(s);
   // Before the tracking image: its carry-over correction is cored against this noise.
-  if (ir && s.chain_ok && s.chain_ok_prev) update_noise_variance(s);
+  if (ir && f.chain_ok && f.chain_ok_prev) update_noise_variance(s.noise, s.current, s.cfg);
   return after_repeat;
 }
 
 // The tracking image: what the photometric model says is comparable between frames.
 void write_tracking_image(State& s, const FrameInput& in) {
+  CurrentFrame& f = s.current;
   const VoConfig& c = s.cfg;
-  float* level0 = s.frame.level[0].value.data;
-  if (c.photometric == Photometric::ir && s.chain_ok) {
+  float* level0 = f.frame.level[0].value.data;
+  if (c.photometric == Photometric::ir && f.chain_ok) {
     write_scene_estimate(s);
-  } else if (c.photometric == Photometric::ir_loop && s.chain_ok && in.corrected.size() == plane(c)) {
+  } else if (c.photometric == Photometric::ir_loop && f.chain_ok && in.corrected.size() == plane(c)) {
     // Without its predecessor the corrector only scales the frame by 1/beta, a level the keyframes
     // do not share; the raw frame (like ir's) has their static level and is tracked with a free offset.
     // The corrector ran with this tau; its output is brought to the static level as ir's is.
-    s.scene_scale = scene_level_scale(s);
-    const auto scale = static_cast<float>(s.scene_scale);
+    f.scene_scale = scene_level_scale(s.tau_est.tau, s.current);
+    const auto scale = static_cast<float>(f.scene_scale);
     for (std::size_t i = 0; i < plane(c); ++i) level0[i] = static_cast<float>(in.corrected[i]) * scale;
-    const CarryCoefficients k = carry_coefficients(s.tau, s.readout_prev_s, s.exposure_s);
-    core_carry_correction(s, static_cast<float>(k.alpha * s.scene_scale / k.beta));
+    const CarryCoefficients k = carry_coefficients(s.tau_est.tau, f.readout_prev_s, f.exposure_s);
+    core_carry_correction(s, static_cast<float>(k.alpha * f.scene_scale / k.beta));
   } else {
-    std::memcpy(level0, s.raw.data(), plane(c) * sizeof(float));
+    std::memcpy(level0, f.raw.data(), plane(c) * sizeof(float));
   }
   build_frame_images(s);
 }
@@ -456,31 +461,31 @@ void write_tracking_image(State& s, const FrameInput& in) {
 FrameResult initialisation_frame(State& s, bool after_repeat, double frame_dt_s, FrameResult out) {
   const bool ir = uses_carry_model(s.cfg);
   // A broken carry-over chain (ir modes) gives a frame that matches nothing: wait for the next.
-  if (s.kf_count == 0 || s.init_frames >= kMaxInitFrames || (ir && !s.chain_ok)) {
+  if (s.kf_count == 0 || s.init.frames >= kMaxInitFrames || (ir && !s.current.chain_ok)) {
     // After a repeated frame the scene did not jump (no shutter event, no gap in time): the
     // initialisation goes on with the next frame.
-    if (ir && after_repeat && s.kf_count > 0 && s.init_frames < kMaxInitFrames) return out;
-    if (ir && !s.chain_ok) {
+    if (ir && after_repeat && s.kf_count > 0 && s.init.frames < kMaxInitFrames) return out;
+    if (ir && !s.current.chain_ok) {
       s.kf_count = 0;
       for (auto& kf : s.kf) kf.used = false;
       return out;
     }
-    s.a = s.b = 0;
-    s.T_cw = s.kf_count > 0 ? s.kf[s.order[0]].T_cw : s.last_good;
+    s.brightness.a = s.brightness.b = 0;
+    s.motion.T_cw = s.kf_count > 0 ? s.kf[s.order[0]].T_cw : s.motion.last_good;
     // A map lost far out (scale drift) cannot anchor a new one with any precision: restart at the origin.
-    if (!s.T_cw.t.allFinite() || s.T_cw.t.norm() > 1e3) s.T_cw = Se3();
+    if (!s.motion.T_cw.t.allFinite() || s.motion.T_cw.t.norm() > 1e3) s.motion.T_cw = Se3();
     start_initialisation(s);
     return out;
   }
   if (!initialise_step(s)) return out;
-  s.posed = true;
+  s.motion.posed = true;
   out.state = TrackingState::tracking;
   out.has_pose = true;
-  out.T_wc = s.T_cw.inverse();
+  out.T_wc = s.motion.T_cw.inverse();
   out.tracked_points = active_in_window(s);
-  s.frames_since_kf = 1;
-  s.since_kf_s = frame_dt_s;
-  s.inliers_after_kf = out.tracked_points;
+  s.loop.frames_since_kf = 1;
+  s.loop.since_kf_s = frame_dt_s;
+  s.loop.inliers_after_kf = out.tracked_points;
   return out;
 }
 
@@ -493,6 +498,7 @@ struct BrightnessStart {
 };
 
 BrightnessStart brightness_start(State& s, const FrameInput& in, const Keyframe& reference) {
+  const CurrentFrame& f = s.current;
   const VoConfig& c = s.cfg;
   const bool ir = uses_carry_model(c);
   BrightnessStart start;
@@ -501,33 +507,33 @@ BrightnessStart brightness_start(State& s, const FrameInput& in, const Keyframe&
   // settled on the shutter; after a gap it holds the ghost of a frame never seen), and the first
   // frame after it with a free offset that is then kept: a shutter event resets the camera's
   // offsets, which the scene estimate carries from then on.
-  if (ir && !s.chain_ok) s.offset_pending = true;
+  if (ir && !f.chain_ok) s.brightness.offset_pending = true;
   // A frame without its reference keyframe's level (same_level: across a change of exposure or
   // readout) is tracked with a free gain and offset, which are kept.
-  start.level_unknown = ir && s.chain_ok && !same_level(s, reference);
-  start.free.gain = ir && (!s.chain_ok || start.level_unknown);
-  start.free.offset = ir && (!s.chain_ok || s.offset_pending || start.level_unknown);
+  start.level_unknown = ir && f.chain_ok && !same_level(s.current, reference);
+  start.free.gain = ir && (!f.chain_ok || start.level_unknown);
+  start.free.offset = ir && (!f.chain_ok || s.brightness.offset_pending || start.level_unknown);
   // After a shutter event the gain starts where the current tau puts the step response, and the
   // offset where that gain puts the frame's mean level (the settled shutter's share of the counts
   // is unknown: started at the keyframes' offset, every residual would be an outlier).
   // The reference's image has the raw static level of its own timing.
   start.shutter_step = ir && in.shutter_event && reference.exposure_s > 0 && reference.readout_prev_s > 0 && in.exposure_s > 0;
-  start.a = s.a, start.b = s.b;
+  start.a = s.brightness.a, start.b = s.brightness.b;
   // Back at the reference's level after frames that were not: its gain, and its offset as the
   // camera's shutter events have moved it since.
-  if (ir && s.chain_ok && !start.level_unknown && s.brightness_level_unknown)
-    start.a = reference.a, start.b = reference.b + s.offset_step;
+  if (ir && f.chain_ok && !start.level_unknown && s.brightness.level_unknown)
+    start.a = reference.a, start.b = reference.b + s.brightness.offset_step;
   if (start.shutter_step) {
-    const double gain = shutter_step_gain(s.tau, in.exposure_s, reference.readout_prev_s, reference.exposure_s);
+    const double gain = shutter_step_gain(s.tau_est.tau, in.exposure_s, reference.readout_prev_s, reference.exposure_s);
     start.a = reference.a + std::log(gain);
-    start.b = mean_level(s.raw.data(), plane(c)) - gain * (mean_level(reference.pyramid.level[0].value.data, plane(c)) - reference.b);
+    start.b = mean_level(f.raw.data(), plane(c)) - gain * (mean_level(reference.pyramid.level[0].value.data, plane(c)) - reference.b);
   }
   return start;
 }
 
 // A tracked pose whose step from the last moves the map's points further than a video-rate camera can.
 bool too_fast(State& s, const TrackResult& r) {
-  return step_translation_flow(s, r.T_cw * s.T_cw.inverse()) > kMaxStepFlow * (s.cfg.width + s.cfg.height);
+  return step_translation_flow(s, r.T_cw * s.motion.T_cw.inverse()) > kMaxStepFlow * (s.cfg.width + s.cfg.height);
 }
 
 // The frame tracked from the motion model's guesses (constant velocity, none, half, double).
@@ -537,27 +543,33 @@ bool too_fast(State& s, const TrackResult& r) {
 // only if it fails. (Ranking every guess on every frame was needed while the poses lost their
 // orthonormality and a constant-velocity guess drifted off; it cost a quarter of the VO's time.)
 TrackResult track_from_guesses(State& s, const Se3& step, const BrightnessStart& start) {
+  const CurrentFrame& f = s.current;
   const Se3 half = Se3::exp(0.5 * step.log());
-  const Se3 guesses[] = {held_guess(s, step * s.T_cw), held_guess(s, s.T_cw), held_guess(s, half * s.T_cw),
-                         held_guess(s, step * step * s.T_cw)};
+  const auto held = [&](const Se3& guess) { return held_guess(s.bridge, f.t_s, guess); };
+  const Se3& T = s.motion.T_cw;
+  const Se3 guesses[] = {held(step * T), held(T), held(half * T), held(step * step * T)};
+  // The tracking from a guess down to `last_level`, continuing `resume` (track_frame).
+  const auto track = [&](const Se3& guess, std::uint32_t last_level, const TrackResult* resume = nullptr) {
+    return track_frame(s.ref, s, f, s.bridge, guess, start.a, start.b, start.free, last_level, resume);
+  };
   TrackResult best;
   bool have = false;
-  const std::uint32_t screen_level = s.frame.levels > 2 ? s.frame.levels - 2 : 0;
+  const std::uint32_t screen_level = f.frame.levels > 2 ? f.frame.levels - 2 : 0;
   constexpr std::size_t kGuesses = sizeof(guesses) / sizeof(guesses[0]);
   std::size_t order[kGuesses] = {0, 1, 2, 3};
   TrackResult screened[kGuesses];
   bool accepted = false;
   if (screen_level > 0) {
-    screened[0] = track_frame(s, guesses[0], start.a, start.b, start.free, screen_level);
-    if (screened[0].ok && s.last_rms > 0) {
-      TrackResult r = track_frame(s, guesses[0], start.a, start.b, start.free, 0, &screened[0]);
-      if (r.ok && !too_fast(s, r) && r.rms <= kRetrackRatio * s.last_rms) best = r, have = true, accepted = true;
+    screened[0] = track(guesses[0], screen_level);
+    if (screened[0].ok && s.loop.last_rms > 0) {
+      TrackResult r = track(guesses[0], 0, &screened[0]);
+      if (r.ok && !too_fast(s, r) && r.rms <= kRetrackRatio * s.loop.last_rms) best = r, have = true, accepted = true;
     }
   }
   if (screen_level > 0 && !accepted) {
     double energy[kGuesses];
     for (std::size_t g = 0; g < kGuesses; ++g) {
-      if (g > 0) screened[g] = track_frame(s, guesses[g], start.a, start.b, start.free, screen_level);
+      if (g > 0) screened[g] = track(guesses[g], screen_level);
       energy[g] = screened[g].ok ? screened[g].mean_energy : 1e30;
     }
     std::sort(order, order + kGuesses, [&](std::size_t x, std::size_t y) { return energy[x] < energy[y]; });
@@ -565,8 +577,7 @@ TrackResult track_from_guesses(State& s, const Se3& step, const BrightnessStart&
   for (const std::size_t g : order) {
     if (accepted) break;
     // A screened guess continues below the screening level (its coarse levels are not repeated).
-    TrackResult r = track_frame(s, guesses[g], start.a, start.b, start.free, 0,
-                                screen_level > 0 && screened[g].ok ? &screened[g] : nullptr);
+    TrackResult r = track(guesses[g], 0, screen_level > 0 && screened[g].ok ? &screened[g] : nullptr);
     if (r.ok && too_fast(s, r)) r.ok = false;
     if (!have || (r.ok && !best.ok) || (r.ok == best.ok && r.rms < best.rms)) best = r, have = true;
     if (best.ok && screen_level > 0) break;
@@ -579,14 +590,14 @@ TrackResult track_from_guesses(State& s, const Se3& step, const BrightnessStart&
 // without the bridge, rather than lost; the hold goes on with the next frame. Returns whether the
 // frame's pose keeps the held centre.
 bool track_free_of_hold(State& s, const Se3& step, const BrightnessStart& start, TrackResult& best) {
-  bool held = centre_carried(s);
+  bool held = centre_carried(s.bridge, s.current.t_s);
   if (!best.ok && held) {
-    s.bridge.suspended = true;
-    for (const Se3& g : {step * s.T_cw, s.T_cw}) {
-      const TrackResult r = track_frame(s, g, start.a, start.b, start.free, 0);
+    s.bridge.carry.suspended = true;
+    for (const Se3& g : {step * s.motion.T_cw, s.motion.T_cw}) {
+      const TrackResult r = track_frame(s.ref, s, s.current, s.bridge, g, start.a, start.b, start.free, 0);
       if (r.ok && !too_fast(s, r) && (!best.ok || r.rms < best.rms)) best = r;
     }
-    s.bridge.suspended = false;
+    s.bridge.carry.suspended = false;
     held = !best.ok;
   }
   return held;
@@ -595,31 +606,31 @@ bool track_free_of_hold(State& s, const Se3& step, const BrightnessStart& start,
 // A frame no guess tracked: the camera coasts on the motion model, and after
 // kLostFramesBeforeRestart such frames the map restarts at the last tracked pose.
 void coast_lost_frame(State& s, const Se3& step, FrameResult& out) {
-  ++s.lost_frames;
+  ++s.loop.lost_frames;
   out.state = TrackingState::lost;
-  s.T_cw = (step * s.T_cw).orthonormalised();
-  s.pose_t_s = s.t_s;
-  if (!s.T_cw.R.allFinite() || !s.T_cw.t.allFinite()) s.T_cw = s.last_good, s.motion = Se3();
-  if (s.lost_frames >= kLostFramesBeforeRestart) {
+  s.motion.T_cw = (step * s.motion.T_cw).orthonormalised();
+  s.motion.pose_t_s = s.current.t_s;
+  if (!s.motion.T_cw.R.allFinite() || !s.motion.T_cw.t.allFinite()) s.motion.T_cw = s.motion.last_good, s.motion.step = Se3();
+  if (s.loop.lost_frames >= kLostFramesBeforeRestart) {
     // Restart the map here, anchored at the coasted pose.
-    s.lost_frames = 0;
-    s.initialised = false;
+    s.loop.lost_frames = 0;
+    s.init.initialised = false;
     out.reinitialised = true;
-    s.T_cw = s.last_good;  // the coasted pose is a guess; anchor the new map at the last fix
-    if (!s.T_cw.t.allFinite() || s.T_cw.t.norm() > 1e3) s.T_cw = Se3();
+    s.motion.T_cw = s.motion.last_good;  // the coasted pose is a guess; anchor the new map at the last fix
+    if (!s.motion.T_cw.t.allFinite() || s.motion.T_cw.t.norm() > 1e3) s.motion.T_cw = Se3();
     start_initialisation(s);
   }
 }
 
 // The tracked pose becomes the camera's, with the motion model and the scale bridge's sample.
 void adopt_pose(State& s, const TrackResult& best) {
-  s.lost_frames = 0;
+  s.loop.lost_frames = 0;
   const Se3 pose = best.T_cw.orthonormalised();
-  s.last_good = pose;
-  const Se3 previous = s.T_cw;
-  s.T_cw = pose;
-  record_motion(s, previous);
-  record_motion_sample(s, previous, s.motion_dt_s);
+  s.motion.last_good = pose;
+  const Se3 previous = s.motion.T_cw;
+  s.motion.T_cw = pose;
+  record_motion(s.motion, previous, s.current.t_s);
+  record_motion_sample(s.bridge, s.cfg, s.motion.T_cw, previous, s.current.t_s, s.motion.step_dt_s, s.ref.mean_idepth);
 }
 
 // The tracked brightness becomes the frame's, and a shutter event's step response gives tau.
@@ -629,19 +640,19 @@ void adopt_pose(State& s, const TrackResult& best) {
 void adopt_brightness(State& s, const FrameInput& in, const TrackResult& best, const Keyframe& reference,
                       const BrightnessStart& start, FrameResult& out) {
   const bool ir = uses_carry_model(s.cfg);
-  if (!(ir && !s.chain_ok)) {
-    s.a = best.a, s.b = best.b;
-    s.brightness_level_unknown = start.level_unknown;
+  if (!(ir && !s.current.chain_ok)) {
+    s.brightness.a = best.a, s.brightness.b = best.b;
+    s.brightness.level_unknown = start.level_unknown;
     if (!start.level_unknown) {
-      if (s.offset_pending) s.offset_step = best.b - reference.b;
-      s.offset_pending = false;
+      if (s.brightness.offset_pending) s.brightness.offset_step = best.b - reference.b;
+      s.brightness.offset_pending = false;
     }
   }
   if (start.shutter_step && s.cfg.estimate_tau) {
     // The step response's contrast against the tracking reference.
     const double gain = std::exp(best.a - reference.a);
     const double tau = tau_from_shutter_step_gain(gain, in.exposure_s, reference.readout_prev_s, reference.exposure_s);
-    if (take_shutter_measurement(s, tau)) out.shutter_tau_s = tau;
+    if (take_shutter_measurement(s.tau_est, tau)) out.shutter_tau_s = tau;
   }
 }
 
@@ -654,18 +665,18 @@ bool keyframe_if_due(State& s, const TrackResult& best, double frame_dt_s) {
   keyframe_flow(s, flow_t, flow_rt, kf_points);
   const double size = c.width + c.height;
   const Keyframe& latest = s.kf[s.order[s.kf_count - 1]];
-  if (s.frames_since_kf == 1) s.inliers_after_kf = best.inliers;
-  ++s.frames_since_kf;
-  s.since_kf_s += frame_dt_s;
-  const bool brightness = std::fabs(s.a - latest.a) > 0.5;
-  const bool thinning = best.inliers * 4 < s.inliers_after_kf;
+  if (s.loop.frames_since_kf == 1) s.loop.inliers_after_kf = best.inliers;
+  ++s.loop.frames_since_kf;
+  s.loop.since_kf_s += frame_dt_s;
+  const bool brightness = std::fabs(s.brightness.a - latest.a) > 0.5;
+  const bool thinning = best.inliers * 4 < s.loop.inliers_after_kf;
   const bool want = flow_t > 0.03 * size || flow_rt > 0.08 * size || thinning || brightness;
   const bool starving = best.inliers < 40;
   // Spaced by 3 frames, or by the time 3 frames take at 30 Hz: at 9 Hz 3 frames are a third of a
   // second, over which a car has driven 3 m and the tracked points have left the keyframe.
-  const bool spaced = s.frames_since_kf >= 3 || (s.frames_since_kf >= 1 && s.since_kf_s >= kMinKeyframeSpacingS - 1e-6);
-  if (!((want && spaced) || (starving && s.frames_since_kf >= 2))) return false;
-  if (uses_carry_model(c) && !s.chain_ok) return false;
+  const bool spaced = s.loop.frames_since_kf >= 3 || (s.loop.frames_since_kf >= 1 && s.loop.since_kf_s >= kMinKeyframeSpacingS - 1e-6);
+  if (!((want && spaced) || (starving && s.loop.frames_since_kf >= 2))) return false;
+  if (uses_carry_model(c) && !s.current.chain_ok) return false;
   // As in DSO, immature points join the map only with a new keyframe, right before the bundle
   // adjustment refines them with everything else.
   // On a map that began as a rotation, while the camera still only turns, the tracked points
@@ -673,12 +684,12 @@ bool keyframe_if_due(State& s, const TrackResult& best, double frame_dt_s) {
   // the rotation's points are all the map can get: the count the next keyframe would track
   // decides. (Not on a map with depths: there the same rule costs scale in the look-arounds of
   // walks.)
-  activate_mature_points(s, s.map_without_baseline ? tracked_at_next_keyframe(s, best.inliers) : best.inliers);
+  activate_mature_points(s, s.init.map_without_baseline ? tracked_at_next_keyframe(s, best.inliers) : best.inliers);
   const std::uint32_t slot = new_keyframe_slot(s);
   make_keyframe(s, slot, true);
   if (c.window_ba && s.kf_count >= 2) window_bundle_adjustment(s);
-  s.frames_since_kf = 0;
-  s.since_kf_s = 0;
+  s.loop.frames_since_kf = 0;
+  s.loop.since_kf_s = 0;
   return true;
 }
 
@@ -688,25 +699,25 @@ FrameResult Odometry::process(const FrameInput& in) {
   FrameResult out;
   if (!state_) return out;
   State& s = *state_;
-  s.retired_count = 0;
+  s.retired.count = 0;
   const bool chain_broken = in.chain_broken || in.shutter_event;
-  if (s.have_prev && !chain_broken && repeats(in.raw.first(plane(s.cfg)), s.raw)) {
+  if (s.current.have_prev && !chain_broken && repeats(in.raw.first(plane(s.cfg)), s.current.raw)) {
     // Processed as a frame it would pose the camera where it was a frame ago, at the new time,
     // and pair two identical frames as carry-over.
-    s.predecessor_missing = true;
+    s.current.predecessor_missing = true;
     out.state = TrackingState::duplicate;
-    out.tau = s.tau;
+    out.tau = s.tau_est.tau;
     return out;
   }
-  const double frame_dt_s = s.have_prev ? in.t_s - s.t_s : 0.0;
+  const double frame_dt_s = s.current.have_prev ? in.t_s - s.current.t_s : 0.0;
   const bool after_repeat = load_frame(s, in, chain_broken);
   write_tracking_image(s, in);
-  out.tau = s.tau;
-  if (!s.initialised) return initialisation_frame(s, after_repeat, frame_dt_s, out);
+  out.tau = s.tau_est.tau;
+  if (!s.init.initialised) return initialisation_frame(s, after_repeat, frame_dt_s, out);
 
   const Keyframe& reference = s.kf[s.order[s.kf_count - 1]];  // the tracking reference
   const BrightnessStart start = brightness_start(s, in, reference);
-  const Se3 step = motion_step(s);
+  const Se3 step = motion_step(s.motion, s.current.t_s);
   TrackResult best = track_from_guesses(s, step, start);
   const bool held = track_free_of_hold(s, step, start, best);
   out.residual_rms = best.rms;
@@ -720,16 +731,16 @@ FrameResult Odometry::process(const FrameInput& in) {
   adopt_brightness(s, in, best, reference, start, out);
   out.state = TrackingState::tracking;
   out.has_pose = true;
-  s.posed = true;
+  s.motion.posed = true;
 
-  if (uses_carry_model(s.cfg) && s.cfg.estimate_tau) refine_tau(s);
+  if (uses_carry_model(s.cfg) && s.cfg.estimate_tau) refine_tau(s.tau_est, s, s.current, s.motion, s.noise.var);
   follow_map_baseline(s);
-  search_immature_points(s, depth_search_margin(s));
+  search_immature_points(s, depth_search_margin(s.bridge, s.cfg, s.current.t_s));
   out.keyframe = keyframe_if_due(s, best, frame_dt_s);
-  update_bridge(s, out.keyframe);
-  out.T_wc = s.T_cw.inverse();
-  out.tau = s.tau;
-  s.last_rms = best.rms;
+  update_bridge(s.bridge, s.current.t_s, out.keyframe);
+  out.T_wc = s.motion.T_cw.inverse();
+  out.tau = s.tau_est.tau;
+  s.loop.last_rms = best.rms;
   return out;
 }
 

@@ -28,7 +28,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "state.hpp"
+#include "scale_bridge.hpp"
+
+#include "bolo/vo/config.hpp"
 
 namespace bolo::vo {
 namespace {
@@ -62,8 +64,8 @@ constexpr double kTurnMarginShare = 0.1;
 Vec3 centre(const Se3& T_cw) { return -(T_cw.R.transpose() * T_cw.t); }
 void place(Se3& T_cw, const Vec3& c) { T_cw.t = -(T_cw.R * c); }
 
-const MotionSample& sample_back(const State& s, std::uint32_t back) {
-  return s.motion_history[(s.motion_head + kMotionHistory - 1 - back) % kMotionHistory];
+const MotionSample& sample_back(const ScaleBridge& b, std::uint32_t back) {
+  return b.history[(b.head + kMotionHistory - 1 - back) % kMotionHistory];
 }
 
 struct Steady {
@@ -76,10 +78,10 @@ struct Steady {
 
 // The newest unbroken run of steady samples with t in [from, to] (a turn's frame ends a run): its
 // first and last centres and the path between them.
-Steady steady_run(const State& s, double from, double to) {
+Steady steady_run(const ScaleBridge& b, double from, double to) {
   Steady r;
-  for (std::uint32_t back = 0; back < s.motion_count; ++back) {
-    const MotionSample& m = sample_back(s, back);
+  for (std::uint32_t back = 0; back < b.count; ++back) {
+    const MotionSample& m = sample_back(b, back);
     if (m.t_s > to) continue;
     if (m.t_s < from) break;
     if (m.rotation_rate > kSteadyRotationRate) {
@@ -94,87 +96,86 @@ Steady steady_run(const State& s, double from, double to) {
   return r;
 }
 
-bool turning(const State& s) { return s.motion_count > 0 && sample_back(s, 0).rotation_rate > kSteadyRotationRate; }
+bool turning(const ScaleBridge& b) { return b.count > 0 && sample_back(b, 0).rotation_rate > kSteadyRotationRate; }
 
-bool carried(const State& s) {
-  const ScaleBridge& b = s.bridge;
-  if (b.suspended || !b.velocity_known || s.t_s - b.from_t_s > kMaxHoldS) return false;
-  return b.after_break;
+bool carried(const ScaleBridge& b, double t_s) {
+  if (b.carry.suspended || !b.carry.velocity_known || t_s - b.carry.from_t_s > kMaxHoldS) return false;
+  return b.carry.after_break;
 }
 
 }  // namespace
 
-void record_motion_sample(State& s, const Se3& previous, double dt_s) {
-  if (!s.cfg.scale_bridge) return;
-  MotionSample& m = s.motion_history[s.motion_head];
-  m.t_s = s.t_s;
-  m.centre = centre(s.T_cw);
-  const Mat3 dR = s.T_cw.R * previous.R.transpose();
+void record_motion_sample(ScaleBridge& b, const VoConfig& cfg, const Se3& pose, const Se3& previous, double t_s,
+                          double dt_s, double ref_mean_idepth) {
+  if (!cfg.scale_bridge) return;
+  MotionSample& m = b.history[b.head];
+  m.t_s = t_s;
+  m.centre = centre(pose);
+  const Mat3 dR = pose.R * previous.R.transpose();
   const double angle = so3_log(dR).norm();
   m.rotation = static_cast<float>(angle);
   m.rotation_rate = dt_s > 0 ? static_cast<float>(angle / dt_s) : 0.0f;
-  s.motion_head = (s.motion_head + 1) % kMotionHistory;
-  s.motion_count = std::min(s.motion_count + 1, kMotionHistory);
+  b.head = (b.head + 1) % kMotionHistory;
+  b.count = std::min(b.count + 1, kMotionHistory);
   // The velocity to carry: the last steady stretch's (not one the bridge itself held).
-  ScaleBridge& b = s.bridge;
-  if (b.after_break || m.rotation_rate > kSteadyRotationRate) return;
-  const Steady run = steady_run(s, s.t_s - kVelocityWindowS, s.t_s);
+  if (b.carry.after_break || m.rotation_rate > kSteadyRotationRate) return;
+  const Steady run = steady_run(b, t_s - kVelocityWindowS, t_s);
   if (run.count < kMinSamples || !run.straight() || run.t_last - run.t_first < 0.5 * kVelocityWindowS) return;
-  if (!(run.speed() * s.ref_mean_idepth * s.cfg.camera.fx >= kMinFlowPixelsPerS)) {
-    b.velocity_known = false;
+  if (!(run.speed() * ref_mean_idepth * cfg.camera.fx >= kMinFlowPixelsPerS)) {
+    b.carry.velocity_known = false;
     return;
   }
-  b.velocity_known = true;
-  b.velocity = (run.last - run.first) / (run.t_last - run.t_first);
-  b.from_centre = run.last;
-  b.from_t_s = run.t_last;
+  b.carry.velocity_known = true;
+  b.carry.velocity = (run.last - run.first) / (run.t_last - run.t_first);
+  b.carry.from_centre = run.last;
+  b.carry.from_t_s = run.t_last;
 }
 
-Vec3 held_centre(const State& s) { return s.bridge.from_centre + s.bridge.velocity * (s.t_s - s.bridge.from_t_s); }
+Vec3 held_centre(const ScaleBridge& b, double t_s) {
+  return b.carry.from_centre + b.carry.velocity * (t_s - b.carry.from_t_s);
+}
 
-void note_map_break(State& s) {
-  ScaleBridge& b = s.bridge;
-  if (!s.cfg.scale_bridge || b.after_break || s.map_without_baseline) return;
-  if (!b.velocity_known || s.t_s - b.from_t_s > kMaxHoldS) return;
+void note_map_break(ScaleBridge& b, const VoConfig& cfg, bool map_without_baseline, double t_s) {
+  if (!cfg.scale_bridge || b.carry.after_break || map_without_baseline) return;
+  if (!b.carry.velocity_known || t_s - b.carry.from_t_s > kMaxHoldS) return;
   // A look-around turns the view by a good part of the field of view since the steady stretch; a
   // map that runs out otherwise (a 9 Hz drive's points leave the view in a few frames) is no turn.
   double turned = 0;
-  for (std::uint32_t back = 0; back < s.motion_count && sample_back(s, back).t_s > b.from_t_s; ++back)
-    turned += sample_back(s, back).rotation;
+  for (std::uint32_t back = 0; back < b.count && sample_back(b, back).t_s > b.carry.from_t_s; ++back)
+    turned += sample_back(b, back).rotation;
   if (turned < kMinTurnAngle) return;
-  b.after_break = true;
-  b.break_s = s.t_s;
-  b.turn_start_s = b.from_t_s;
-  b.keyframe_since_turn = false;
+  b.carry.after_break = true;
+  b.carry.break_s = t_s;
+  b.carry.turn_start_s = b.carry.from_t_s;
+  b.carry.keyframe_since_turn = false;
 }
 
-double translation_prior_weight(const State& s, double normal) {
-  return carried(s) ? kHeldPrior : normal;
+double translation_prior_weight(const ScaleBridge& b, double t_s, double normal) {
+  return carried(b, t_s) ? kHeldPrior : normal;
 }
 
-Se3 held_guess(const State& s, Se3 guess) {
-  if (carried(s)) place(guess, held_centre(s));
+Se3 held_guess(const ScaleBridge& b, double t_s, Se3 guess) {
+  if (carried(b, t_s)) place(guess, held_centre(b, t_s));
   return guess;
 }
 
-float depth_search_margin(const State& s) {
-  if (!carried(s) || !turning(s) || s.motion_count < 2) return 0.0f;
-  const MotionSample& m = sample_back(s, 0);
-  const double dt = m.t_s - sample_back(s, 1).t_s;
-  return static_cast<float>(kTurnMarginShare * m.rotation_rate * dt * s.cfg.camera.fx);
+float depth_search_margin(const ScaleBridge& b, const VoConfig& cfg, double t_s) {
+  if (!carried(b, t_s) || !turning(b) || b.count < 2) return 0.0f;
+  const MotionSample& m = sample_back(b, 0);
+  const double dt = m.t_s - sample_back(b, 1).t_s;
+  return static_cast<float>(kTurnMarginShare * m.rotation_rate * dt * cfg.camera.fx);
 }
 
-bool centre_carried(const State& s) { return carried(s); }
+bool centre_carried(const ScaleBridge& b, double t_s) { return carried(b, t_s); }
 
-bool update_bridge(State& s, bool keyframe_made) {
-  ScaleBridge& b = s.bridge;
-  if (!b.after_break) return false;
-  const bool steady_now = s.motion_count > 0 && !turning(s);
-  if (keyframe_made && steady_now) b.keyframe_since_turn = true;
-  const Steady after = steady_run(s, b.break_s, s.t_s);
-  const bool settled = steady_now && after.t_last - after.t_first >= kHoldSteadyS && b.keyframe_since_turn;
-  if (settled || s.t_s - b.break_s > kMaxHoldS) {
-    b.after_break = false;
+bool update_bridge(ScaleBridge& b, double t_s, bool keyframe_made) {
+  if (!b.carry.after_break) return false;
+  const bool steady_now = b.count > 0 && !turning(b);
+  if (keyframe_made && steady_now) b.carry.keyframe_since_turn = true;
+  const Steady after = steady_run(b, b.carry.break_s, t_s);
+  const bool settled = steady_now && after.t_last - after.t_first >= kHoldSteadyS && b.carry.keyframe_since_turn;
+  if (settled || t_s - b.carry.break_s > kMaxHoldS) {
+    b.carry.after_break = false;
     return true;
   }
   return false;

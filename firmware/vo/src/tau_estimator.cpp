@@ -44,7 +44,12 @@
 
 #include <Eigen/Dense>
 
-#include "state.hpp"
+#include "tau_estimator.hpp"
+
+#include "frame_state.hpp"
+#include "map.hpp"
+#include "motion_model.hpp"
+#include "photometric_math.hpp"
 
 namespace bolo::vo {
 namespace {
@@ -148,32 +153,32 @@ Mat26 pixel_jacobian(const Scaled& k, const Eigen::Vector3f& X, float idepth) {
 // Whether a stuck pixel (count_unchanged_frames) lies within `reach` pixels of (u, v). A stuck
 // pixel in a sample's interpolation footprint puts its step against the live neighbours
 // (thousands of counts for a dead one) into A and B alike, which reads as alpha = 1.
-bool stuck_pixel_near(const State& s, float u, float v, int reach) {
-  const int w = static_cast<int>(s.cfg.width), h = static_cast<int>(s.cfg.height);
+bool stuck_pixel_near(const TauEstimator& est, const VoConfig& cfg, float u, float v, int reach) {
+  const int w = static_cast<int>(cfg.width), h = static_cast<int>(cfg.height);
   const int cu = static_cast<int>(u), cv = static_cast<int>(v);
   for (int y = std::max(cv - reach, 0); y <= std::min(cv + reach + 1, h - 1); ++y)
     for (int x = std::max(cu - reach, 0); x <= std::min(cu + reach + 1, w - 1); ++x)
-      if (s.unchanged_frames[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] >= kStuckChecks)
+      if (est.unchanged_frames[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] >= kStuckChecks)
         return true;
   return false;
 }
 
 }  // namespace
 
-void count_unchanged_frames(State& s) {
-  s.stuck_check_due = !s.stuck_check_due;
-  if (!s.stuck_check_due) return;
+void count_unchanged_frames(TauEstimator& est, const CurrentFrame& f, const MapCore& map) {
+  est.stuck_check_due = !est.stuck_check_due;
+  if (!est.stuck_check_due) return;
   // A frame counts only while a neighbour changes and the pixel differs from each of its four
   // neighbours: a region where nothing changes (a uniform surface in a noise-free render, its
   // edge included) is not stuck, and a live pixel of a low-noise camera may keep its value for a
   // few frames where it looks like its surroundings.
-  const std::size_t w = s.cfg.width, h = s.cfg.height;
-  const float contrast = kStuckContrast * s.intensity;
+  const std::size_t w = map.cfg.width, h = map.cfg.height;
+  const float contrast = kStuckContrast * map.intensity;
   std::uint32_t stuck = 0;
   // Indices from the frame's start: the row above is i - w, never a pointer stepped before a row.
-  const float* y = s.raw.data();
-  const float* p = s.raw_prev.data();
-  std::uint8_t* count = s.unchanged_frames.data();
+  const float* y = f.raw.data();
+  const float* p = f.raw_prev.data();
+  std::uint8_t* count = est.unchanged_frames.data();
   for (std::size_t row = 1; row + 1 < h; ++row) {
     for (std::size_t i = row * w + 1; i + 1 < (row + 1) * w; ++i) {
       const float v = y[i];
@@ -189,44 +194,44 @@ void count_unchanged_frames(State& s) {
       stuck += count[i] >= kStuckChecks;
     }
   }
-  s.stuck_pixels = stuck;
+  est.stuck_pixels = stuck;
 }
 
-bool take_shutter_measurement(State& s, double tau_s) {
+bool take_shutter_measurement(TauEstimator& t, double tau_s) {
   // A camera may deliver the first frame only once the pixels have settled on the scene again
   // (the gain then reads ~1 and tau ~1 ms), or repeat a frame across the event: a measurement
   // far from the current estimate is not taken (the carry-over pairs read within ~50 % of it).
-  if (!(tau_s > 0 && tau_s < kShutterTauRange * s.tau.c && tau_s * kShutterTauRange > s.tau.c)) return false;
+  if (!(tau_s > 0 && tau_s < kShutterTauRange * t.tau.c && tau_s * kShutterTauRange > t.tau.c)) return false;
   // The latest event weighs as much as all before it: tau drifts with the focal plane's
   // temperature, and the events are seconds to minutes apart.
-  s.shutter_tau = s.shutter_measurements == 0 ? tau_s : 0.5 * (s.shutter_tau + tau_s);
-  ++s.shutter_measurements;
-  s.tau.c = s.tau.h = s.shutter_tau;
+  t.shutter_tau = t.shutter_measurements == 0 ? tau_s : 0.5 * (t.shutter_tau + tau_s);
+  ++t.shutter_measurements;
+  t.tau.c = t.tau.h = t.shutter_tau;
   return true;
 }
 
-void refine_tau(State& s) {
+void refine_tau(TauEstimator& est, const MapCore& map, const CurrentFrame& f, const MotionModel& motion, double pixel_noise_var) {
   // A shutter event's step response measures alpha from the whole frame's contrast (first order);
   // the pairs see it only through how the image motion changes (second order), which the
   // images' smoothness biases (docs/odometry-study.md, "τ"). So the events, once there, decide.
-  if (s.shutter_measurements > 0) return;
-  if (!s.chain_ok || !s.chain_ok_prev || !s.prev_posed || s.kf_count == 0) return;
-  const std::uint32_t w = s.cfg.width, h = s.cfg.height;
-  const Image y0{s.raw.data(), w, h}, y1{s.raw_prev.data(), w, h}, y2{s.raw_prev2.data(), w, h};
-  const Scaled k = camera_at(s.cfg.camera, 0);
-  const float hub = huber_threshold(s);
+  if (est.shutter_measurements > 0) return;
+  if (!f.chain_ok || !f.chain_ok_prev || !motion.prev_posed || map.kf_count == 0) return;
+  const std::uint32_t w = map.cfg.width, h = map.cfg.height;
+  const Image y0{f.raw.data(), w, h}, y1{f.raw_prev.data(), w, h}, y2{f.raw_prev2.data(), w, h};
+  const Scaled k = camera_at(map.cfg.camera, 0);
+  const float hub = huber_threshold(map);
   const float outlier_energy = kOutlierCutoffs * tracking_cutoff(hub, 0);
-  const double readout = s.readout_prev_s;
+  const double readout = f.readout_prev_s;
   if (!(readout > 0)) return;
   // Frames whose timing changes: y_i - alpha_i y_{i-1} = beta_i u and y_{i-1} - alpha_{i-1} y_{i-2} =
   // beta_{i-1} u, so with rho = beta_i / beta_{i-1} and kappa = alpha_{i-1} / alpha_i (both at the
   // current tau) A = y_i(p_i) - rho y_{i-1}(p_{i-1}) and B = y_{i-1}(p_i) - rho kappa y_{i-2}(p_{i-1})
   // satisfy A = alpha_i B. Both are exactly 1 for a constant timing. Where the exposure changes, B
   // holds (1 - rho) times the static level: the step response, a first-order measure of alpha.
-  const double readout_before = s.readout_prev2_s > 0 ? s.readout_prev2_s : readout;
-  const bool timing_changed = s.exposure_s != s.exposure_prev_s || readout_before != readout;
-  const CarryCoefficients now_k = carry_coefficients(s.tau, readout, s.exposure_s);
-  const CarryCoefficients prev_k = carry_coefficients(s.tau, readout_before, s.exposure_prev_s);
+  const double readout_before = f.readout_prev2_s > 0 ? f.readout_prev2_s : readout;
+  const bool timing_changed = f.exposure_s != f.exposure_prev_s || readout_before != readout;
+  const CarryCoefficients now_k = carry_coefficients(est.tau, readout, f.exposure_s);
+  const CarryCoefficients prev_k = carry_coefficients(est.tau, readout_before, f.exposure_prev_s);
   const double alpha_now = now_k.alpha;
   const double rho = now_k.beta / prev_k.beta, rho_kappa = rho * (prev_k.alpha / now_k.alpha);
   // Then rho and kappa move with tau too: d r / d alpha_i = -y_{i-1}(p_i) + c_prev y_{i-2}(p_{i-1})
@@ -250,14 +255,14 @@ void refine_tau(State& s) {
   // kappa y_{i-2}) at p_{i-1} (combined_gradient), and T holds the centre pixel's
   // projection Jacobians (as in the tracker): each point sums the 5x5 S = sum w v v^T and maps it
   // once.
-  const double noise_var = s.noise_var;
+  const double noise_var = pixel_noise_var;
   Mat14 H = Mat14::Zero();
   Vec14 g = Vec14::Zero();
   double noise_bb = 0;  // the noise's share of alpha's information, as eliminated below
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
-    const Keyframe& host = s.kf[slot];
+    const Keyframe& host = map.kf[slot];
     if (!host.used) continue;
-    const Se3 Mi = s.T_cw * host.T_cw.inverse(), Mp = s.T_prev * host.T_cw.inverse();
+    const Se3 Mi = motion.T_cw * host.T_cw.inverse(), Mp = motion.T_prev * host.T_cw.inverse();
     const Eigen::Matrix3f Ri = Mi.R.cast<float>(), Rp = Mp.R.cast<float>();
     const Eigen::Vector3f ti = Mi.t.cast<float>(), tp = Mp.t.cast<float>();
     for (std::uint32_t i = 0; i < host.count; ++i) {
@@ -270,7 +275,7 @@ void refine_tau(State& s) {
       const float up = k.fx * Xp.x() / Xp.z() + k.cx, vp = k.fy * Xp.y() / Xp.z() + k.cy;
       // The pattern reaches 2 pixels out, its gradients and the cubic taps 2 more.
       if (!inside(y0, ui, vi, 4.0f) || !inside(y0, up, vp, 4.0f)) continue;
-      if (s.stuck_pixels > 0 && (stuck_pixel_near(s, ui, vi, 4) || stuck_pixel_near(s, up, vp, 4))) continue;
+      if (est.stuck_pixels > 0 && (stuck_pixel_near(est, map.cfg, ui, vi, 4) || stuck_pixel_near(est, map.cfg, up, vp, 4))) continue;
       // d p_i / d inverse depth and d p_{i-1} / d inverse depth.
       const Eigen::Vector2d c_px(k.fx * (ti.x() * Xi.z() - Xi.x() * ti.z()) / (Xi.z() * Xi.z()),
                                  k.fy * (ti.y() * Xi.z() - Xi.y() * ti.z()) / (Xi.z() * Xi.z()));
@@ -376,23 +381,23 @@ void refine_tau(State& s) {
   // What is left: alpha's information and its least-squares point (without the elimination
   // and the noise correction these are sbb = sum w B^2 and sab = sum w A B).
   const double sbb = haa, sab = alpha_now * haa - ga;
-  s.tau_sab = kForget * s.tau_sab + sab;
-  s.tau_sbb = kForget * s.tau_sbb + sbb;
-  s.tau_sbb_total = kForget * s.tau_sbb_total + sbb + noise_bb;
-  s.tau_sbbr = kForget * s.tau_sbbr + sbb * readout;
+  est.sab = kForget * est.sab + sab;
+  est.sbb = kForget * est.sbb + sbb;
+  est.sbb_total = kForget * est.sbb_total + sbb + noise_bb;
+  est.sbbr = kForget * est.sbbr + sbb * readout;
   // B^2 sums grow with the square of the frames' intensity scale.
-  const double counts2 = double{s.intensity} * s.intensity;
-  if (s.tau_sbb < kMinInformation * counts2 || s.tau_sbb < kMinSignalShare * s.tau_sbb_total) return;
+  const double counts2 = double{map.intensity} * map.intensity;
+  if (est.sbb < kMinInformation * counts2 || est.sbb < kMinSignalShare * est.sbb_total) return;
   // The starting tau as a weak prior (pseudo-observations with B^2 summing to kPriorWeight).
-  const double readout_mean = s.tau_sbbr / s.tau_sbb;
-  const double alpha_init = std::exp(-readout_mean / static_cast<double>(s.cfg.tau_init_s));
-  const double alpha = (s.tau_sab + kPriorWeight * counts2 * alpha_init) / (s.tau_sbb + kPriorWeight * counts2);
+  const double readout_mean = est.sbbr / est.sbb;
+  const double alpha_init = std::exp(-readout_mean / static_cast<double>(map.cfg.tau_init_s));
+  const double alpha = (est.sab + kPriorWeight * counts2 * alpha_init) / (est.sbb + kPriorWeight * counts2);
   // A physical range: 1 ms .. 100 ms.
   const double lo = std::exp(-readout_mean / 0.001), hi = std::exp(-readout_mean / 0.1);
   const double a = std::max(lo, std::min(hi, alpha));
   const double tau = -readout_mean / std::log(a);
   if (!std::isfinite(tau)) return;
-  s.tau.c = s.tau.h = tau;
+  est.tau.c = est.tau.h = tau;
 }
 
 }  // namespace bolo::vo

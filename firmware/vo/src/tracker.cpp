@@ -8,7 +8,12 @@
 
 #include <Eigen/Cholesky>
 
-#include "state.hpp"
+#include "tracker.hpp"
+
+#include "frame_state.hpp"
+#include "map.hpp"
+#include "photometric_math.hpp"
+#include "scale_bridge.hpp"
 
 namespace bolo::vo {
 namespace {
@@ -41,17 +46,18 @@ struct Accumulated {
 // that a step moves out of the view costs the cutoff (no step gains by pushing points out), a
 // point outside the set costs nothing (no step gains by pulling points in, which would bias
 // forward motion backwards, towards the poses that keep the most points in view).
-Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a, double b,
-                       float cutoff, bool with_jacobians, bool mark_inliers, bool select_view = false) {
+Accumulated accumulate(TrackingReference& reference, MapCore& map, const CurrentFrame& f, std::uint32_t level,
+                       const Se3& T_cw, double a, double b, float cutoff, bool with_jacobians, bool mark_inliers,
+                       bool select_view = false) {
   Accumulated acc;
-  const Level& cur = s.frame.level[level];
-  const TexelImage& texels = s.frame_texels[level];
-  const Scaled k = camera_at(s.cfg.camera, level);
-  const Scaled k0 = camera_at(s.cfg.camera, 0);
+  const Level& cur = f.frame.level[level];
+  const TexelImage& texels = f.frame_texels[level];
+  const Scaled k = camera_at(map.cfg.camera, level);
+  const Scaled k0 = camera_at(map.cfg.camera, 0);
   const float scale = 1.0f / static_cast<float>(1u << level);
-  const float hub = huber_threshold(s), c2 = gradient_weight_c(s) * gradient_weight_c(s);
-  if (s.kf_count == 0) return acc;
-  const Keyframe& host = s.kf[s.order[s.kf_count - 1]];
+  const float hub = huber_threshold(map), c2 = gradient_weight_c(map) * gradient_weight_c(map);
+  if (map.kf_count == 0) return acc;
+  const Keyframe& host = map.kf[map.order[map.kf_count - 1]];
   const Se3 M = T_cw * host.T_cw.inverse();
   const Eigen::Matrix3f R = M.R.cast<float>();
   const Eigen::Vector3f t = M.t.cast<float>();
@@ -59,11 +65,11 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
   const float gain = static_cast<float>(std::exp(a - host.a));
   const float hb = static_cast<float>(host.b), fb = static_cast<float>(b);
   if (mark_inliers)
-    for (const Keyframe& kf : s.kf)
+    for (const Keyframe& kf : map.kf)
       if (kf.used)
         for (std::uint32_t i = 0; i < kf.count; ++i) kf.points[i].inlier = false;
-  for (std::uint32_t i = 0; i < s.ref_count; ++i) {
-    RefPoint& p = s.ref[i];
+  for (std::uint32_t i = 0; i < reference.count; ++i) {
+    RefPoint& p = reference.points[i];
     if (!select_view && !p.in_view) continue;
     const Eigen::Vector3f n((p.u - k0.cx) / k0.fx, (p.v - k0.cy) / k0.fy, 1.0f);
     const Eigen::Vector3f X = R * n + t * p.idepth;
@@ -88,7 +94,7 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
     }
     const float energy = pattern_residuals(value, gx, gy, p.refv, gain, hb, fb, hub, c2, r, w);
     if (mark_inliers) {
-      Point& source = s.kf[p.source >> 16].points[p.source & 0xffffu];
+      Point& source = map.kf[p.source >> 16].points[p.source & 0xffffu];
       source.energy = energy;
       source.inlier = energy <= cutoff;
     }
@@ -140,19 +146,19 @@ Accumulated accumulate(State& s, std::uint32_t level, const Se3& T_cw, double a,
 
 }  // namespace
 
-void build_tracking_reference(State& s) {
-  s.ref_count = 0;
-  s.ref_mean_idepth = 0;
-  s.ref_dirty = false;
-  if (s.kf_count == 0) return;
-  const std::uint32_t ref_slot = s.order[s.kf_count - 1];
-  const Keyframe& reference = s.kf[ref_slot];
-  const Scaled k = camera_at(s.cfg.camera, 0);
+void build_tracking_reference(TrackingReference& ref, const MapCore& map) {
+  ref.count = 0;
+  ref.mean_idepth = 0;
+  ref.dirty = false;
+  if (map.kf_count == 0) return;
+  const std::uint32_t ref_slot = map.order[map.kf_count - 1];
+  const Keyframe& reference = map.kf[ref_slot];
+  const Scaled k = camera_at(map.cfg.camera, 0);
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
-    const Keyframe& host = s.kf[slot];
+    const Keyframe& host = map.kf[slot];
     if (!host.used) continue;
     const Se3 M = reference.T_cw * host.T_cw.inverse();
-    for (std::uint32_t i = 0; i < host.count && s.ref_count < s.ref.size(); ++i) {
+    for (std::uint32_t i = 0; i < host.count && ref.count < ref.points.size(); ++i) {
       const Point& p = host.points[i];
       if (p.status != PointStatus::active || !(p.idepth > 0)) continue;
       RefPoint r;
@@ -167,42 +173,43 @@ void build_tracking_reference(State& s) {
         r.idepth = static_cast<float>(1.0 / X.z());
         if (!inside(reference.pyramid.level[0].value, r.u, r.v, 3.0f)) continue;
       }
-      s.ref[s.ref_count++] = r;
+      ref.points[ref.count++] = r;
     }
   }
   // Enough points for the pose, not more (tracking is most of the VO's time): an even thinning
   // by index keeps the spread over hosts and image regions.
-  const std::uint32_t cap = std::max<std::uint32_t>(1000, s.cfg.width * s.cfg.height / kPixelsPerTrackedPoint);
-  if (s.ref_count > cap) {
+  const std::uint32_t cap = std::max<std::uint32_t>(1000, map.cfg.width * map.cfg.height / kPixelsPerTrackedPoint);
+  if (ref.count > cap) {
     std::uint32_t kept = 0;
-    for (std::uint32_t i = 0; i < s.ref_count; ++i)
-      if (static_cast<std::uint64_t>(i) * cap / s.ref_count != static_cast<std::uint64_t>(i + 1) * cap / s.ref_count)
-        s.ref[kept++] = s.ref[i];
-    s.ref_count = kept;
+    for (std::uint32_t i = 0; i < ref.count; ++i)
+      if (static_cast<std::uint64_t>(i) * cap / ref.count != static_cast<std::uint64_t>(i + 1) * cap / ref.count)
+        ref.points[kept++] = ref.points[i];
+    ref.count = kept;
   }
   double idepth_sum = 0;
-  for (std::uint32_t i = 0; i < s.ref_count; ++i) idepth_sum += s.ref[i].idepth;
-  s.ref_mean_idepth = s.ref_count > 0 ? idepth_sum / s.ref_count : 0.0;
+  for (std::uint32_t i = 0; i < ref.count; ++i) idepth_sum += ref.points[i].idepth;
+  ref.mean_idepth = ref.count > 0 ? idepth_sum / ref.count : 0.0;
 }
 
-TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness free, std::uint32_t last_level,
+TrackResult track_frame(TrackingReference& ref, MapCore& map, const CurrentFrame& f, const ScaleBridge& bridge,
+                        Se3 guess, double a, double b, FreeBrightness free, std::uint32_t last_level,
                         const TrackResult* resume) {
   TrackResult out;
-  if (s.ref_dirty) build_tracking_reference(s);
+  if (ref.dirty) build_tracking_reference(ref, map);
   Se3 T = guess;
-  const bool affine = s.cfg.photometric == Photometric::affine;
+  const bool affine = map.cfg.photometric == Photometric::affine;
   const std::uint32_t iterations[kMaxLevels] = {8, 8, 10, 10, 10, 10};
-  const float hub = huber_threshold(s);
-  std::uint32_t levels = std::min(s.frame.levels, kMaxLevels);
+  const float hub = huber_threshold(map);
+  std::uint32_t levels = std::min(f.frame.levels, kMaxLevels);
   if (resume != nullptr && resume->level > last_level && resume->level < levels) {
     T = resume->T_cw, a = resume->a, b = resume->b;
     levels = resume->level;
   }
   // How far a pose step moves the points in pixels: rotation times f, translation times f and
   // the points' mean inverse depth (level 0 pixels).
-  const double focal = camera_at(s.cfg.camera, 0).fx;
+  const double focal = camera_at(map.cfg.camera, 0).fx;
   const auto step_pixels = [&](const Vec8& delta) {
-    return focal * (delta.segment<3>(3).norm() + delta.head<3>().norm() * s.ref_mean_idepth);
+    return focal * (delta.segment<3>(3).norm() + delta.head<3>().norm() * ref.mean_idepth);
   };
   // A step is negligible when it moves the points by a small part of the level's pixel and, on a
   // frame whose gain is freed (it may start far off, as after a shutter event, and would otherwise
@@ -214,16 +221,16 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness 
   for (std::uint32_t l = levels; l-- > last_level;) {
     const int level = static_cast<int>(l);
     float cutoff = tracking_cutoff(hub, l);
-    Accumulated acc = accumulate(s, l, T, a, b, cutoff, true, false, true);
+    Accumulated acc = accumulate(ref, map, f, l, T, a, b, cutoff, true, false, true);
     for (int grow = 0; grow < 3 && acc.visible > 0 && acc.inliers * 2 < acc.visible; ++grow) {
       cutoff *= 2;
-      acc = accumulate(s, l, T, a, b, cutoff, true, false);
+      acc = accumulate(ref, map, f, l, T, a, b, cutoff, true, false);
     }
     double lambda = 1e-3;
     std::uint32_t refused_in_a_row = 0;
     // A weak prior towards the motion model's prediction: at video rates the camera cannot
     // jump, and it keeps directions the points do not constrain (far scenes) from wandering.
-    const Vec3 prior = translation_prior_weight(s, kMotionPrior) * Vec3(acc.H(0, 0), acc.H(1, 1), acc.H(2, 2));
+    const Vec3 prior = translation_prior_weight(bridge, f.t_s, kMotionPrior) * Vec3(acc.H(0, 0), acc.H(1, 1), acc.H(2, 2));
     const auto prior_energy = [&](const Se3& T_try) {
       const Vec3 off = (T_try * guess.inverse()).t;
       return prior.dot(off.cwiseProduct(off));
@@ -242,7 +249,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness 
       if (!delta.allFinite()) break;
       const Se3 T_new = Se3::exp(delta.head<6>()) * T;
       const double a_new = a + delta[6], b_new = b + delta[7];
-      Accumulated next = accumulate(s, l, T_new, a_new, b_new, cutoff, true, false);
+      Accumulated next = accumulate(ref, map, f, l, T_new, a_new, b_new, cutoff, true, false);
       next.energy += prior_energy(T_new);
       if (next.energy <= acc.energy) {
         const bool small_gain = next.energy > (1.0 - kConverged) * acc.energy;
@@ -263,7 +270,7 @@ TrackResult track_frame(State& s, Se3 guess, double a, double b, FreeBrightness 
       }
     }
     if (level == 0) {
-      const Accumulated final_pass = accumulate(s, 0, T, a, b, cutoff, false, true, true);
+      const Accumulated final_pass = accumulate(ref, map, f, 0, T, a, b, cutoff, false, true, true);
       out.visible = final_pass.visible;
       out.inliers = final_pass.inliers;
       out.rms = final_pass.residuals ? static_cast<float>(std::sqrt(final_pass.squared / final_pass.residuals)) : 1e9f;

@@ -27,7 +27,7 @@ struct Totals {
   std::uint32_t blocks = 0, inliers = 0;
 };
 
-// One point's row in s.ba_hxr (kBaStride floats): the point's own Hessian and gradient, a backup
+// One point's row in s.scratch (kBaStride floats): the point's own Hessian and gradient, a backup
 // of its inverse depth, its coupling to every keyframe parameter, its host pattern and counts.
 constexpr std::size_t kRowHrr = 0, kRowGr = 1, kRowBackup = 2, kRowCoupling = 3;
 constexpr std::size_t kRowRef = kRowCoupling + kMaxBaParams;
@@ -35,7 +35,7 @@ constexpr std::size_t kRowObserved = kRowRef + kPattern, kRowBad = kRowObserved 
 static_assert(kRowBad < kBaStride, "the BA row layout must fit kBaStride");
 
 // The window of one bundle adjustment: each keyframe's parameter block by slot, and its active
-// points (rows first .. first + points - 1 of s.ba_hxr, s.ba_index naming them), whose host
+// points (rows first .. first + points - 1 of s.scratch, s.ba.index naming them), whose host
 // patterns are sampled here once: host images and pixels do not change during the adjustment.
 struct Window {
   int index[kMaxKeyframes];
@@ -56,8 +56,8 @@ Window window_of(State& s) {
     for (std::uint32_t i = 0; i < host.count; ++i) {
       const Point& p = host.points[i];
       if (p.status != PointStatus::active) continue;
-      float* row = s.ba_hxr.data() + std::size_t{w.points} * kBaStride;
-      s.ba_index[w.points++] = hs << 16 | i;
+      float* row = s.scratch.data() + std::size_t{w.points} * kBaStride;
+      s.ba.index[w.points++] = hs << 16 | i;
       for (std::uint32_t j = 0; j < kPattern; ++j)
         row[kRowRef + j] = bilinear(host.pyramid.level[0].value, p.u + kPatternX[j], p.v + kPatternY[j]);
     }
@@ -126,11 +126,11 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
   const float hub = huber_threshold(s), c2 = gradient_weight_c(s) * gradient_weight_c(s);
   const float cutoff = kPattern * hub * hub * 6.0f;
   if (with_jacobians) {
-    s.ba_H.setZero();
-    s.ba_b.setZero();
+    s.ba.H.setZero();
+    s.ba.b.setZero();
   }
   for (std::uint32_t pi = 0; pi < win.points; ++pi) {
-    float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
+    float* row = s.scratch.data() + std::size_t{pi} * kBaStride;
     // An energy-only pass leaves the system rows alone.
     if (with_jacobians)
       for (std::size_t q = 0; q < kRowRef; ++q)
@@ -155,8 +155,8 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
       Vec8 pair_b = Vec8::Zero();
       const std::uint32_t end = win.first[hs] + win.points_of[hs];
       for (std::uint32_t pi = win.first[hs]; pi < end; ++pi) {
-        float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
-        const Point& p = host.points[s.ba_index[pi] & 0xffff];
+        float* row = s.scratch.data() + std::size_t{pi} * kBaStride;
+        const Point& p = host.points[s.ba.index[pi] & 0xffff];
         const Eigen::Vector3d nv((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0);
         const Eigen::Vector3d X = M * (nv / p.idepth);
         if (X.z() <= 1e-4) continue;
@@ -228,19 +228,19 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
       pair_H = pair_H.selfadjointView<Eigen::Upper>();
       const Mat8 HA = pair_H * A;
       const Eigen::Index t0 = Eigen::Index{8} * ti, h0 = Eigen::Index{8} * hi;
-      s.ba_H.block<8, 8>(t0, t0) += pair_H;
-      s.ba_H.block<8, 8>(t0, h0) += HA;
-      s.ba_H.block<8, 8>(h0, t0) += HA.transpose();
-      s.ba_H.block<8, 8>(h0, h0) += At * HA;
-      s.ba_b.segment<8>(t0) += pair_b;
-      s.ba_b.segment<8>(h0) += At * pair_b;
+      s.ba.H.block<8, 8>(t0, t0) += pair_H;
+      s.ba.H.block<8, 8>(t0, h0) += HA;
+      s.ba.H.block<8, 8>(h0, t0) += HA.transpose();
+      s.ba.H.block<8, 8>(h0, h0) += At * HA;
+      s.ba.b.segment<8>(t0) += pair_b;
+      s.ba.b.segment<8>(h0) += At * pair_b;
     }
   }
   if (drop_outliers)
     for (std::uint32_t pi = 0; pi < win.points; ++pi) {
-      const float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
+      const float* row = s.scratch.data() + std::size_t{pi} * kBaStride;
       if (row[kRowObserved] > 0 && row[kRowBad] * 2 > row[kRowObserved])
-        s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff].status = PointStatus::leaving;
+        s.kf[s.ba.index[pi] >> 16].points[s.ba.index[pi] & 0xffff].status = PointStatus::leaving;
     }
   return tot;
 }
@@ -392,11 +392,11 @@ void marginalise_oldest_keyframe(State& s) {
   const bool affine = s.cfg.photometric == Photometric::affine;
   accumulate(s, win, true, false, static_cast<int>(old));
   // Eliminate the retiring keyframe's points from their observations' system.
-  BaMatrix& H = s.ba_H;
-  BaVector& b = s.ba_b;
+  BaMatrix& H = s.ba.H;
+  BaVector& b = s.ba.b;
   const std::uint32_t end = win.first[old] + win.points_of[old];
   for (std::uint32_t pi = win.first[old]; pi < end; ++pi) {
-    const float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
+    const float* row = s.scratch.data() + std::size_t{pi} * kBaStride;
     if (row[kRowHrr] <= 0) continue;
     const double hrr = row[kRowHrr] + 1e-6;
     const float* coupling = row + kRowCoupling;
@@ -459,7 +459,7 @@ void window_bundle_adjustment(State& s) {
   const bool affine = s.cfg.photometric == Photometric::affine;
   double lambda = 1e-3;
   bool outliers_marked = false;
-  BaMatrix& prior_H = s.ba_prior_H;
+  BaMatrix& prior_H = s.ba.prior_H;
   const PriorInWindow prior_at_start = prior_in_window(s);
   prior_hessian_in_window(s, win, prior_at_start, prior_H);
   BaVector prior_b;
@@ -474,9 +474,9 @@ void window_bundle_adjustment(State& s) {
   for (int k = 1; k < n / 8; ++k)
     for (int q = 0; q < (affine ? 8 : 6); ++q) moved[m++] = 8 * k + q;
   for (int it = 0; it < kIterations && cur.inliers > 0; ++it) {
-    BaMatrix& H = s.ba_H;
+    BaMatrix& H = s.ba.H;
     if (s.prior.set) H += prior_H;
-    const BaVector b_full = s.ba_b + prior_b;
+    const BaVector b_full = s.ba.b + prior_b;
     const std::uint32_t points = win.points;
     // Schur complement onto the moved keyframe parameters, in their compact order.
     BaMatrix Hs = BaMatrix::Identity();  // the rows past m stay the identity, their steps 0
@@ -486,7 +486,7 @@ void window_bundle_adjustment(State& s) {
       for (int j = i; j < m; ++j) Hs(j, i) = H(moved[j], moved[i]);
     }
     for (std::uint32_t pi = 0; pi < points; ++pi) {
-      const float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
+      const float* row = s.scratch.data() + std::size_t{pi} * kBaStride;
       if (row[kRowHrr] <= 0) continue;
       const double hrr = row[kRowHrr] * (1 + lambda) + 1e-6;
       double c[kMaxBaParams];
@@ -517,8 +517,8 @@ void window_bundle_adjustment(State& s) {
       kf.a += dx[8 * idx + 6], kf.b += dx[8 * idx + 7];
     }
     for (std::uint32_t pi = 0; pi < points; ++pi) {
-      float* row = s.ba_hxr.data() + std::size_t{pi} * kBaStride;
-      Point& p = s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff];
+      float* row = s.scratch.data() + std::size_t{pi} * kBaStride;
+      Point& p = s.kf[s.ba.index[pi] >> 16].points[s.ba.index[pi] & 0xffff];
       row[kRowBackup] = p.idepth;
       if (row[kRowHrr] <= 0) continue;
       double coupling = 0;
@@ -544,7 +544,7 @@ void window_bundle_adjustment(State& s) {
       for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
         if (s.kf[slot].used) s.kf[slot].T_cw = saved_pose[slot], s.kf[slot].a = saved_a[slot], s.kf[slot].b = saved_b[slot];
       for (std::uint32_t pi = 0; pi < points; ++pi)
-        s.kf[s.ba_index[pi] >> 16].points[s.ba_index[pi] & 0xffff].idepth = s.ba_hxr[std::size_t{pi} * kBaStride + kRowBackup];
+        s.kf[s.ba.index[pi] >> 16].points[s.ba.index[pi] & 0xffff].idepth = s.scratch[std::size_t{pi} * kBaStride + kRowBackup];
       lambda *= 10;
       if (last) set_status(s, PointStatus::leaving, PointStatus::active), outliers_marked = false;
       // The refused trial overwrote the system: rebuild it at the restored parameters (an
@@ -554,11 +554,11 @@ void window_bundle_adjustment(State& s) {
   }
   if (!outliers_marked) accumulate(s, win, false, true);
   set_status(s, PointStatus::leaving, PointStatus::empty);  // points that fit most keyframes badly leave the map
-  s.ref_dirty = true;
+  s.ref.dirty = true;
   // The newest keyframe is the current frame: follow its refined pose.
   const Keyframe& newest = s.kf[s.order[s.kf_count - 1]];
-  s.T_cw = newest.T_cw;
-  s.a = newest.a, s.b = newest.b;
+  s.motion.T_cw = newest.T_cw;
+  s.brightness.a = newest.a, s.brightness.b = newest.b;
 }
 
 }  // namespace bolo::vo

@@ -100,9 +100,9 @@ int main() {
     if (std::getenv("VERBOSE") && r.has_pose && s.kf_count > 0) {
       // Against the oldest window keyframe: rotation error, and the translation direction's error.
       const vo::Keyframe& o = s.kf[s.order[0]];
-      const vo::Mat3 R_est = s.T_cw.R * o.T_cw.R.transpose();
+      const vo::Mat3 R_est = s.motion.T_cw.R * o.T_cw.R.transpose();
       const vo::Mat3 R_tru = seq.T_cw(t + truth_dt).R * seq.T_cw(o.t_s + truth_dt).R.transpose();
-      const vo::Vec3 d_est = (s.T_cw * o.T_cw.inverse()).t, d_tru = (seq.T_cw(t + truth_dt) * seq.T_cw(o.t_s + truth_dt).inverse()).t;
+      const vo::Vec3 d_est = (s.motion.T_cw * o.T_cw.inverse()).t, d_tru = (seq.T_cw(t + truth_dt) * seq.T_cw(o.t_s + truth_dt).inverse()).t;
       const double dir = std::acos(std::clamp(d_est.normalized().dot(d_tru.normalized()), -1.0, 1.0)) * 180 / M_PI;
       std::printf("frame %d (kf %u at %.2f s) rotation %.2f deg off of %.2f; translation direction %.1f deg off; est rot axis %.2f %.2f %.2f true %.2f %.2f %.2f\n", i, o.id, o.t_s,
                   Eigen::AngleAxisd(R_est * R_tru.transpose()).angle() * 180 / M_PI, Eigen::AngleAxisd(R_tru).angle() * 180 / M_PI, dir,
@@ -142,10 +142,10 @@ int main() {
         // The tracked motion from the oldest window keyframe to this frame against the truth, times
         // the settled map's q: 1 when the poses agree with the map's scale.
         const vo::Keyframe& oldest = s.kf[s.order[0]];
-        const double est_t = (oldest.T_cw.inverse().t - s.T_cw.inverse().t).norm();
+        const double est_t = (oldest.T_cw.inverse().t - s.motion.T_cw.inverse().t).norm();
         const double tru_t = (seq.T_cw(oldest.t_s + truth_dt).inverse().t - seq.T_cw(t + truth_dt).inverse().t).norm();
         // The rotation from the oldest window keyframe to this frame: its error against the truth.
-        const vo::Mat3 R_est = s.T_cw.R * oldest.T_cw.R.transpose();
+        const vo::Mat3 R_est = s.motion.T_cw.R * oldest.T_cw.R.transpose();
         const vo::Mat3 R_tru = seq.T_cw(t + truth_dt).R * seq.T_cw(oldest.t_s + truth_dt).R.transpose();
         const double rot_err = Eigen::AngleAxisd(R_est * R_tru.transpose()).angle() * 180 / M_PI;
         const double rot_tru = Eigen::AngleAxisd(R_tru).angle() * 180 / M_PI;

@@ -367,7 +367,7 @@ int main() {
       hy2 = hy1, hy1 = hy;
       for (std::size_t i = 0; i < hy.size(); ++i) hy[i] = alpha * hy[i] + beta * hb[i];
     }
-    T_prev2 = s->T_prev;
+    T_prev2 = s->motion.T_prev;
     test::push_truth_frame(*s, k, te, tr, t, seq.T_cw(t + pose_dt), [&](std::span<float> raw) {
       for (std::size_t i = 0; i < n; ++i) {
         y[i] = alpha * y[i] + beta * u[i];
@@ -377,14 +377,14 @@ int main() {
     if (lag > 0) {
       history.insert(history.begin(), y);
       scene_history.insert(scene_history.begin(), u);
-      pose_history.insert(pose_history.begin(), s->T_cw);
+      pose_history.insert(pose_history.begin(), s->motion.T_cw);
       if (history.size() > static_cast<std::size_t>(lag + 2)) history.pop_back(), pose_history.pop_back(), scene_history.pop_back();
     }
     if (rot_noise > 0) {
       // Tracking-like pose errors: a small random rotation per frame (rad, per axis).
       const Eigen::Vector3d w(rot_noise * noise_unit(), rot_noise * noise_unit(), rot_noise * noise_unit());
-      s->T_cw.R = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * s->T_cw.R;
-      s->T_cw.t = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * s->T_cw.t;
+      s->motion.T_cw.R = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * s->motion.T_cw.R;
+      s->motion.T_cw.t = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * s->motion.T_cw.t;
     }
     if (k % 12 == 0) {
       test::keyframe_at_true_depth(*s, [&](double pu, double pv) { return seq.depth(t + pose_dt, pu, pv); },
@@ -398,9 +398,9 @@ int main() {
     }
     if (!have_keyframe) continue;
     {
-      const double sab0 = s->tau_sab, sbb0 = s->tau_sbb;
-      vo::refine_tau(*s);
-      const double fab = s->tau_sab - 0.995 * sab0, fbb = s->tau_sbb - 0.995 * sbb0;
+      const double sab0 = s->tau_est.sab, sbb0 = s->tau_est.sbb;
+      vo::refine_tau(s->tau_est, *s, s->current, s->motion, s->noise.var);
+      const double fab = s->tau_est.sab - 0.995 * sab0, fbb = s->tau_est.sbb - 0.995 * sbb0;
       if (fbb > 0) frame_fits.push_back({fab / fbb, fbb});
     }
     if (k < 2) continue;
@@ -413,7 +413,7 @@ int main() {
     for (std::uint32_t slot = 0; slot < vo::kMaxKeyframes; ++slot) {
       const vo::Keyframe& host = s->kf[slot];
       if (!host.used) continue;
-      const vo::Se3 Mi = s->T_cw * host.T_cw.inverse(), Mp = s->T_prev * host.T_cw.inverse();
+      const vo::Se3 Mi = s->motion.T_cw * host.T_cw.inverse(), Mp = s->motion.T_prev * host.T_cw.inverse();
       const vo::Se3 Mq = T_prev2 * host.T_cw.inverse();
       for (std::uint32_t i = 0; i < host.count; ++i) {
         const vo::Point& p = host.points[i];
@@ -625,6 +625,6 @@ int main() {
   std::printf("cross-smeared plain %.2f ms (dalpha %.4f); ", -tr / std::log(xab / xbb) * 1e3, xdb / xbb);
   std::printf("tau %.1f K %d %s mode %s pose_dt %.2f ms traj %s noise %.1f ss %u: estimator %.2f ms, plain %.2f ms (bias term dalpha %.4f, alpha %.4f)\n",
               tau * 1e3, substeps, weight.c_str(), mode.c_str(), pose_dt * 1e3, traj.c_str(), noise_sigma, ss,
-              s->tau.c * 1e3, -tr / std::log(a_plain) * 1e3, sdb / sbb, alpha);
-  return s->tau.c > 0 ? 0 : 1;
+              s->tau_est.tau.c * 1e3, -tr / std::log(a_plain) * 1e3, sdb / sbb, alpha);
+  return s->tau_est.tau.c > 0 ? 0 : 1;
 }
