@@ -36,6 +36,7 @@
 #include "bolo/hal/v4l2_source.hpp"
 #include "send_log.hpp"
 #include "emulators/fnv1a.hpp"
+#include "uvc_node.hpp"
 
 namespace {
 
@@ -70,16 +71,6 @@ class HashingSink final : public fw::LineSink {
   std::uint64_t hash_ = 0;
   bool ffc_ = false;
 };
-
-std::string find_uvc_node() {
-  const auto patience = Clock::now() + std::chrono::seconds(20);
-  for (;;) {
-    for (const hal::V4l2DeviceEntry& e : hal::list_v4l2_devices())
-      if (e.driver == "uvcvideo" && !e.sizes(hal::V4l2Pixels::y16).empty()) return e.path;
-    if (Clock::now() > patience) throw std::runtime_error("no uvcvideo Y16 node after 20 s");
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-}
 
 // The --real check; see the top of the file.
 int stream_real_camera(hal::V4l2Source& source, HashingSink& sink, bool telemetry, std::uint64_t frames,
@@ -206,7 +197,7 @@ int main(int argc, char** argv) {
   const bool telemetry = size == "160x122";
   try {
     hal::V4l2Config config;
-    config.path = device.empty() ? find_uvc_node() : device;
+    config.path = device.empty() ? hil::find_uvc_node() : device;
     config.width = 160;
     config.height = 120;
     config.telemetry = telemetry ? hal::TelemetryRows::on : hal::TelemetryRows::off;

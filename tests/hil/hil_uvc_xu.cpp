@@ -34,6 +34,8 @@
 #include "bolo/hal/source_registry.hpp"
 #include "bolo/hal/uvc_controls.hpp"
 #include "bolo/hal/v4l2_source.hpp"
+#include "emulators/whole_number.hpp"
+#include "uvc_node.hpp"
 
 namespace {
 
@@ -45,16 +47,6 @@ void expect(bool ok, const std::string& what) {
   if (ok) return;
   ++failures;
   std::printf("hil_uvc_xu: FAIL %s\n", what.c_str());
-}
-
-std::string find_node() {
-  const auto patience = Clock::now() + std::chrono::seconds(20);
-  for (;;) {
-    for (const hal::V4l2DeviceEntry& e : hal::list_v4l2_devices())
-      if (e.driver == "uvcvideo" && !e.sizes(hal::V4l2Pixels::y16).empty()) return e.path;
-    if (Clock::now() > patience) throw std::runtime_error("no uvcvideo Y16 node after 20 s");
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
 }
 
 // The USB device's descriptors (sysfs) the node belongs to.
@@ -111,19 +103,6 @@ std::vector<std::pair<std::uint64_t, std::uint32_t>> emulator_ffcs(const std::st
   return out;
 }
 
-std::uint64_t whole(const std::string& option, const std::string& text) {
-  std::size_t used = 0;
-  std::uint64_t v = 0;
-  try {
-    v = std::stoull(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size() || text[0] == '-')
-    throw std::runtime_error(option + ": '" + text + "' is not a whole number");
-  return v;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -135,14 +114,14 @@ int main(int argc, char** argv) {
       if (a == "--xu-log") xu_log = v;
       else if (a == "--progress") progress = v;
       else if (a == "--device") node = v;
-      else if (a == "--frames") frames = whole(a, v);
-      else if (a == "--shutter-at") shutter_at = whole(a, v);
+      else if (a == "--frames") frames = hil::whole_number(a, v);
+      else if (a == "--shutter-at") shutter_at = hil::whole_number(a, v);
       else throw std::runtime_error("unknown option " + a);
     }
     if (argc % 2 == 0) throw std::runtime_error(std::string(argv[argc - 1]) + " needs a value");
     if (xu_log.empty() || frames == 0 || shutter_at >= frames)
       throw std::runtime_error("give --xu-log FILE --frames N --shutter-at K (K < N)");
-    if (node.empty()) node = find_node();
+    if (node.empty()) node = hil::find_uvc_node();
 
     // 1) Detection and the descriptors.
     expect(hal::is_purethermal_node(node), node + ": not detected as a PureThermal (no Lepton SYS unit in its descriptors)");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include <catch2/catch.hpp>
@@ -805,19 +806,26 @@ TEST_CASE("odometry: the ir modes warn on tone-mapped frames", "[vo][cli]") {
 }
 
 // The recording with every exposure_s and readout_s cell of frames.csv emptied (unknown).
-fs::path without_frame_timing(const fs::path& seq, const fs::path& out) {
+// A new recording folder `out` with `seq`'s frames and each frames.csv row (after the header)
+// rewritten by `edit(index, row)`.
+fs::path with_frames_csv(const fs::path& seq, const fs::path& out,
+                         const std::function<std::string(std::size_t, const std::string&)>& edit) {
   copy_files(seq, out, {"recording.json", "frames.npy", "camera.json"});
   std::ifstream in(seq / "frames.csv");
   std::ofstream csv(out / "frames.csv");
   std::string line;
   std::getline(in, line);
   csv << line << "\n";
-  while (std::getline(in, line)) {
+  for (std::size_t i = 0; std::getline(in, line); ++i) csv << edit(i, line) << "\n";
+  return out;
+}
+
+fs::path without_frame_timing(const fs::path& seq, const fs::path& out) {
+  return with_frames_csv(seq, out, [](std::size_t, const std::string& line) {
     const auto c1 = line.find(','), c2 = line.find(',', c1 + 1), c3 = line.find(',', c2 + 1),
                c4 = line.find(',', c3 + 1);
-    csv << line.substr(0, c2 + 1) << "," << line.substr(c4) << "\n";  // index,t_s,,,ffc,...
-  }
-  return out;
+    return line.substr(0, c2 + 1) + "," + line.substr(c4);  // index,t_s,,,ffc,...
+  });
 }
 
 TEST_CASE("odometry: empty exposure_s/readout_s cells are filled", "[vo][cli][long]") {
@@ -864,19 +872,13 @@ TEST_CASE("odometry: empty exposure_s/readout_s cells are filled", "[vo][cli][lo
 
 // A copy of `seq` whose frames from `from` on come `gap_s` later (frames.csv t_s only).
 fs::path with_time_gap(const fs::path& seq, const fs::path& out, std::size_t from, double gap_s) {
-  copy_files(seq, out, {"recording.json", "frames.npy", "camera.json"});
-  std::ifstream in(seq / "frames.csv");
-  std::ofstream csv(out / "frames.csv");
-  std::string line;
-  std::getline(in, line);
-  csv << line << "\n";
-  csv.precision(17);
-  for (std::size_t i = 0; std::getline(in, line); ++i) {
+  return with_frames_csv(seq, out, [&](std::size_t i, const std::string& line) {
     const auto c1 = line.find(','), c2 = line.find(',', c1 + 1);
-    const double t = std::stod(line.substr(c1 + 1, c2 - c1 - 1)) + (i >= from ? gap_s : 0.0);
-    csv << line.substr(0, c1 + 1) << t << line.substr(c2) << "\n";
-  }
-  return out;
+    std::ostringstream t;
+    t.precision(17);
+    t << std::stod(line.substr(c1 + 1, c2 - c1 - 1)) + (i >= from ? gap_s : 0.0);
+    return line.substr(0, c1 + 1) + t.str() + line.substr(c2);
+  });
 }
 
 TEST_CASE("odometry: a gap in time breaks the carry-over chain where the corrector's rule does", "[vo][cli]") {

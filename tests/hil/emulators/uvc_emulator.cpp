@@ -50,6 +50,7 @@
 #include "uvc_frames.hpp"
 #include "uvc_function.hpp"
 #include "uvc_lepton.hpp"
+#include "whole_number.hpp"
 
 namespace {
 
@@ -75,20 +76,6 @@ struct Options {
   std::string ready = "/tmp/uvc.ready", done = "/tmp/uvc.done", finished = "/tmp/uvc.finished";
 };
 
-// A whole non-negative number or a clear error naming the option.
-std::uint64_t number(const std::string& option, const std::string& text) {
-  std::size_t used = 0;
-  std::uint64_t v = 0;
-  try {
-    v = std::stoull(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size() || text[0] == '-')
-    throw std::runtime_error(option + ": '" + text + "' is not a whole number");
-  return v;
-}
-
 double real(const std::string& option, const std::string& text) {
   std::size_t used = 0;
   double v = 0;
@@ -110,21 +97,21 @@ Options parse(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--log") o.log = value();
-    else if (a == "--frames") o.frames = number(a, value());
+    else if (a == "--frames") o.frames = whole_number(a, value());
     else if (a == "--recording") o.recording = value();
-    else if (a == "--buffers") o.buffers = static_cast<std::uint32_t>(std::min<std::uint64_t>(number(a, value()), 1000));
-    else if (a == "--ffc-period") o.ffc_period = static_cast<std::uint32_t>(std::min<std::uint64_t>(number(a, value()), 1u << 30));
+    else if (a == "--buffers") o.buffers = static_cast<std::uint32_t>(std::min<std::uint64_t>(whole_number(a, value()), 1000));
+    else if (a == "--ffc-period") o.ffc_period = static_cast<std::uint32_t>(std::min<std::uint64_t>(whole_number(a, value()), 1u << 30));
     else if (a == "--fault-rate") o.fault_rate = real(a, value());
     else if (a == "--faults") o.faults = value();
-    else if (a == "--seed") o.seed = number(a, value());
-    else if (a == "--quiet-ms") o.quiet_ms = static_cast<int>(std::min<std::uint64_t>(number(a, value()), 600000));
+    else if (a == "--seed") o.seed = whole_number(a, value());
+    else if (a == "--quiet-ms") o.quiet_ms = static_cast<int>(std::min<std::uint64_t>(whole_number(a, value()), 600000));
     else if (a == "--fps") o.fps = real(a, value());
     else if (a == "--credit") {
       const std::string v = value();
       const auto colon = v.rfind(':');
       if (colon == std::string::npos) throw std::runtime_error("--credit wants FILE:N");
       o.credit_file = v.substr(0, colon);
-      o.credit = number(a, v.substr(colon + 1));
+      o.credit = whole_number(a, v.substr(colon + 1));
       if (o.credit == 0) throw std::runtime_error("--credit N must be at least 1");
     }
     else if (a == "--name") o.name = value();
