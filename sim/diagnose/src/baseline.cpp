@@ -120,6 +120,9 @@ NormalSums normal_sums(const DiagnoseData& d, const std::vector<float>& sim, con
     const std::size_t first = std::size_t(n) * P;
     const std::uint8_t* valid = d.valid.data() + first;
     const float* s = sim.data() + first;
+    // The frames before and after (inner frames only: no pointer outside the recording is formed).
+    const float* s_before = inner ? s - P : s;
+    const float* s_after = inner ? s + P : s;
     const float* y_n = d.recorded.data() + first;
     const float* m = kMotion ? motion.data() + first : nullptr;
     for (std::size_t p = 0; p < P; ++p) {
@@ -130,7 +133,7 @@ NormalSums normal_sums(const DiagnoseData& d, const std::vector<float>& sim, con
       a.t0 += x0 * y; a.t1 += x1 * y;
       double x2 = 0;
       if constexpr (kRate) {
-        x2 = inner ? 0.5 * (double(s[p + P]) - s[p - P]) : 0.0;
+        x2 = inner ? 0.5 * (double(s_after[p]) - s_before[p]) : 0.0;
         a.s20 += x0 * x2; a.s21 += x1 * x2; a.s22 += x2 * x2; a.t2 += x2 * y;
       }
       if constexpr (kMotion) {
