@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bolo/commands.hpp"
+#include "harness.hpp"
 #include "number_arg.hpp"
 #include "size_list.hpp"
 
@@ -70,12 +71,6 @@ Run run_child(const std::vector<std::string>& args) {
   r.peak_mb = double(usage.ru_maxrss) / 1024.0;
   r.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
   return r;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
 struct Case {
@@ -147,9 +142,9 @@ int main(int argc, char** argv) {
       wall.push_back(r.wall_s), cpu.push_back(r.cpu_s), peak.push_back(r.peak_mb);
     }
     if (wall.empty()) continue;
-    const double w = median(wall);
-    std::printf("%-7s wall %.2f s, CPU %.2f s, peak %.0f MB, ratio to the goal %.3f\n", c.name, w, median(cpu),
-                median(peak), w / kGoalSeconds);
+    const double w = bolo::bench::median(wall);
+    std::printf("%-7s wall %.2f s, CPU %.2f s, peak %.0f MB, ratio to the goal %.3f\n", c.name, w, bolo::bench::median(cpu),
+                bolo::bench::median(peak), w / kGoalSeconds);
   }
   if (keep.empty()) fs::remove_all(dir);
   return status;
