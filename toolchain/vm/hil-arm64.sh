@@ -7,7 +7,7 @@ cd "$(dirname "$0")/../.."
 sysroot="$(toolchain/vm/arm64-sysroot.sh)"
 dir=build-hil-arm64
 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_TOOLCHAIN_FILE=toolchain/vm/aarch64-hil.cmake \
-  -DBOLO_HIL_SYSROOT="$sysroot" -DBOLO_BUILD_HOST_TOOLS=OFF >/dev/null
+  -DBOLO_HIL_SYSROOT="$sysroot" -DBOLO_BUILD_HOST_TOOLS=OFF -DCMAKE_UNITY_BUILD=ON >/dev/null
 targets=(flirone_emulator hil_flirone)
 # Listed once: `ninja ... | grep -q` under pipefail fails at random (grep's early exit kills
 # ninja with SIGPIPE), which once dropped hil_flirone_hal from a CI build.
