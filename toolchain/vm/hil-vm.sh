@@ -98,6 +98,7 @@ fi
 # Programs, data and the shared libraries the programs need.
 for f in "${files[@]}"; do cp -r "$f" "$root/hil/"; done
 cp "$scenario" "$root/hil/run.sh"
+cp "$here/hil-steps.sh" "$root/hil/steps.sh"
 # The scenario's knobs (BOLO_HIL_*) travel into the VM.
 env | grep '^BOLO_HIL_' | sed "s/'/'\\\\''/g; s/=\(.*\)/='\1'/; s/^/export /" >"$root/hil/env.sh" || true
 chmod +x "$root/hil/run.sh"

@@ -31,16 +31,33 @@ hil_fetch_deb() {
   dpkg-deb -x "$deb" "$dest"
 }
 
-# Prints the folder holding boot/vmlinuz, lib/modules/<version> (with modules.dep) and a version
-# file for ARCH; Debian's current 6.1 kernel for that architecture.
-hil_kernel_dir() {
-  local arch="$1" cache="$2" debarch meta image dir
+# Prints the name of Debian's current kernel package for ARCH (linux-image-<version>-<flavour>).
+# apt-cache takes seconds per call without a binary package cache, and every HIL test asks several
+# times: the answer is kept in the cache until apt's package lists change.
+hil_kernel_package() {
+  local arch="$1" cache="$2" debarch meta image memo
+  memo="$cache/$arch/kernel-package"
+  if [ -s "$memo" ] && [ -z "$(find /var/lib/apt/lists -maxdepth 1 -name '*Packages*' -newer "$memo" -print -quit 2>/dev/null)" ]; then
+    cat "$memo"
+    return
+  fi
   debarch="$(hil_debarch "$arch")"
   meta="linux-image-$debarch"
   [ "$arch" = x86_64 ] || meta="$meta:$debarch"
   image="$(apt-cache depends "$meta" 2>/dev/null | awk '/Depends: linux-image-/ { print $2; exit }')"
   image="${image%%:*}"
   [ -n "$image" ] || { echo "hil-vm: apt-cache knows no $meta (for arm64: dpkg --add-architecture arm64; apt-get update)" >&2; return 1; }
+  mkdir -p "$cache/$arch"
+  echo "$image" >"$memo.$$" && mv "$memo.$$" "$memo"
+  echo "$image"
+}
+
+# Prints the folder holding boot/vmlinuz, lib/modules/<version> (with modules.dep) and a version
+# file for ARCH; Debian's current 6.1 kernel for that architecture.
+hil_kernel_dir() {
+  local arch="$1" cache="$2" debarch image dir
+  debarch="$(hil_debarch "$arch")"
+  image="$(hil_kernel_package "$arch" "$cache")" || return 1
   dir="$cache/$arch/$image"
   if [ ! -f "$dir/version" ]; then
     rm -rf "$dir"
