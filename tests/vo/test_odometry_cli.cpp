@@ -3,10 +3,13 @@
 // formats, an ATE bound for the no-carry-over case, and the refusals of docs/errors.md section 12.
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <sstream>
+
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
@@ -22,17 +25,30 @@ using namespace bolo::test;
 
 namespace {
 
-// One simulated sequence per tau and length for the test binary (~1 s to render).
+// One simulated sequence per tau and length (~1 s to render, ~5 s under ASan), rendered once per
+// build of this binary and shared by its test processes through BOLO_TEST_CACHE: the folder's name
+// carries the binary's size and time, so a rebuilt renderer renders anew. A process renders into a
+// folder of its own and renames it into place; when another was first, its copy is used.
 const fs::path& sequence(const char* name, const char* tau, const char* frames = "36") {
-  static TempDir tmp;
   static std::map<std::string, fs::path> made;
   const std::string key = std::string(name) + tau + "-" + frames;
   if (!made.count(key)) {
-    const fs::path dir = tmp / key;
-    const CliResult r = run_bolo({"simulate", dir.string(), "--scene", "street", "--trajectory", "drive", "--fps",
-                                  "60", "--frames", frames, "--size", "160x120", "--tau", tau, "--noise", "3",
-                                  "--seed", "1"});
-    REQUIRE(r.code == 0);
+    const fs::path exe = fs::read_symlink("/proc/self/exe");
+    const fs::path dir = fs::path(BOLO_TEST_CACHE) /
+                         (key + "-" + std::to_string(fs::file_size(exe)) + "-" +
+                          std::to_string(static_cast<std::uint64_t>(fs::last_write_time(exe).time_since_epoch().count())));
+    if (!fs::is_directory(dir)) {
+      const fs::path mine = dir.string() + ".part-" + std::to_string(::getpid());
+      const CliResult r = run_bolo({"simulate", mine.string(), "--scene", "street", "--trajectory", "drive", "--fps",
+                                    "60", "--frames", frames, "--size", "160x120", "--tau", tau, "--noise", "3",
+                                    "--seed", "1"});
+      INFO(r.err);
+      REQUIRE(r.code == 0);
+      std::error_code ec;
+      fs::rename(mine, dir, ec);
+      if (ec) fs::remove_all(mine);
+      REQUIRE(fs::is_directory(dir));
+    }
     made[key] = dir;
   }
   return made[key];
