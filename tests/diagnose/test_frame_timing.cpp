@@ -169,3 +169,16 @@ TEST_CASE("pixels frozen in a panning scene are found as dead pixels", "[diagnos
   REQUIRE(f);
   CHECK((*f)["params"]["count"] == 3);
 }
+
+TEST_CASE("an in-core filter under timing jitter is fitted with its own pole", "[diagnose][concealed][timing]") {
+  // alpha is read off the residual's lag-1 memory where the baseline barely moves: at the moving
+  // edges the baseline's tau and timing shift take up part of the filter's lag, and a fit there
+  // gave about half the pole (0.022-0.026 for 0.05).
+  TempDir tmp;
+  const fs::path rec = simulate(tmp, "filter", {"temporal_filter:alpha=0.05"}, 1, {"--timing-jitter", "0.005"});
+  const nlohmann::json d = diagnose(rec, tmp / "filter.d");
+  INFO(d["findings"].dump(1));
+  const nlohmann::json* f = finding(d, "temporal_filter");
+  REQUIRE(f != nullptr);
+  CHECK((*f)["params"]["alpha"].get<double>() == Approx(0.05).epsilon(0.15));
+}

@@ -130,6 +130,19 @@ class FrameDuplicationEffect final : public Effect {
 namespace bolo::diag {
 namespace {
 
+// The residual's noise scale: 1.4826 x the median absolute deviation over a sample of the valid
+// pixel-frames (a model's misses at moving edges are a minority and do not move it).
+double residual_scale(const DiagnoseData& d, const std::vector<float>& r) {
+  const std::size_t stride = std::max<std::size_t>(1, r.size() / 200000);
+  std::vector<float> sample;
+  for (std::size_t i = 0; i < r.size(); i += stride)
+    if (d.valid[i]) sample.push_back(r[i]);
+  if (sample.empty()) return 0.0;
+  const float centre = median_of(sample);
+  for (float& v : sample) v = std::fabs(v - centre);
+  return 1.4826 * median_in_place(sample);
+}
+
 // y_n = alpha y_{n-1} + (1 - alpha) x_n: one step ahead, the residual moves towards the previous
 // recorded frame by alpha.
 class TemporalFilterCandidate final : public PooledLinear {
@@ -145,47 +158,55 @@ class TemporalFilterCandidate final : public PooledLinear {
     const DiagnoseData& d = *data_;
     const std::vector<float>& r = *residual_;
     const std::size_t P = d.shape.pixels();
+    const int N = d.shape.n;
     X.assign(1, std::vector<float>(d.shape.size(), 0.0f));
+    // Judged where the baseline changes by less than half the residual's noise from one frame to
+    // the next: what a model leaves where the input changes (motion within the exposure, a
+    // moving edge) is correlated from frame to frame as the edge passes, and would read as a
+    // filter. A recording without a still background (a pan) has such pixels in plenty; the
+    // bitwise-still ones it lacks.
+    const std::vector<float>& still = d.still_reference();
+    const float quiet_step = 0.5f * static_cast<float>(residual_scale(d, r));
+    auto quiet = [&](int n, std::size_t p) {
+      return std::fabs(d.frame(still, n)[p] - d.frame(still, n - 1)[p]) <= quiet_step;
+    };
+    std::vector<float> mean(N, 0.0f);
+    for (int n = 0; n < N; ++n) {
+      const float* f = d.frame(r, n);
+      const std::uint8_t* v = d.valid_frame(n);
+      double s = 0, c = 0;
+      for (std::size_t p = 0; p < P; ++p)
+        if (v[p]) { s += f[p]; c += 1; }
+      mean[n] = c > 0 ? float(s / c) : 0.0f;
+    }
     // A filter's pole is per frame: the residual's autocorrelation falls as alpha^k. Memory that
-    // falls slower (a slowly changing scene, drift) is not this effect. Judged where the baseline
-    // holds still for the three frames: what a model leaves at moving edges (motion within the
-    // exposure) is correlated from frame to frame as the edge passes, and read as slow memory.
+    // falls slower (a slowly changing scene, drift, a static pattern) is not this effect; it is
+    // refused when its lag-2 correlation stands above a filter's by more than its sampling error.
     {
-      const std::vector<float>& still = d.still_reference();
-      double r0 = 0, r1 = 0, r2 = 0;
-      std::vector<float> mean(d.shape.n, 0.0f);
-      for (int n = 0; n < d.shape.n; ++n) {
-        const float* f = d.frame(r, n);
-        const std::uint8_t* v = d.valid_frame(n);
-        double s = 0, c = 0;
-        for (std::size_t p = 0; p < P; ++p)
-          if (v[p]) { s += f[p]; c += 1; }
-        mean[n] = c > 0 ? float(s / c) : 0.0f;
-      }
-      for (int n = 2; n < d.shape.n; ++n) {
+      double r0 = 0, r1 = 0, r2 = 0, count = 0;
+      for (int n = 2; n < N; ++n) {
         const float *f = d.frame(r, n), *f1 = d.frame(r, n - 1), *f2 = d.frame(r, n - 2);
         const std::uint8_t *v = d.valid_frame(n), *v1 = d.valid_frame(n - 1), *v2 = d.valid_frame(n - 2);
-        const float *b = d.frame(still, n), *b1 = d.frame(still, n - 1), *b2 = d.frame(still, n - 2);
         for (std::size_t p = 0; p < P; ++p) {
-          if (!(v[p] && v1[p] && v2[p]) || !holds_still(b[p], b1[p]) || !holds_still(b1[p], b2[p])) continue;
+          if (!(v[p] && v1[p] && v2[p]) || !quiet(n, p) || !quiet(n - 1, p)) continue;
           const double a = f[p] - mean[n], b = f1[p] - mean[n - 1], c = f2[p] - mean[n - 2];
-          r0 += a * a; r1 += a * b; r2 += a * c;
+          r0 += a * a; r1 += a * b; r2 += a * c; count += 1;
         }
       }
-      const double rho1 = r0 > 0 ? r1 / r0 : 0, rho2 = r0 > 0 ? r2 / r0 : 0;
-      if (rho1 > 0 && rho2 > rho1 * rho1 + 0.5 * (rho1 - rho1 * rho1) + 0.02) return false;
+      if (count < 1000) return false;
+      const double rho1 = r1 / r0, rho2 = r2 / r0;
+      if (rho1 > 0 && rho2 > rho1 * rho1 + 0.5 * (rho1 - rho1 * rho1) + 0.02 + 3 / std::sqrt(count)) return false;
     }
     // The previous frame's residual without its frame mean: a filter acts on every pixel's own
-    // noise, while a slow global drift would make any one-step predictor look good.
-    for (int n = 1; n < d.shape.n; ++n) {
-      const float *rp = d.frame(r, n - 1), *bp = d.frame(d.baseline, n - 1), *b = d.frame(d.baseline, n);
+    // noise, while a slow global drift would make any one-step predictor look good. The filter's
+    // share of the baseline's own change (alpha times its step) is left out: below half the noise
+    // it is lost in it, and what a model misses where the input changes (a rolling readout, motion
+    // within the exposure) is proportional to that step too.
+    for (int n = 1; n < N; ++n) {
+      const float* rp = d.frame(r, n - 1);
       const std::uint8_t* vp = d.valid_frame(n - 1);
-      double sum = 0, count = 0;
-      for (std::size_t p = 0; p < P; ++p)
-        if (vp[p]) { sum += rp[p]; count += 1; }
-      const float mean = count > 0 ? static_cast<float>(sum / count) : 0.0f;
       float* x = X[0].data() + std::size_t(n) * P;
-      for (std::size_t p = 0; p < P; ++p) x[p] = vp[p] ? rp[p] - mean + bp[p] - b[p] : 0.0f;
+      for (std::size_t p = 0; p < P; ++p) x[p] = vp[p] && quiet(n, p) ? rp[p] - mean[n - 1] : 0.0f;
     }
     return true;
   }
