@@ -3,7 +3,7 @@
 # scripts/odometry-study.sh renders them) per trajectory type and seed, bolo odometry in each mode
 # (run-vo.sh) and the DSO peer (dso-run.sh) on the raw frames and on `bolo correct`ed ones (the
 # paper's two-frame correction with the rendered tau), all scored by bolo evaluate. One run at a
-# time, so each run's fps is one process on a core. Writes WORK/index-dso.txt and the table OUT_MD
+# time; each run's wall and CPU time are kept (both programs run single-threaded here). Writes WORK/index-dso.txt and the table OUT_MD
 # (scripts/study/dso_table.py; default docs/odometry-study/dso.md).
 #
 #   scripts/study/dso-side-by-side.sh BOLO DSO_DATASET WORK [OUT_MD]
@@ -11,7 +11,7 @@
 # DSO_DATASET from scripts/study/dso-build.sh. Environment: TRAJECTORIES (drive handheld), SEEDS
 # (1 .. 10), SIZE (320x256), FPS (60), TAU (0.010), NOISE (3), SUPERSAMPLE (3), SECONDS_LONG (4),
 # MODES (none affine ir ir-loop), DSO_VARIANTS (dso dso-corrected). Sequences already in WORK are
-# reused; runs are redone.
+# reused; runs are redone unless KEEP_DONE=1 (then a finished run is kept, with its times).
 set -euo pipefail
 [ $# -ge 3 ] || { echo "usage: dso-side-by-side.sh BOLO DSO_DATASET WORK [OUT_MD]" >&2; exit 2; }
 here="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -27,13 +27,14 @@ SUPERSAMPLE="${SUPERSAMPLE:-3}"
 SECONDS_LONG="${SECONDS_LONG:-4}"
 MODES="${MODES:-none affine ir ir-loop}"
 DSO_VARIANTS="${DSO_VARIANTS:-dso dso-corrected}"
+KEEP_DONE="${KEEP_DONE:-0}"
 [ -x "$bolo" ] || { echo "dso-side-by-side: $bolo is not an executable" >&2; exit 2; }
 [ -x "$dso" ] || { echo "dso-side-by-side: $dso is not an executable (scripts/study/dso-build.sh)" >&2; exit 2; }
 frames=$((SECONDS_LONG * FPS))
 mkdir -p "$work"
 index="$work/index-dso.txt"
 : > "$index"
-TIMEFORMAT=%R
+TIMEFORMAT='%R %U %S'
 for traj in $TRAJECTORIES; do
   for seed in $SEEDS; do
     seq="$work/seq-$traj-$SIZE-${FPS}hz-tau$TAU-ss$SUPERSAMPLE-s$seed"
@@ -43,20 +44,27 @@ for traj in $TRAJECTORIES; do
     fi
     for mode in $MODES; do
       run="$seq-vo-$mode"
-      # The wall time includes bolo evaluate (tens of ms) besides bolo odometry.
-      wall=$( { time "$here/scripts/study/run-vo.sh" "$bolo" "$seq" "$mode" "$run" || true; } 2>&1 )
-      echo "$traj $seed $mode $wall $run" >> "$index"
+      if [ "$KEEP_DONE" != 1 ] || [ ! -f "$run.times" ]; then
+        # Wall and CPU time (user + system) of bolo odometry and bolo evaluate (tens of ms).
+        times=$( { time "$here/scripts/study/run-vo.sh" "$bolo" "$seq" "$mode" "$run" || true; } 2>&1 )
+        read -r wall user sys <<< "$times"
+        echo "$wall $(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }')" > "$run.times"
+      fi
+      echo "$traj $seed $mode $(cat "$run.times") $run" >> "$index"
       printf . >&2
     done
     for variant in $DSO_VARIANTS; do
-      input=$seq
+      input=$seq dso_args=()
       if [ "$variant" = dso-corrected ]; then
         input="$seq-corrected"
         [ -d "$input" ] || "$bolo" correct "$seq" "$input" --tau-h "$TAU" --tau-c "$TAU" --no-progress > /dev/null
+        dso_args=(start=1)  # bolo correct's first frame has no predecessor: gain only, far brighter
       fi
       run="$seq-$variant"
-      "$here/scripts/study/dso-run.sh" "$bolo" "$dso" "$input" "$run" "$variant" || true
-      echo "$traj $seed $variant - $run" >> "$index"
+      if [ "$KEEP_DONE" != 1 ] || [ ! -f "$run/summary.json" ]; then
+        "$here/scripts/study/dso-run.sh" "$bolo" "$dso" "$input" "$run" "$variant" "${dso_args[@]}" || true
+      fi
+      echo "$traj $seed $variant - - $run" >> "$index"
       printf . >&2
     done
   done

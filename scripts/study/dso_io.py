@@ -2,9 +2,9 @@
 """The DSO peer's files (scripts/study/dso-run.sh): a bolo recording as DSO's input, and DSO's
 result.txt as a `bolo odometry` output folder that `bolo evaluate` scores like any run.
 
-  dso_io.py input REC OUT [--percentiles LO HI]
+  dso_io.py input REC OUT [--percentiles LO HI] [--first N]
       OUT/images/NNNNNN.png (8-bit, one linear map for the whole sequence: the LO and HI
-      percentiles of all its counts go to 0 and 255), OUT/times.txt (`index t_s`: no exposures,
+      percentiles of all its counts from frame N on go to 0 and 255), OUT/times.txt (`index t_s`: no exposures,
       DSO's mode=1), OUT/camera.txt (pinhole K in pixels, no rectification), OUT/map.json.
   dso_io.py output REC RESULT RUN --name NAME --wall-s S --cpu-s S [--log FILE]
       RUN/trajectory.tum (the poses of RESULT, matched to the recording's frames by time),
@@ -99,7 +99,9 @@ def write_input(args):
     n, h, w = frames.shape
     if len(times) != n:
         die(f"{Path(args.rec, 'frames.csv')}: {len(times)} rows for {n} frames in frames.npy")
-    lo, hi = (float(v) for v in np.percentile(frames, args.percentiles))
+    if not 0 <= args.first < n:
+        die(f"--first {args.first}: {Path(args.rec, 'frames.npy')} has {n} frames")
+    lo, hi = (float(v) for v in np.percentile(frames[args.first:], args.percentiles))
     if not hi > lo:
         die(f"{Path(args.rec, 'frames.npy')}: flat sequence (percentiles {args.percentiles} both {lo})")
     out = Path(args.out)
@@ -165,6 +167,7 @@ def write_output(args):
     summary = {"photometric": args.name, "recording": str(Path(args.rec).resolve()), "reinitialisations": 0,
                "frames": len(times), "posed": len(pose_of), "wall_s": args.wall_s, "cpu_s": args.cpu_s,
                "fps_wall": len(times) / args.wall_s if args.wall_s > 0 else None,
+               "fps_cpu": len(times) / args.cpu_s if args.cpu_s > 0 else None,
                "dso_resets": log.count("RESETTING!"), "dso_lost": "LOST!!" in log}
     (run / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
 
@@ -176,6 +179,7 @@ def main():
     p.add_argument("rec")
     p.add_argument("out")
     p.add_argument("--percentiles", nargs=2, type=float, default=[0.5, 99.5], metavar=("LO", "HI"))
+    p.add_argument("--first", type=int, default=0, help="the map from frame N on (DSO started there)")
     p.set_defaults(func=write_input)
     p = sub.add_parser("output")
     p.add_argument("rec")
