@@ -7,33 +7,34 @@
 # tracking through scale collapses; the ATE does not. The wall and CPU time of dso_dataset (image
 # reading included) go to RUN/summary.json. Exit 0 when the run could be evaluated, else 1.
 #
-#   scripts/study/dso-run.sh BOLO DSO_DATASET SEQ RUN [NAME [DSO_ARG...]]
+#   scripts/study/dso-run.sh BOLO DSO_DATASET SEQ RUN [NAME [FIRST [STRIDE]]]
 #
-# NAME labels the run (summary.json's photometric; default dso); DSO_ARGs go to dso_dataset as
-# they are (e.g. start=1). DSO_TIMEOUT (600 s) bounds a run.
+# NAME labels the run (summary.json's photometric; default dso). DSO is given frames FIRST,
+# FIRST + STRIDE, ... (default 0 and 1: all), and the run is scored on those. DSO_TIMEOUT (600 s)
+# bounds a run.
 # KEEP_INPUT=1 keeps RUN/dso-input (the PNGs). Built by scripts/study/dso-build.sh.
 set -uo pipefail
-[ $# -ge 4 ] || { echo "usage: dso-run.sh BOLO DSO_DATASET SEQ RUN [NAME [DSO_ARG...]]" >&2; exit 2; }
-bolo=$1 dso=$2 seq=$(realpath "$3") run=$(realpath -m "$4") name=${5:-dso}
-shift $(($# < 5 ? $# : 5))
+if [ $# -lt 4 ] || [ $# -gt 7 ]; then
+  echo "usage: dso-run.sh BOLO DSO_DATASET SEQ RUN [NAME [FIRST [STRIDE]]]" >&2
+  exit 2
+fi
+bolo=$1 dso=$2 seq=$(realpath "$3") run=$(realpath -m "$4") name=${5:-dso} first=${6:-0} stride=${7:-1}
 here="$(cd "$(dirname "$0")" && pwd)"
 python=/usr/bin/python3  # Debian's, with python3-numpy (a pyenv python first on PATH may lack it)
 [ -x "$dso" ] || { echo "dso-run: $dso: not an executable (scripts/study/dso-build.sh builds it)" >&2; exit 2; }
 rm -rf "$run"
 mkdir -p "$run/dso"
-# The linear map is taken over the frames DSO is given (start=N skips the first N).
-first=0
-for arg in "$@"; do case $arg in start=*) first=${arg#start=} ;; esac; done
-"$python" "$here/dso_io.py" input "$seq" "$run/dso-input" --first "$first" || exit 1
-frames=$(($(wc -l < "$seq/frames.csv") - 1))
+"$python" "$here/dso_io.py" input "$seq" "$run/dso-input" --first "$first" --stride "$stride" || exit 1
+frames=$(wc -l < "$run/dso-input/times.txt")
 # DSO writes result.txt into its working directory.
 TIMEFORMAT='%R %U %S'
 times=$( { time (cd "$run/dso" && timeout "${DSO_TIMEOUT:-600}" "$dso" files="$run/dso-input/images" \
-  calib="$run/dso-input/camera.txt" mode=1 preset=0 nogui=1 quiet=1 nomt=1 nolog=1 allposes=1 "$@" \
+  calib="$run/dso-input/camera.txt" mode=1 preset=0 nogui=1 quiet=1 nomt=1 nolog=1 allposes=1 \
   > "$run/dso.log" 2>&1); } 2>&1 )
 read -r wall user sys <<< "$times"
 [ -f "$run/dso/result.txt" ] || : > "$run/dso/result.txt"  # DSO died: no poses
-"$python" "$here/dso_io.py" output "$seq" "$run/dso/result.txt" "$run" --name "$name" --wall-s "$wall" \
+"$python" "$here/dso_io.py" output "$seq" "$run/dso/result.txt" "$run" --given "$run/dso-input/map.json" \
+  --name "$name" --wall-s "$wall" \
   --cpu-s "$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }')" --log "$run/dso.log" || exit 1
 [ "${KEEP_INPUT:-0}" = 1 ] || rm -rf "$run/dso-input"
 echo "dso-run: $name on $seq: $(wc -l < "$run/trajectory.tum") of $frames frames posed, ${wall} s" > "$run.err"

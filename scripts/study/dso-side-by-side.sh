@@ -10,7 +10,8 @@
 #
 # DSO_DATASET from scripts/study/dso-build.sh. Environment: TRAJECTORIES (drive handheld), SEEDS
 # (1 .. 10), SIZE (320x256), FPS (60), TAU (0.010), NOISE (3), SUPERSAMPLE (3), SECONDS_LONG (4),
-# MODES (none affine ir ir-loop), DSO_VARIANTS (dso dso-corrected). Sequences already in WORK are
+# MODES (none affine ir ir-loop), DSO_VARIANTS (dso dso-corrected; a suffix -everyK gives DSO
+# every K-th frame, e.g. dso-corrected-every3). Sequences already in WORK are
 # reused; runs are redone unless KEEP_DONE=1 (then a finished run is kept, with its times).
 set -euo pipefail
 [ $# -ge 3 ] || { echo "usage: dso-side-by-side.sh BOLO DSO_DATASET WORK [OUT_MD]" >&2; exit 2; }
@@ -54,15 +55,17 @@ for traj in $TRAJECTORIES; do
       printf . >&2
     done
     for variant in $DSO_VARIANTS; do
-      input=$seq dso_args=()
-      if [ "$variant" = dso-corrected ]; then
-        input="$seq-corrected"
-        [ -d "$input" ] || "$bolo" correct "$seq" "$input" --tau-h "$TAU" --tau-c "$TAU" --no-progress > /dev/null
-        dso_args=(start=1)  # bolo correct's first frame has no predecessor: gain only, far brighter
-      fi
+      input=$seq first=0 stride=1
+      case $variant in
+        dso-corrected*)
+          input="$seq-corrected"
+          [ -d "$input" ] || "$bolo" correct "$seq" "$input" --tau-h "$TAU" --tau-c "$TAU" --no-progress > /dev/null
+          first=1 ;;  # bolo correct's first frame has no predecessor: gain only, far brighter
+      esac
+      case $variant in *-every*) stride=${variant##*-every} ;; esac
       run="$seq-$variant"
       if [ "$KEEP_DONE" != 1 ] || [ ! -f "$run/summary.json" ]; then
-        "$here/scripts/study/dso-run.sh" "$bolo" "$dso" "$input" "$run" "$variant" "${dso_args[@]}" || true
+        "$here/scripts/study/dso-run.sh" "$bolo" "$dso" "$input" "$run" "$variant" "$first" "$stride" || true
       fi
       echo "$traj $seed $variant - - $run" >> "$index"
       printf . >&2

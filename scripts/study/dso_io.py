@@ -2,14 +2,16 @@
 """The DSO peer's files (scripts/study/dso-run.sh): a bolo recording as DSO's input, and DSO's
 result.txt as a `bolo odometry` output folder that `bolo evaluate` scores like any run.
 
-  dso_io.py input REC OUT [--percentiles LO HI] [--first N]
-      OUT/images/NNNNNN.png (8-bit, one linear map for the whole sequence: the LO and HI
-      percentiles of all its counts from frame N on go to 0 and 255), OUT/times.txt (`index t_s`: no exposures,
-      DSO's mode=1), OUT/camera.txt (pinhole K in pixels, no rectification), OUT/map.json.
-  dso_io.py output REC RESULT RUN --name NAME --wall-s S --cpu-s S [--log FILE]
+  dso_io.py input REC OUT [--percentiles LO HI] [--first N] [--stride K]
+      OUT/images/NNNNNN.png: frames N, N + K, N + 2K, ... of REC (default all) in 8 bits, one
+      linear map for all of them (the LO and HI percentiles of their counts go to 0 and 255);
+      OUT/times.txt (`index t_s`: no exposures, DSO's mode=1), OUT/camera.txt (pinhole K in
+      pixels, no rectification), OUT/map.json (the map and the frames given).
+  dso_io.py output REC RESULT RUN --given MAP_JSON --name NAME --wall-s S --cpu-s S [--log FILE]
       RUN/trajectory.tum (the poses of RESULT, matched to the recording's frames by time),
-      RUN/stats.csv (a row per frame: `tracking` where posed, else `initialising` before the first
-      pose and `lost` after it), RUN/summary.json, RUN/points.ply (empty: DSO's map is not kept).
+      RUN/stats.csv (a row per frame DSO was given: `tracking` where posed, else `initialising`
+      before the first pose and `lost` after it), RUN/summary.json, RUN/points.ply (empty: DSO's
+      map is not kept).
 
 Needs NumPy (Debian python3-numpy). Errors name the file and exit 1."""
 import argparse
@@ -99,21 +101,23 @@ def write_input(args):
     n, h, w = frames.shape
     if len(times) != n:
         die(f"{Path(args.rec, 'frames.csv')}: {len(times)} rows for {n} frames in frames.npy")
-    if not 0 <= args.first < n:
-        die(f"--first {args.first}: {Path(args.rec, 'frames.npy')} has {n} frames")
-    lo, hi = (float(v) for v in np.percentile(frames[args.first:], args.percentiles))
+    if not 0 <= args.first < n or args.stride < 1:
+        die(f"--first {args.first} --stride {args.stride}: {Path(args.rec, 'frames.npy')} has {n} frames")
+    given = list(range(args.first, n, args.stride))
+    lo, hi = (float(v) for v in np.percentile(frames[args.first::args.stride], args.percentiles))
     if not hi > lo:
         die(f"{Path(args.rec, 'frames.npy')}: flat sequence (percentiles {args.percentiles} both {lo})")
     out = Path(args.out)
     images = out / "images"
     images.mkdir(parents=True, exist_ok=True)
     scale = 255.0 / (hi - lo)
-    for i in range(n):
+    for k, i in enumerate(given):
         mapped = np.clip(np.rint((frames[i].astype(np.float64) - lo) * scale), 0, 255).astype(np.uint8)
-        png_gray8(images / f"{i:06d}.png", mapped)
-    (out / "times.txt").write_text("".join(f"{i} {t!r}\n" for i, t in enumerate(times)))
+        png_gray8(images / f"{k:06d}.png", mapped)
+    (out / "times.txt").write_text("".join(f"{k} {times[i]!r}\n" for k, i in enumerate(given)))
     (out / "camera.txt").write_text(pinhole(args.rec, w, h))
-    (out / "map.json").write_text(json.dumps({"percentiles": args.percentiles, "counts_at_0": lo, "counts_at_255": hi}) + "\n")
+    (out / "map.json").write_text(json.dumps({"percentiles": args.percentiles, "counts_at_0": lo, "counts_at_255": hi,
+                                              "frames": given}) + "\n")
 
 
 def read_result(path):
@@ -139,9 +143,14 @@ def read_result(path):
 
 
 def write_output(args):
-    times = frame_times(args.rec)
-    if len(times) < 2:
-        die(f"{Path(args.rec, 'frames.csv')}: fewer than 2 frames")
+    all_times = frame_times(args.rec)
+    try:
+        given = json.loads(Path(args.given).read_text())["frames"]
+    except (OSError, ValueError, KeyError) as e:
+        die(f"{args.given}: no list of the frames given ({e})")
+    if len(given) < 2 or not all(isinstance(i, int) and 0 <= i < len(all_times) for i in given):
+        die(f"{args.given}: frames {given[:5]}...: fewer than 2, or not frames of {args.rec}")
+    times = [all_times[i] for i in given]
     period = (times[-1] - times[0]) / (len(times) - 1)
     pose_of = {}  # frame index -> pose
     for p in read_result(args.result):
@@ -160,7 +169,7 @@ def write_output(args):
         f.write("index,t_s,state,tracked_points,keyframe,residual_rms,tau_h_s,tau_c_s,time_ms\n")
         for i, t in enumerate(times):
             state = "tracking" if i in pose_of else ("initialising" if i < first else "lost")
-            f.write(f"{i},{t!r},{state},0,0,0,0,0,{ms:.4f}\n")
+            f.write(f"{given[i]},{t!r},{state},0,0,0,0,0,{ms:.4f}\n")
     (run / "points.ply").write_text("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
                                     "property float z\nend_header\n")
     log = Path(args.log).read_text(errors="replace") if args.log else ""
@@ -179,12 +188,14 @@ def main():
     p.add_argument("rec")
     p.add_argument("out")
     p.add_argument("--percentiles", nargs=2, type=float, default=[0.5, 99.5], metavar=("LO", "HI"))
-    p.add_argument("--first", type=int, default=0, help="the map from frame N on (DSO started there)")
+    p.add_argument("--first", type=int, default=0, help="the first frame given to DSO")
+    p.add_argument("--stride", type=int, default=1, help="every K-th frame from --first on")
     p.set_defaults(func=write_input)
     p = sub.add_parser("output")
     p.add_argument("rec")
     p.add_argument("result")
     p.add_argument("run")
+    p.add_argument("--given", required=True, help="map.json of `dso_io.py input`")
     p.add_argument("--name", required=True)
     p.add_argument("--wall-s", type=float, required=True)
     p.add_argument("--cpu-s", type=float, required=True)

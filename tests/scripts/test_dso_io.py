@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """scripts/study/dso_io.py, the DSO peer's converter (no DSO needed): a small recording becomes
-DSO's input (PNGs with one linear map for the sequence, times.txt, camera.txt), and a result.txt
+DSO's input (PNGs with one linear map for the sequence, times.txt, camera.txt; all frames or every
+second from frame 1), and a result.txt
 with three of four frames posed, a similarity away from the truth, becomes a run that
 `bolo evaluate` (argv[1]) scores with an ATE of ~0 and 75 % of the frames posed. Exit 77 (skip)
 without NumPy for /usr/bin/python3, which the study scripts run."""
@@ -50,13 +51,20 @@ with tempfile.TemporaryDirectory() as tmp:
     mapping = json.loads((dso_in / "map.json").read_text())
     check("map", (round(mapping["counts_at_0"], 2), round(mapping["counts_at_255"], 2)), (1000.0, 1080.0))
 
+    # Every second frame from frame 1: frames 1 and 3, numbered from 0, with their own times.
+    strided = Path(tmp, "strided")
+    subprocess.run([PYTHON, str(CONVERTER), "input", str(rec), str(strided), "--first", "1", "--stride", "2"], check=True)
+    check("strided images", sorted(p.name for p in (strided / "images").iterdir()), ["000000.png", "000001.png"])
+    check("strided times.txt", (strided / "times.txt").read_text(), "0 0.1\n1 0.3\n")
+    check("strided frames", json.loads((strided / "map.json").read_text())["frames"], [1, 3])
+
     # DSO's poses of frames 1-3 in its own frame: the truth scaled by 0.5 and shifted, with
     # Eigen's padded columns; frame 0 never posed.
     result = dso_in / "result.txt"
     result.write_text("".join(f"{t} {0.5 * x + 3:>10} {0.5 * y - 1:>10} {0.5 * z:>10} 0 0 0 1\n"
                               for t, (x, y, z) in list(zip(times, truth))[1:]))
-    subprocess.run([PYTHON, str(CONVERTER), "output", str(rec), str(result), str(run), "--name", "dso",
-                    "--wall-s", "0.4", "--cpu-s", "0.4"], check=True)
+    subprocess.run([PYTHON, str(CONVERTER), "output", str(rec), str(result), str(run), "--given", str(dso_in / "map.json"),
+                    "--name", "dso", "--wall-s", "0.4", "--cpu-s", "0.4"], check=True)
     check("poses", len((run / "trajectory.tum").read_text().splitlines()), 3)
     states = [line.split(",")[2] for line in (run / "stats.csv").read_text().splitlines()[1:]]
     check("states", states, ["initialising", "tracking", "tracking", "tracking"])
@@ -74,8 +82,9 @@ with tempfile.TemporaryDirectory() as tmp:
 
     # A frame DSO's result names at a time no frame has is an error naming the file.
     result.write_text("0.05 0 0 0 0 0 0 1\n")
-    bad = subprocess.run([PYTHON, str(CONVERTER), "output", str(rec), str(result), str(run), "--name", "dso",
-                          "--wall-s", "1", "--cpu-s", "1"], capture_output=True, text=True)
+    bad = subprocess.run([PYTHON, str(CONVERTER), "output", str(rec), str(result), str(run), "--given",
+                          str(dso_in / "map.json"), "--name", "dso", "--wall-s", "1", "--cpu-s", "1"],
+                         capture_output=True, text=True)
     check("bad time exit", bad.returncode, 1)
     if str(result) not in bad.stderr:
         failures.append(f"bad time message does not name {result}: {bad.stderr!r}")
