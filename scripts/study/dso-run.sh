@@ -27,15 +27,18 @@ mkdir -p "$run/dso"
 "$python" "$here/dso_io.py" input "$seq" "$run/dso-input" --first "$first" --stride "$stride" || exit 1
 frames=$(wc -l < "$run/dso-input/times.txt")
 # DSO writes result.txt into its working directory.
+# The time goes to the last line of dso.time, after the shell's word of a crash, if any.
 TIMEFORMAT='%R %U %S'
-times=$( { time (cd "$run/dso" && timeout "${DSO_TIMEOUT:-600}" "$dso" files="$run/dso-input/images" \
+{ time (cd "$run/dso" && timeout "${DSO_TIMEOUT:-600}" "$dso" files="$run/dso-input/images" \
   calib="$run/dso-input/camera.txt" mode=1 preset=0 nogui=1 quiet=1 nomt=1 nolog=1 allposes=1 \
-  > "$run/dso.log" 2>&1); } 2>&1 )
-read -r wall user sys <<< "$times"
-[ -f "$run/dso/result.txt" ] || : > "$run/dso/result.txt"  # DSO died: no poses
+  > "$run/dso.log" 2>&1); } 2> "$run/dso.time"
+status=$?
+read -r wall user sys < <(tail -n 1 "$run/dso.time")
+# A crash or a timeout leaves no result.txt (DSO writes it at the end): no poses.
+[ -f "$run/dso/result.txt" ] || : > "$run/dso/result.txt"
 "$python" "$here/dso_io.py" output "$seq" "$run/dso/result.txt" "$run" --given "$run/dso-input/map.json" \
-  --name "$name" --wall-s "$wall" \
+  --name "$name" --exit-status "$status" --wall-s "$wall" \
   --cpu-s "$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }')" --log "$run/dso.log" || exit 1
 [ "${KEEP_INPUT:-0}" = 1 ] || rm -rf "$run/dso-input"
-echo "dso-run: $name on $seq: $(wc -l < "$run/trajectory.tum") of $frames frames posed, ${wall} s" > "$run.err"
+echo "dso-run: $name on $seq: $(wc -l < "$run/trajectory.tum") of $frames frames posed, ${wall} s, dso_dataset exit status $status" > "$run.err"
 "$bolo" evaluate "$run" --json "$run/evaluation.json" > /dev/null 2> "$run/evaluate.err"

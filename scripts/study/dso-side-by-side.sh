@@ -2,17 +2,18 @@
 # DSO beside bolo on the same frames: the study's street sequences (bolo simulate, as
 # scripts/odometry-study.sh renders them) per trajectory type and seed, bolo odometry in each mode
 # (run-vo.sh) and the DSO peer (dso-run.sh) on the raw frames and on `bolo correct`ed ones (the
-# paper's two-frame correction with the rendered tau), all scored by bolo evaluate. One run at a
-# time; each run's wall and CPU time are kept (both programs run single-threaded here). Writes WORK/index-dso.txt and the table OUT_MD
+# paper's two-frame correction with the rendered tau), each at the full rate and every third
+# frame, all scored by bolo evaluate. One run at a time; each run's wall and CPU time are kept
+# (both programs run single-threaded here). Writes WORK/index-dso.txt and the table OUT_MD
 # (scripts/study/dso_table.py; default docs/odometry-study/dso.md).
 #
 #   scripts/study/dso-side-by-side.sh BOLO DSO_DATASET WORK [OUT_MD]
 #
 # DSO_DATASET from scripts/study/dso-build.sh. Environment: TRAJECTORIES (drive handheld), SEEDS
 # (1 .. 10), SIZE (320x256), FPS (60), TAU (0.010), NOISE (3), SUPERSAMPLE (3), SECONDS_LONG (4),
-# MODES (none affine ir ir-loop), DSO_VARIANTS (dso dso-corrected; a suffix -everyK gives DSO
-# every K-th frame, e.g. dso-corrected-every3). Sequences already in WORK are
-# reused; runs are redone unless KEEP_DONE=1 (then a finished run is kept, with its times).
+# MODES (none affine ir ir-loop), DSO_VARIANTS (dso dso-corrected dso-every3 dso-corrected-every3;
+# a suffix -everyK gives DSO every K-th frame). Sequences already in WORK are reused; runs are
+# redone unless KEEP_DONE=1 (then a finished run is kept, with its times).
 set -euo pipefail
 [ $# -ge 3 ] || { echo "usage: dso-side-by-side.sh BOLO DSO_DATASET WORK [OUT_MD]" >&2; exit 2; }
 here="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -27,7 +28,7 @@ NOISE="${NOISE:-3}"
 SUPERSAMPLE="${SUPERSAMPLE:-3}"
 SECONDS_LONG="${SECONDS_LONG:-4}"
 MODES="${MODES:-none affine ir ir-loop}"
-DSO_VARIANTS="${DSO_VARIANTS:-dso dso-corrected}"
+DSO_VARIANTS="${DSO_VARIANTS:-dso dso-corrected dso-every3 dso-corrected-every3}"
 KEEP_DONE="${KEEP_DONE:-0}"
 [ -x "$bolo" ] || { echo "dso-side-by-side: $bolo is not an executable" >&2; exit 2; }
 [ -x "$dso" ] || { echo "dso-side-by-side: $dso is not an executable (scripts/study/dso-build.sh)" >&2; exit 2; }

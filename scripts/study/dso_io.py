@@ -7,7 +7,8 @@ result.txt as a `bolo odometry` output folder that `bolo evaluate` scores like a
       linear map for all of them (the LO and HI percentiles of their counts go to 0 and 255);
       OUT/times.txt (`index t_s`: no exposures, DSO's mode=1), OUT/camera.txt (pinhole K in
       pixels, no rectification), OUT/map.json (the map and the frames given).
-  dso_io.py output REC RESULT RUN --given MAP_JSON --name NAME --wall-s S --cpu-s S [--log FILE]
+  dso_io.py output REC RESULT RUN --given MAP_JSON --name NAME --wall-s S --cpu-s S
+                   [--exit-status N] [--log FILE]
       RUN/trajectory.tum (the poses of RESULT, matched to the recording's frames by time),
       RUN/stats.csv (a row per frame DSO was given: `tracking` where posed, else `initialising`
       before the first pose and `lost` after it), RUN/summary.json, RUN/points.ply (empty: DSO's
@@ -177,7 +178,7 @@ def write_output(args):
                "frames": len(times), "posed": len(pose_of), "wall_s": args.wall_s, "cpu_s": args.cpu_s,
                "fps_wall": len(times) / args.wall_s if args.wall_s > 0 else None,
                "fps_cpu": len(times) / args.cpu_s if args.cpu_s > 0 else None,
-               "dso_resets": log.count("RESETTING!"), "dso_lost": "LOST!!" in log}
+               "dso_exit_status": args.exit_status, "dso_resets": log.count("RESETTING!"), "dso_lost": "LOST!!" in log}
     (run / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
 
 
@@ -199,6 +200,7 @@ def main():
     p.add_argument("--name", required=True)
     p.add_argument("--wall-s", type=float, required=True)
     p.add_argument("--cpu-s", type=float, required=True)
+    p.add_argument("--exit-status", type=int, default=0, help="dso_dataset's (a crash: 128 + signal)")
     p.add_argument("--log")
     p.set_defaults(func=write_output)
     args = parser.parse_args()
