@@ -9,7 +9,7 @@
 # frames without faults: none lost, every image bit-exact; 4) with the faults (unplug/replug
 # included) every good image delivered bit-exactly, every unplug counted; 5) ~30 replugs in a row;
 # 6) the real-camera check passes a clean stream and fails a faulty one.
-# BOLO_HIL_FRAMES (run-hil-test.sh: 2000 on x86-64, 1000 on arm64; 10000 for the endurance run) sets the length.
+# BOLO_HIL_FRAMES (run-hil-test.sh: 1000; 10000 for the endurance run) sets the length.
 # device: usb:flirone
 # real: hil_flirone_hal --real --frames ${BOLO_HIL_FRAMES:-10000}
 frames="${BOLO_HIL_FRAMES:-10000}"

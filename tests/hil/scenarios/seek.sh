@@ -7,7 +7,7 @@
 # unplug/replug cycles in a row; 4) the real-camera check (no send log): passes a clean stream,
 # fails one with frame-id jumps and duplicates; 5) the CompactPro (its own start-up sequence,
 # 342x260 frames, 320x240 delivered): a clean run and one with 3 % faults.
-# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 2000 on x86-64, 1000 on arm64; 10000 for the endurance run) sets the clean
+# BOLO_HIL_SEEK_FRAMES (run-hil-test.sh: 1000; 10000 for the endurance run) sets the clean
 # run's length; the fault run streams a quarter of it.
 # vm-arch: x86_64
 # device: usb:seek

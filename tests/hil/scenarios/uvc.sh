@@ -16,7 +16,7 @@
 # the stream at the frame the emulator put it in; the emulator refused nothing; `bolo devices`
 # shows the temperatures), and a board that refuses every extension-unit request must fail it
 # (`bolo devices`: unread).
-# BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 2000 on x86-64, 1000 on arm64; 10000 for the endurance run) sets the clean run's length; the fault
+# BOLO_HIL_UVC_FRAMES (run-hil-test.sh: 1000; 10000 for the endurance run) sets the clean run's length; the fault
 # run streams a quarter of it.
 # device: v4l2
 # real: hil_uvc_hal --real --device "${BOLO_HIL_DEVICE#v4l2:}" --size "${BOLO_HIL_UVC_SIZE:-160x120}" --frames "${BOLO_HIL_UVC_FRAMES:-10000}"
