@@ -67,8 +67,10 @@ export BOLO_HIL_SEEK_FRAMES="${BOLO_HIL_SEEK_FRAMES:-$clean_frames}"
 export BOLO_HIL_UVC_FRAMES="${BOLO_HIL_UVC_FRAMES:-$clean_frames}"
 # gpio-sim for the VM's kernel (cross-built for aarch64), built once and cached; without it GPIO
 # scenarios skip.
-"$repo/toolchain/vm/gpio-sim.sh" "$arch" >/dev/null ||
-  echo "run-hil-test: gpio-sim build for $arch failed; GPIO steps will skip" >&2
+if grep -q "gpio-sim" "$scenario"; then
+  "$repo/toolchain/vm/gpio-sim.sh" "$arch" >/dev/null ||
+    echo "run-hil-test: gpio-sim build for $arch failed; GPIO steps will skip" >&2
+fi
 # usb_f_uvc with bulk streaming, built once and cached (cross-built for aarch64); without it
 # the UVC scenario skips (Debian's module streams isochronous only).
 if grep -q "usb_f_uvc bulk build" "$scenario"; then
