@@ -159,23 +159,34 @@ TEST_CASE("motion within the exposure does not pull tau_c when the timing is jit
   CHECK(d["baseline"]["params"]["tau_h_s"].get<double>() == Approx(kPanTau).epsilon(0.05));
 }
 
-TEST_CASE("a jittered panning null without noise: no global offset fluctuation, no first-frame miss", "[diagnose][null][timing]") {
-  // True input, true model, no noise: whatever the baseline leaves is its own. The timing shift's
-  // regressor (the reading's change from frame to frame) must not carry the level changes the
-  // jittered exposure and readout make, or the fitted shift turns them into a global offset
-  // fluctuation; and the first frame starts from a pixel settled at the typical timing, not at
-  // that frame's own.
+TEST_CASE("the noise floor of a pan, where no pixel holds still, is the pixel noise", "[diagnose][timing]") {
+  // No pixel-frame's baseline holds still bitwise in a pan: the floor had fallen back to the
+  // recording's frame differences, scene change and all. The 2x2 second difference of the frame
+  // difference where the baseline changes linearly reads the noise (1 count, and the rounding).
   TempDir tmp;
-  const nlohmann::json d = diagnose(write_panning_recording(tmp, "quiet", {}, 0.0), tmp / "quiet.d");
-  INFO(d["baseline"].dump(1) << "\n" << d["unexplained"].dump(1));
+  const nlohmann::json d = diagnose(write_panning_recording(tmp, "pan"), tmp / "pan.d");
+  CHECK(d["noise_floor_rms"].get<double>() == Approx(std::sqrt(1.0 + 1.0 / 12)).epsilon(0.04));
+}
+
+TEST_CASE("a jittered panning null with little noise: no global offset fluctuation, no first-frame miss", "[diagnose][null][timing]") {
+  // True input, true model, white noise of half a count: whatever the baseline leaves beyond it is
+  // its own. The timing shift's regressor (the reading's change from frame to frame) must not
+  // carry the level changes the jittered exposure and readout make, or the fitted shift turns
+  // them into a global offset fluctuation (0.20 RMS here); and the first frame starts from a pixel
+  // settled at the typical timing, not at that frame's own (5.3 counts off, and 0.44 RMS of
+  // global fluctuation).
+  TempDir tmp;
+  const nlohmann::json d = diagnose(write_panning_recording(tmp, "quiet", {}, 0.5), tmp / "quiet.d");
+  INFO(d["baseline"].dump(1) << "\n" << d["findings"].dump(1) << "\n" << d["unexplained"].dump(1));
   CHECK(d["findings"].empty());
   CHECK(unexplained_with(d, "global offset fluctuation") == 0);
   CHECK(unexplained_with(d, "well above the rest") == 0);
-  // Rounding to whole counts leaves 1/sqrt(12) = 0.29; the motion within the exposure left to the
-  // timing shift a little more (0.33). With the plain frame difference as the shift's regressor
-  // 0.38, settled at the first frame's own timing 0.54, both 0.58. (No pixel holds still in a
-  // pan, so the noise floor here is the frame differences' upper bound and no yardstick.)
-  CHECK(d["baseline"]["heldout_rms"].get<double>() < 0.35);
+  // The noise and the rounding to whole counts: sqrt(0.25 + 1/12) = 0.577. Held out 0.580; with
+  // the plain frame difference as the shift's regressor 0.613, settled at the first frame's own
+  // timing 0.724.
+  const double pixel_noise = std::sqrt(0.25 + 1.0 / 12);
+  CHECK(d["noise_floor_rms"].get<double>() == Approx(pixel_noise).epsilon(0.03));
+  CHECK(d["baseline"]["heldout_rms"].get<double>() < 1.02 * pixel_noise);
 }
 
 TEST_CASE("pixels frozen in a panning scene are found as dead pixels", "[diagnose][concealed][long]") {

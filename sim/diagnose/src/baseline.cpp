@@ -102,32 +102,41 @@ void two_frame(const DiagnoseData& d, double tau_c, double tau_h, std::vector<fl
 }
 
 // The timing term's regressor, how the reading changes per frame as the scene changes:
-//   rate_n = after_n s_{n+1} - before_n s_{n-1},  after_n = q_n / (2 q_{n+1}), before_n = q_n / (2 q_{n-1}),
-// sim's central difference with each frame's unit response q divided out and put back. The plain
-// difference also held the level changes a jittered exposure or readout makes (~0.1-0.2 % of the
-// level from frame to frame), which the fitted timing shift turned into a frame-to-frame global
-// offset fluctuation. 0 in the first and last frame.
+//   rate_n = after_n s_{n+1} + centre_n s_n - before_n s_{n-1},
+// sim's central difference (one-sided in the first and last frame) with each frame's unit
+// response q divided out and put back: after_n = q_n / (2 q_{n+1}), before_n = q_n / (2 q_{n-1})
+// inside. The plain difference also held the level changes a jittered exposure or readout makes
+// (~0.1-0.2 % of the level from frame to frame), which the fitted timing shift turned into a
+// frame-to-frame global offset fluctuation; left at 0 in the end frames, a panning null's first
+// frame missed by the shift times the scene's change (1.5 counts).
 struct RateWeights {
-  std::vector<double> before, after;
+  std::vector<double> before, centre, after;
 };
-RateWeights rate_weights(const FrameSteps& f) {
-  const std::vector<double> q = unit_response(f);
+RateWeights rate_weights(const std::vector<double>& q) {
   const int N = static_cast<int>(q.size());
-  RateWeights r{std::vector<double>(N, 0.0), std::vector<double>(N, 0.0)};
+  RateWeights r{std::vector<double>(N, 0.0), std::vector<double>(N, 0.0), std::vector<double>(N, 0.0)};
+  if (N < 2) return r;
   for (int n = 1; n + 1 < N; ++n) {
     r.before[n] = 0.5 * q[n] / q[n - 1];
     r.after[n] = 0.5 * q[n] / q[n + 1];
   }
+  r.after[0] = q[0] / q[1], r.centre[0] = -1;
+  r.centre[N - 1] = 1, r.before[N - 1] = q[N - 1] / q[N - 2];
   return r;
 }
+RateWeights rate_weights(const FrameSteps& f) { return rate_weights(unit_response(f)); }
+// Frame n's neighbours for the rate (the frame itself standing in at either end).
+const float* rate_before(const DiagnoseData& d, const float* s, int n) { return n > 0 ? s - d.shape.pixels() : s; }
+const float* rate_after(const DiagnoseData& d, const float* s, int n) { return n + 1 < d.shape.n ? s + d.shape.pixels() : s; }
 std::vector<float> scene_rate(const DiagnoseData& d, const std::vector<float>& sim, const RateWeights& w) {
   const std::size_t P = d.shape.pixels();
   std::vector<float> rate(sim.size(), 0.0f);
-  for (int n = 1; n + 1 < d.shape.n; ++n) {
-    const float a = static_cast<float>(w.after[n]), b = static_cast<float>(w.before[n]);
-    const float *before = d.frame(sim, n - 1), *after = d.frame(sim, n + 1);
+  for (int n = 0; n < d.shape.n; ++n) {
+    const float a = static_cast<float>(w.after[n]), c = static_cast<float>(w.centre[n]), b = static_cast<float>(w.before[n]);
+    const float* s = d.frame(sim, n);
+    const float *before = rate_before(d, s, n), *after = rate_after(d, s, n);
     float* r = rate.data() + std::size_t(n) * P;
-    for (std::size_t p = 0; p < P; ++p) r[p] = a * after[p] - b * before[p];
+    for (std::size_t p = 0; p < P; ++p) r[p] = a * after[p] + c * s[p] - b * before[p];
   }
   return rate;
 }
@@ -172,16 +181,16 @@ NormalSums normal_sums(const DiagnoseData& d, const std::vector<float>& sim, con
   // Centred on a typical reading: the sums stay small beside the residual they are to resolve.
   const double centre = d.recorded.empty() ? 0.0 : d.recorded[d.recorded.size() / 2];
   for (int n = 0; n < d.shape.n; ++n) {
-    const bool inner = kRate && n > 0 && n + 1 < d.shape.n;
     const std::size_t first = std::size_t(n) * P;
     const std::uint8_t* valid = d.valid.data() + first;
     const float* s = sim.data() + first;
-    // The frames before and after (inner frames only: no pointer outside the recording is formed).
-    const float* s_before = inner ? s - P : s;
-    const float* s_after = inner ? s + P : s;
+    // The frames before and after (no pointer outside the recording is formed).
+    const float* s_before = kRate ? rate_before(d, s, n) : s;
+    const float* s_after = kRate ? rate_after(d, s, n) : s;
     const float* y_n = d.recorded.data() + first;
     const float* m = kMotion ? motion.data() + first : nullptr;
     const double after = kRate ? rate.after[n] : 0.0, before = kRate ? rate.before[n] : 0.0;
+    const double middle = kRate ? rate.centre[n] : 0.0;
     for (std::size_t p = 0; p < P; ++p) {
       if (!valid[p] || !use[p]) continue;
       const double x0 = s[p] - centre, x1 = 1.0;
@@ -190,7 +199,7 @@ NormalSums normal_sums(const DiagnoseData& d, const std::vector<float>& sim, con
       a.t0 += x0 * y; a.t1 += x1 * y;
       double x2 = 0;
       if constexpr (kRate) {
-        x2 = inner ? after * s_after[p] - before * s_before[p] : 0.0;
+        x2 = after * s_after[p] + middle * s[p] - before * s_before[p];
         a.s20 += x0 * x2; a.s21 += x1 * x2; a.s22 += x2 * x2; a.t2 += x2 * y;
       }
       if constexpr (kMotion) {
@@ -393,11 +402,13 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   if (varies(d.exposure_s) || varies(d.readout_s)) {
     two_frame(d, tau_c, fit_tau_h ? tau_h : tau_c, sim, true);
     if (with_motion) two_frame(d, tau_c, fit_tau_h ? tau_h : tau_c, sim_motion, true, &d.exposure_motion);
+    // At the median timing every frame's unit response is 1 (the ends' too).
+    const std::vector<float> nominal_rate = scene_rate(d, sim, rate_weights(std::vector<double>(d.shape.n, 1.0)));
     d.baseline_nominal.resize(d.shape.size());
     for (int n = 0; n < d.shape.n; ++n)
       for (std::size_t p = 0; p < P; ++p) {
         const std::size_t i = std::size_t(n) * P + p;
-        const double slope = n > 0 && n + 1 < d.shape.n ? 0.5 * (sim[i + P] - sim[i - P]) : 0.0;
+        const double slope = nominal_rate[i];
         const double motion = with_motion ? fit.exposure_motion * sim_motion[i] : 0.0;
         d.baseline_nominal[i] = float(fit.gain * (sim[i] + fit.timing_frames * slope + motion) + fit.offset);
       }
@@ -708,6 +719,11 @@ double noise_floor(const DiagnoseData& d, bool without_line_patterns) {
   std::vector<float> frame_diff(P), still;
   std::vector<std::uint8_t> used(P);
   std::vector<double> kept(P);
+  // The checkerboard figure (below): per disjoint 2x2 block, half its second difference of the
+  // frame difference, and the same of the still reference's change.
+  std::vector<float> board, board_reference;
+  const std::size_t board_stride = std::max<std::size_t>(1, d.shape.size() / 4 / 400000);
+  std::size_t still_count = 0, valid_count = 0, block = 0;
   for (int n = 1; n < d.shape.n; ++n) {
     if (d.flagged_event[n]) continue;
     const float *y = d.frame(d.recorded, n), *y0 = d.frame(d.recorded, n - 1);
@@ -721,7 +737,20 @@ double noise_floor(const DiagnoseData& d, bool without_line_patterns) {
       frame_diff[p] = (y[p] - y0[p]) - (b[p] - b0[p]);
       kept[p] = 1.0;
       if (used[p]) still.push_back(frame_diff[p]);
+      valid_count += v[p] && v0[p];
     }
+    still_count += still.size();
+    if (without_line_patterns)
+      for (int r = 0; r + 1 < H; r += 2)
+        for (int c = 0; c + 1 < W; c += 2) {
+          const std::size_t q[4] = {std::size_t(r) * W + c, std::size_t(r) * W + c + 1, std::size_t(r + 1) * W + c,
+                                    std::size_t(r + 1) * W + c + 1};
+          if (!(v[q[0]] && v[q[1]] && v[q[2]] && v[q[3]] && v0[q[0]] && v0[q[1]] && v0[q[2]] && v0[q[3]])) continue;
+          if (block++ % board_stride != 0) continue;
+          auto second = [&](auto value) { return 0.5f * (value(q[0]) - value(q[1]) - value(q[2]) + value(q[3])); };
+          board.push_back(std::fabs(second([&](std::size_t p) { return frame_diff[p]; })));
+          board_reference.push_back(std::fabs(second([&](std::size_t p) { return s[p] - s0[p]; })));
+        }
     if (still.size() < 16) continue;
     const float common = median_in_place(still);
     std::size_t i = 0;
@@ -740,17 +769,30 @@ double noise_floor(const DiagnoseData& d, bool without_line_patterns) {
       lines_kept.push_back(kept[p]);
     }
   }
-  if (plain.size() < 32) {
+  const bool nothing_still = plain.size() < 32;
+  if (nothing_still) {
     // Nothing static: fall back to all pixels (an upper bound).
     plain.clear();
     for (int n = 1; n < d.shape.n; ++n) {
       const float *y = d.frame(d.recorded, n), *y0 = d.frame(d.recorded, n - 1);
       for (std::size_t p = 0; p < P; p += stride) plain.push_back(std::fabs(y[p] - y0[p]));
     }
-    return pixel_sigma(plain, std::vector<double>(plain.size(), 1.0));
   }
   const double plain_sigma = pixel_sigma(plain, std::vector<double>(plain.size(), 1.0));
   if (!without_line_patterns) return plain_sigma;
+  // Where few pixel-frames hold still bitwise (a pan leaves a few hundred of a million: the floor
+  // was read on those, 2.14-2.68 for a pixel noise of 2.52), the frame difference's 2x2 second
+  // difference over the pixel-frames where the still reference's own second difference is under
+  // a tenth of that rough figure: a change that is locally linear in the image (the scene panning
+  // over a smooth background, a level step, row or column patterns) cancels, the pixel noise
+  // stays (variance 8 sigma^2, halved to that of one frame difference).
+  if (still_count * 10 < valid_count) {
+    std::vector<float> quiet;
+    for (std::size_t i = 0; i < board.size(); ++i)
+      if (board_reference[i] <= 0.1 * plain_sigma) quiet.push_back(board[i]);
+    if (quiet.size() >= 1000) return pixel_sigma(quiet, std::vector<double>(quiet.size(), 1.0));
+  }
+  if (nothing_still) return plain_sigma;
   const double lines_sigma = pixel_sigma(lines, lines_kept);
   return lines_sigma < 0.95 * plain_sigma ? lines_sigma : plain_sigma;
 }
