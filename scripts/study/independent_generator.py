@@ -27,6 +27,7 @@ reference parameter and scaling it (the effects are close to linear at these siz
 
 usage: independent_generator.py OUT --case effect:ID|null:KIND|ooc:KIND [--amplitude A]
                                 [--seed S] [--size WxH] [--frames N] [--ffc-unknown] [--no-noise]
+                                [--jitter J]
 Writes OUT/{recording.json,frames.npy,frames.csv,scene.npy,truth/effects.json}.
 """
 import argparse
@@ -506,7 +507,7 @@ def write_recording(out, frames, scene, timing, fpa, housing, ffc_flags, info, t
         json.dump(jsonable(truth), f, indent=1)
 
 
-def generate(out, case, a, seed, w, h, n, substeps=6, ffc_unknown=False, noise=True):
+def generate(out, case, a, seed, w, h, n, substeps=6, ffc_unknown=False, noise=True, jitter=0.003):
     kind, name = case.split(":", 1)
     if kind == "effect" and name not in EFFECTS or kind == "null" and name not in NULL_KINDS \
             or kind == "ooc" and name not in OOC_KINDS or kind not in ("effect", "null", "ooc"):
@@ -516,7 +517,7 @@ def generate(out, case, a, seed, w, h, n, substeps=6, ffc_unknown=False, noise=T
     if (kind, name) in (("effect", "ffc_step"), ("null", "shutter")):
         first = int(r.integers(n // 5, n // 3))
         events = [first, first + int(r.integers(n // 4, n // 3))]
-    timing = Timing(seed, n, events)
+    timing = Timing(seed, n, events, jitter=jitter)
     duration = float(timing.t[-1] + timing.exposure[-1])
     scene = Scene(seed, w, h, duration, name if kind == "null" else "base")
     chain = Chain(seed, w, h, n, case, timing, scene, substeps)
@@ -561,10 +562,12 @@ def main():
     ap.add_argument("--substeps", type=int, default=6)
     ap.add_argument("--ffc-unknown", action="store_true", help="leave the ffc column empty (unknown) in every frame")
     ap.add_argument("--no-noise", action="store_true", help="no white readout noise (the effect keeps its size)")
+    ap.add_argument("--jitter", type=float, default=0.003,
+                    help="relative spread of each frame's exposure and readout (0: the nominal timing throughout)")
     args = ap.parse_args()
     w, h = (int(v) for v in args.size.split("x"))
     generate(args.out, args.case, args.amplitude, args.seed, w, h, args.frames, args.substeps, args.ffc_unknown,
-             not args.no_noise)
+             not args.no_noise, args.jitter)
 
 
 if __name__ == "__main__":

@@ -87,12 +87,13 @@ namespace {
 // Written here, not by `bolo simulate`: a smooth pattern panning 0.6 pixels a frame, sampled at
 // 8 sub-steps within each exposure and integrated with the pixel's response (the two-frame model
 // of ../shared/docs/diagnosis.md with the input varying within the exposure), exposure and
-// readout jittered by 0.3 % and logged, white noise of 1 count. `stuck` pixels keep their first
-// reading.
+// readout jittered by 0.3 % and logged, white noise of `noise` counts. `stuck` pixels keep their
+// first reading.
 constexpr int kPanW = 64, kPanH = 48, kPanN = 150;
 constexpr double kPanTau = 0.011;
 
-fs::path write_panning_recording(const TempDir& tmp, const std::string& name, const std::set<std::size_t>& stuck = {}) {
+fs::path write_panning_recording(const TempDir& tmp, const std::string& name, const std::set<std::size_t>& stuck = {},
+                                 double noise = 1.0) {
   constexpr int W = kPanW, H = kPanH, N = kPanN, K = 8;
   constexpr double tau_h = kPanTau, tau_c = kPanTau, te0 = 0.012, tr0 = 1.0 / 30 - te0, jitter = 0.003;
   constexpr double pi = 3.14159265358979;
@@ -130,7 +131,7 @@ fs::path write_panning_recording(const TempDir& tmp, const std::string& name, co
         mean_input[p] = static_cast<float>(sum / K);
         if (n == 0) state[p] = mean_input[p] * kappa;  // settled: the camera ran before frame 0
         state[p] = state[p] * carry + heat;
-        const auto reading = static_cast<std::uint16_t>(std::lround(state[p] / kappa + normal(rng)));
+        const auto reading = static_cast<std::uint16_t>(std::lround(state[p] / kappa + noise * normal(rng)));
         if (n == 0 || !stuck.count(p)) counts[p] = reading;
       }
     rec::FrameRow row;
@@ -156,6 +157,36 @@ TEST_CASE("motion within the exposure does not pull tau_c when the timing is jit
   INFO(d["baseline"].dump(1));
   CHECK(d["baseline"]["params"]["tau_c_s"].get<double>() == Approx(kPanTau).epsilon(0.03));
   CHECK(d["baseline"]["params"]["tau_h_s"].get<double>() == Approx(kPanTau).epsilon(0.05));
+}
+
+TEST_CASE("the noise floor of a pan, where no pixel holds still, is the pixel noise", "[diagnose][timing]") {
+  // No pixel-frame's baseline holds still bitwise in a pan: the floor had fallen back to the
+  // recording's frame differences, scene change and all. The 2x2 second difference of the frame
+  // difference where the baseline changes linearly reads the noise (1 count, and the rounding).
+  TempDir tmp;
+  const nlohmann::json d = diagnose(write_panning_recording(tmp, "pan"), tmp / "pan.d");
+  CHECK(d["noise_floor_rms"].get<double>() == Approx(std::sqrt(1.0 + 1.0 / 12)).epsilon(0.04));
+}
+
+TEST_CASE("a jittered panning null with little noise: no global offset fluctuation, no first-frame miss", "[diagnose][null][timing]") {
+  // True input, true model, white noise of half a count: whatever the baseline leaves beyond it is
+  // its own. The timing shift's regressor (the reading's change from frame to frame) must not
+  // carry the level changes the jittered exposure and readout make, or the fitted shift turns
+  // them into a global offset fluctuation (0.20 RMS here); and the first frame starts from a pixel
+  // settled at the typical timing, not at that frame's own (5.3 counts off, and 0.44 RMS of
+  // global fluctuation).
+  TempDir tmp;
+  const nlohmann::json d = diagnose(write_panning_recording(tmp, "quiet", {}, 0.5), tmp / "quiet.d");
+  INFO(d["baseline"].dump(1) << "\n" << d["findings"].dump(1) << "\n" << d["unexplained"].dump(1));
+  CHECK(d["findings"].empty());
+  CHECK(unexplained_with(d, "global offset fluctuation") == 0);
+  CHECK(unexplained_with(d, "well above the rest") == 0);
+  // The noise and the rounding to whole counts: sqrt(0.25 + 1/12) = 0.577. Held out 0.580; with
+  // the plain frame difference as the shift's regressor 0.613, settled at the first frame's own
+  // timing 0.724.
+  const double pixel_noise = std::sqrt(0.25 + 1.0 / 12);
+  CHECK(d["noise_floor_rms"].get<double>() == Approx(pixel_noise).epsilon(0.03));
+  CHECK(d["baseline"]["heldout_rms"].get<double>() < 1.02 * pixel_noise);
 }
 
 TEST_CASE("pixels frozen in a panning scene are found as dead pixels", "[diagnose][concealed][long]") {

@@ -69,13 +69,13 @@ Simulator::Simulator(SimulatorConfig config, InputSampler input)
   noise_state_.assign(n * kNoiseOctaves, 0.0);
 }
 
-Simulator::Timing Simulator::timing(std::uint64_t index) const {
+Simulator::Timing Simulator::timing(std::uint64_t index, bool jittered) const {
   const SimulationInfo& i = config_.info;
   const ExposureSchedule& schedule = config_.exposure_schedule;
   Timing t{i.exposure_s, i.readout_s};
   if (schedule.every_frames > 0 && (index / schedule.every_frames) % 2 == 1)
     t = {schedule.alternate_exposure_s, i.readout_s + (i.exposure_s - schedule.alternate_exposure_s)};
-  if (config_.timing_jitter > 0) {
+  if (jittered && config_.timing_jitter > 0) {
     // Drawn from the frame's index alone (its own stream, not the noise's): any frame's timing
     // can be asked for in any order and adding jitter changes no other random draw.
     std::mt19937_64 rng(i.seed * 0x9E3779B97F4A7C15ull + index * 0xD1B54A32D192ED03ull + 0x7417);
@@ -148,12 +148,17 @@ void Simulator::next(SimulatedFrame& out) {
     array_.set_time_constants({i.tau_h_s}, {i.tau_c_s});
 
   // The camera has been running before the first frame; a shutter event leaves the pixels
-  // settled on the shutter, which sits at about the scene's mean level.
-  if (index_ == 0) {
-    array_.settle(pixel_input_, timing_now.exposure_s, timing_now.readout_s);
-  } else if (f.shutter_event) {
-    const double level = std::accumulate(out.scene.begin(), out.scene.end(), 0.0) / static_cast<double>(n);
-    array_.settle(std::vector<float>(n, static_cast<float>(level)), timing_now.exposure_s, timing_now.readout_s);
+  // settled on the shutter, which sits at about the scene's mean level. Either at the nominal
+  // timing (what the frames before ran at on average; they are not logged), carried over a
+  // nominal readout into this frame's own exposure.
+  if (index_ == 0 || f.shutter_event) {
+    const Timing settled_at = timing(index_, false);
+    if (index_ == 0) {
+      array_.settle(pixel_input_, settled_at.exposure_s, settled_at.readout_s);
+    } else {
+      const double level = std::accumulate(out.scene.begin(), out.scene.end(), 0.0) / static_cast<double>(n);
+      array_.settle(std::vector<float>(n, static_cast<float>(level)), settled_at.exposure_s, settled_at.readout_s);
+    }
   }
   std::vector<std::span<const float>> steps(substeps_.begin(), substeps_.end());
   array_.expose(steps, timing_now.exposure_s, timing_now.readout_s, reading_);

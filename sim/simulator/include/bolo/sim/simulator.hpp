@@ -58,7 +58,8 @@ class Simulator {
   struct Timing {
     double exposure_s, readout_s;
   };
-  Timing timing(std::uint64_t index) const;
+  // Frame `index`'s exposure and readout; `jittered` false: the schedule's, without the jitter.
+  Timing timing(std::uint64_t index, bool jittered = true) const;
   std::uint64_t frames_done() const { return index_; }
   const SimulatorConfig& config() const { return config_; }
   // truth/effects.json: the sensor model and every effect's parameters as used.
