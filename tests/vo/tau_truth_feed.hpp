@@ -59,8 +59,8 @@ void push_truth_frame(vo::State& s, int k, double exposure_s, double readout_s, 
 // idepth_of(true depth) where depth_at(u, v) is in (0, 150) m, dropped elsewhere.
 template <typename DepthAt, typename IdepthOf>
 void keyframe_at_true_depth(vo::State& s, DepthAt depth_at, IdepthOf idepth_of) {
-  const std::uint32_t slot = vo::new_keyframe_slot(s);
-  vo::make_keyframe(s, slot, true);
+  const std::uint32_t slot = vo::new_keyframe_slot(s, s.retired, s.ba, s.prior);
+  vo::make_keyframe(s, vo::keyframe_parts(s), slot, true);
   vo::Keyframe& kf = s.kf[slot];
   for (std::uint32_t i = 0; i < kf.count; ++i) {
     vo::Point& p = kf.points[i];

@@ -149,23 +149,23 @@ std::uint32_t active_in_window(const State& s) {
 
 }  // namespace
 
-void retire_points(State& s, const Keyframe& old) {
-  for (std::uint32_t i = 0; i < old.count && s.retired.count < s.retired.points.size(); ++i) {
+void retire_points(RetiredPoints& retired, const Keyframe& old, const Camera& camera) {
+  for (std::uint32_t i = 0; i < old.count && retired.count < retired.points.size(); ++i) {
     const Point& p = old.points[i];
     if (p.status != PointStatus::active || p.idepth <= 0) continue;
-    const Vec3 X = world_point(old, p, s.cfg.camera);
-    s.retired.points[s.retired.count++] = {static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()),
+    const Vec3 X = world_point(old, p, camera);
+    retired.points[retired.count++] = {static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()),
                                     old.pyramid.level[0].value.at(static_cast<std::uint32_t>(p.u), static_cast<std::uint32_t>(p.v))};
   }
 }
 
-std::uint32_t new_keyframe_slot(State& s) {
+std::uint32_t new_keyframe_slot(MapCore& s, RetiredPoints& retired, BaSystem& ba, MarginalPrior& prior) {
   if (s.kf_count == s.cfg.max_keyframes) {
     // Retire a keyframe; its active points leave the window as map output.
-    if (builds_marginalisation_prior(s.cfg)) marginalise_oldest_keyframe(s);
+    if (builds_marginalisation_prior(s.cfg)) marginalise_oldest_keyframe(s, ba, prior);
     const std::uint32_t leaving = keyframe_to_retire(s);
     Keyframe& old = s.kf[s.order[leaving]];
-    retire_points(s, old);
+    retire_points(retired, old, s.cfg.camera);
     old.used = false;
     for (std::uint32_t k = leaving + 1; k < s.kf_count; ++k) s.order[k - 1] = s.order[k];
     --s.kf_count;
@@ -175,28 +175,30 @@ std::uint32_t new_keyframe_slot(State& s) {
   return 0;  // unreachable: kf_count < max_keyframes here
 }
 
-void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
+void make_keyframe(MapCore& s, const KeyframeParts& parts, std::uint32_t slot, bool select_points_now) {
+  const CurrentFrame& f = parts.frame;
+  KeyframeSelection& selection = parts.selection;
   Keyframe& kf = s.kf[slot];
   kf.used = true;
   kf.id = s.kf_created++;
-  s.ref.dirty = true;
-  kf.T_cw = s.motion.T_cw;
-  kf.a = s.brightness.a, kf.b = s.brightness.b;
-  kf.t_s = s.current.t_s, kf.exposure_s = s.current.exposure_s, kf.readout_prev_s = s.current.readout_prev_s;
-  kf.chain_ok = s.current.chain_ok;
-  kf.settled = s.current.frames_since_timing_change >= kTimingSettleFrames;
-  s.brightness.offset_step = 0;
+  parts.ref.dirty = true;
+  kf.T_cw = parts.motion.T_cw;
+  kf.a = parts.brightness.a, kf.b = parts.brightness.b;
+  kf.t_s = f.t_s, kf.exposure_s = f.exposure_s, kf.readout_prev_s = f.readout_prev_s;
+  kf.chain_ok = f.chain_ok;
+  kf.settled = f.frames_since_timing_change >= kTimingSettleFrames;
+  parts.brightness.offset_step = 0;
   kf.count = 0;
-  copy_pyramid(s.current.frame, kf.pyramid, s.cfg);
+  copy_pyramid(f.frame, kf.pyramid, s.cfg);
   s.order[s.kf_count++] = slot;
   if (!select_points_now) return;
   // Where the window's active points already land, no new point is needed.
-  std::memset(s.selection.occupied.data(), 0, s.selection.occupied.size());
+  std::memset(selection.occupied.data(), 0, selection.occupied.size());
   const Scaled k = camera_at(s.cfg.camera, 0);
   const auto radius = static_cast<int>(std::sqrt(static_cast<float>(plane(s.cfg)) / static_cast<float>(s.cfg.points_per_keyframe)) * 0.5f);
   for (const Keyframe& other : s.kf) {
     if (!other.used || &other == &kf) continue;
-    const Se3 M = s.motion.T_cw * other.T_cw.inverse();
+    const Se3 M = parts.motion.T_cw * other.T_cw.inverse();
     for (std::uint32_t i = 0; i < other.count; ++i) {
       const Point& p = other.points[i];
       if (p.status != PointStatus::active) continue;
@@ -207,15 +209,15 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
       for (int y = v - radius; y <= v + radius; ++y)
         for (int x = u - radius; x <= u + radius; ++x)
           if (x >= 0 && y >= 0 && x < static_cast<int>(s.cfg.width) && y < static_cast<int>(s.cfg.height))
-            s.selection.occupied[static_cast<std::size_t>(y) * s.cfg.width + static_cast<std::size_t>(x)] = 1;
+            selection.occupied[static_cast<std::size_t>(y) * s.cfg.width + static_cast<std::size_t>(x)] = 1;
     }
   }
-  const std::size_t n = select_points(s.current.frame.level[0], s.selection.occupied, s.cfg.points_per_keyframe, 4,
-                                      s.selection.scratch, s.selection.candidates, s.intensity);
+  const std::size_t n = select_points(f.frame.level[0], selection.occupied, s.cfg.points_per_keyframe, 4,
+                                      selection.scratch, selection.candidates, s.intensity);
   for (std::size_t i = 0; i < n && kf.count < kf.points.size(); ++i) {
     Point& p = kf.points[kf.count++];
     p = Point();
-    p.u = s.selection.candidates[i].x, p.v = s.selection.candidates[i].y;
+    p.u = selection.candidates[i].x, p.v = selection.candidates[i].y;
     p.status = PointStatus::immature;
     p.idepth = 1.0f, p.idepth_min = 0.0f, p.idepth_max = -1.0f;
   }
@@ -224,8 +226,8 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
 // The thresholds in counts were tuned on frames with up to kNominalNoiseCounts of pixel noise;
 // noisier frames (a larger gain, or another renderer's scale) get them in proportion. Measured
 // once, from the first three frames, so that thresholds do not move under a running map.
-void measure_intensity_scale(State& s) {
-  const double var = frame_noise_variance(s.noise, s.current, s.cfg);
+void measure_intensity_scale(MapCore& s, NoiseEstimate& noise, const CurrentFrame& f) {
+  const double var = frame_noise_variance(noise, f, s.cfg);
   if (var < 0 && s.raw_frames < kIntensityMeasureFrames) return;  // too few flat blocks: try the next frame
   s.intensity_pending = false;
   const double sigma = var > 0 ? std::sqrt(var) : 0.0;
@@ -429,7 +431,7 @@ bool load_frame(State& s, const FrameInput& in, bool chain_broken) {
   f.scene_scale = 1.0;
   const bool ir = uses_carry_model(c);
   if (ir && had_prev) count_unchanged_frames(s.tau_est, s.current, s);
-  if (s.intensity_pending && ++s.raw_frames >= 3) measure_intensity_scale(s);
+  if (s.intensity_pending && ++s.raw_frames >= 3) measure_intensity_scale(s, s.noise, s.current);
   // Before the tracking image: its carry-over correction is cored against this noise.
   if (ir && f.chain_ok && f.chain_ok_prev) update_noise_variance(s.noise, s.current, s.cfg);
   return after_repeat;
@@ -457,6 +459,26 @@ void write_tracking_image(State& s, const FrameInput& in) {
   build_frame_images(s);
 }
 
+// A new map from the current frame: the old map's points retired (still output) and its prior
+// dropped, the frame its first keyframe, and nothing of the old map's motion carried over (a new
+// map has a scale of its own).
+void restart_map(State& s) {
+  for (auto& kf : s.kf) {
+    if (kf.used) retire_points(s.retired, kf, s.cfg.camera);
+    kf.used = false, kf.count = 0;
+  }
+  s.kf_count = 0;
+  clear_marginal_prior(s.prior);
+  const std::uint32_t slot = new_keyframe_slot(s, s.retired, s.ba, s.prior);
+  make_keyframe(s, keyframe_parts(s), slot, true);
+  start_initialisation(s.init, s.kf[slot]);
+  s.motion.step = Se3();
+  s.motion.step_dt_s = 0;
+  s.motion.pose_t_s = s.current.t_s;
+  s.bridge.count = 0;
+  s.bridge.carry = CarriedVelocity();
+}
+
 // A frame while the map is not initialised: the initialiser's next step, or its (re)start.
 FrameResult initialisation_frame(State& s, bool after_repeat, double frame_dt_s, FrameResult out) {
   const bool ir = uses_carry_model(s.cfg);
@@ -474,10 +496,10 @@ FrameResult initialisation_frame(State& s, bool after_repeat, double frame_dt_s,
     s.motion.T_cw = s.kf_count > 0 ? s.kf[s.order[0]].T_cw : s.motion.last_good;
     // A map lost far out (scale drift) cannot anchor a new one with any precision: restart at the origin.
     if (!s.motion.T_cw.t.allFinite() || s.motion.T_cw.t.norm() > 1e3) s.motion.T_cw = Se3();
-    start_initialisation(s);
+    restart_map(s);
     return out;
   }
-  if (!initialise_step(s)) return out;
+  if (!initialise_step(s, s.init, s.current, s.motion, s.brightness, s.ref)) return out;
   s.motion.posed = true;
   out.state = TrackingState::tracking;
   out.has_pose = true;
@@ -618,7 +640,7 @@ void coast_lost_frame(State& s, const Se3& step, FrameResult& out) {
     out.reinitialised = true;
     s.motion.T_cw = s.motion.last_good;  // the coasted pose is a guess; anchor the new map at the last fix
     if (!s.motion.T_cw.t.allFinite() || s.motion.T_cw.t.norm() > 1e3) s.motion.T_cw = Se3();
-    start_initialisation(s);
+    restart_map(s);
   }
 }
 
@@ -684,10 +706,17 @@ bool keyframe_if_due(State& s, const TrackResult& best, double frame_dt_s) {
   // the rotation's points are all the map can get: the count the next keyframe would track
   // decides. (Not on a map with depths: there the same rule costs scale in the look-arounds of
   // walks.)
-  activate_mature_points(s, s.init.map_without_baseline ? tracked_at_next_keyframe(s, best.inliers) : best.inliers);
-  const std::uint32_t slot = new_keyframe_slot(s);
-  make_keyframe(s, slot, true);
-  if (c.window_ba && s.kf_count >= 2) window_bundle_adjustment(s);
+  activate_mature_points(s, s.ref, s.bridge, s.init, s.current.t_s,
+                         s.init.map_without_baseline ? tracked_at_next_keyframe(s, best.inliers) : best.inliers);
+  const std::uint32_t slot = new_keyframe_slot(s, s.retired, s.ba, s.prior);
+  make_keyframe(s, keyframe_parts(s), slot, true);
+  if (c.window_ba && s.kf_count >= 2) {
+    window_bundle_adjustment(s, s.ba, s.prior, s.ref);
+    // The newest keyframe is the current frame: follow its refined pose.
+    const Keyframe& newest = s.kf[s.order[s.kf_count - 1]];
+    s.motion.T_cw = newest.T_cw;
+    s.brightness.a = newest.a, s.brightness.b = newest.b;
+  }
   s.loop.frames_since_kf = 0;
   s.loop.since_kf_s = 0;
   return true;
@@ -734,8 +763,8 @@ FrameResult Odometry::process(const FrameInput& in) {
   s.motion.posed = true;
 
   if (uses_carry_model(s.cfg) && s.cfg.estimate_tau) refine_tau(s.tau_est, s, s.current, s.motion, s.noise.var);
-  follow_map_baseline(s);
-  search_immature_points(s, depth_search_margin(s.bridge, s.cfg, s.current.t_s));
+  follow_map_baseline(s.init, s.motion, s.cfg);
+  search_immature_points(s, s.current, s.motion, s.brightness, depth_search_margin(s.bridge, s.cfg, s.current.t_s));
   out.keyframe = keyframe_if_due(s, best, frame_dt_s);
   update_bridge(s.bridge, s.current.t_s, out.keyframe);
   out.T_wc = s.motion.T_cw.inverse();

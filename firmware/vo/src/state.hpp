@@ -41,6 +41,9 @@ struct State : MapCore {  // NOLINT(clang-analyzer-optin.performance.Padding)
   ScaleBridge bridge;        // scale_bridge.cpp
 };
 
+// The parts make_keyframe() reads and writes besides the map.
+inline KeyframeParts keyframe_parts(State& s) { return {s.current, s.motion, s.brightness, s.ref, s.selection}; }
+
 // The factor that takes the scene estimate u = (raw - alpha raw_prev) / beta to the raw level a
 // static pixel reads at the frame's timing, beta / (1 - alpha) with the current tau: the tracking
 // images then keep the keyframes' level whatever tau is and however t_e and t_r split the frame
