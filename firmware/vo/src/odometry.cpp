@@ -479,8 +479,8 @@ void restart_map(State& s) {
   s.bridge.carry = CarriedVelocity();
 }
 
-// A frame while the map is not initialised: the initialiser's next step, or its (re)start.
-FrameResult initialisation_frame(State& s, bool after_repeat, double frame_dt_s, FrameResult out) {
+// Initialise: a frame while the map is not initialised, the initialiser's next step or its (re)start.
+FrameResult initialise_phase(State& s, bool after_repeat, double frame_dt_s, FrameResult out) {
   const bool ir = uses_carry_model(s.cfg);
   // A broken carry-over chain (ir modes) gives a frame that matches nothing: wait for the next.
   if (s.kf_count == 0 || s.init.frames >= kMaxInitFrames || (ir && !s.current.chain_ok)) {
@@ -722,13 +722,17 @@ bool keyframe_if_due(State& s, const TrackResult& best, double frame_dt_s) {
   return true;
 }
 
-}  // namespace
+// The phases of Odometry::process, in order.
 
-FrameResult Odometry::process(const FrameInput& in) {
-  FrameResult out;
-  if (!state_) return out;
-  State& s = *state_;
-  s.retired.count = 0;
+// How the loaded frame follows the last one.
+struct FrameArrival {
+  bool after_repeat = false;  // it follows a repeated frame (its sensor predecessor was never delivered)
+  double dt_s = 0;            // the time since the last frame (0 for the first)
+};
+
+// Load: the frame becomes the current one, with its tracking image; false for a repeat of the
+// last frame, which is skipped (out: duplicate).
+bool load_phase(State& s, const FrameInput& in, FrameArrival& arrival, FrameResult& out) {
   const bool chain_broken = in.chain_broken || in.shutter_event;
   if (s.current.have_prev && !chain_broken && repeats(in.raw.first(plane(s.cfg)), s.current.raw)) {
     // Processed as a frame it would pose the camera where it was a frame ago, at the new time,
@@ -736,14 +740,18 @@ FrameResult Odometry::process(const FrameInput& in) {
     s.current.predecessor_missing = true;
     out.state = TrackingState::duplicate;
     out.tau = s.tau_est.tau;
-    return out;
+    return false;
   }
-  const double frame_dt_s = s.current.have_prev ? in.t_s - s.current.t_s : 0.0;
-  const bool after_repeat = load_frame(s, in, chain_broken);
+  arrival.dt_s = s.current.have_prev ? in.t_s - s.current.t_s : 0.0;
+  arrival.after_repeat = load_frame(s, in, chain_broken);
   write_tracking_image(s, in);
   out.tau = s.tau_est.tau;
-  if (!s.init.initialised) return initialisation_frame(s, after_repeat, frame_dt_s, out);
+  return true;
+}
 
+// Track: the frame aligned against the newest keyframe from the motion model's guesses; its pose
+// and brightness adopted (returns ok), or the camera coasted as lost (not ok).
+TrackResult track_phase(State& s, const FrameInput& in, FrameResult& out) {
   const Keyframe& reference = s.kf[s.order[s.kf_count - 1]];  // the tracking reference
   const BrightnessStart start = brightness_start(s, in, reference);
   const Se3 step = motion_step(s.motion, s.current.t_s);
@@ -753,7 +761,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   out.tracked_points = best.inliers;
   if (!best.ok) {
     coast_lost_frame(s, step, out);
-    return out;
+    return best;
   }
   adopt_pose(s, best);
   out.centre_held = held;
@@ -761,15 +769,46 @@ FrameResult Odometry::process(const FrameInput& in) {
   out.state = TrackingState::tracking;
   out.has_pose = true;
   s.motion.posed = true;
+  return best;
+}
 
+// Tau: the ir modes' estimate refined from the carry-over between this posed frame and the last.
+void tau_phase(State& s) {
   if (uses_carry_model(s.cfg) && s.cfg.estimate_tau) refine_tau(s.tau_est, s, s.current, s.motion, s.noise.var);
+}
+
+// Depths: what this posed frame tells about the map's depths (its baseline since a map begun
+// without one, the immature points' intervals).
+void depth_phase(State& s) {
   follow_map_baseline(s.init, s.motion, s.cfg);
   search_immature_points(s, s.current, s.motion, s.brightness, depth_search_margin(s.bridge, s.cfg, s.current.t_s));
-  out.keyframe = keyframe_if_due(s, best, frame_dt_s);
+}
+
+// Bookkeeping: the scale bridge's carry, and the frame's result (pose, tau) with the residual the
+// next frame's guess is judged against.
+void bookkeeping_phase(State& s, const TrackResult& best, FrameResult& out) {
   update_bridge(s.bridge, s.current.t_s, out.keyframe);
   out.T_wc = s.motion.T_cw.inverse();
   out.tau = s.tau_est.tau;
   s.loop.last_rms = best.rms;
+}
+
+}  // namespace
+
+FrameResult Odometry::process(const FrameInput& in) {
+  FrameResult out;
+  if (!state_) return out;
+  State& s = *state_;
+  s.retired.count = 0;
+  FrameArrival arrival;
+  if (!load_phase(s, in, arrival, out)) return out;
+  if (!s.init.initialised) return initialise_phase(s, arrival.after_repeat, arrival.dt_s, out);
+  const TrackResult best = track_phase(s, in, out);
+  if (!best.ok) return out;
+  tau_phase(s);
+  depth_phase(s);
+  out.keyframe = keyframe_if_due(s, best, arrival.dt_s);  // with the window BA
+  bookkeeping_phase(s, best, out);
   return out;
 }
 
