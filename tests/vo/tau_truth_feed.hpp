@@ -48,11 +48,11 @@ void push_truth_frame(vo::State& s, int k, double exposure_s, double readout_s, 
   s.motion.T_cw = T_cw;
   if (s.current.chain_ok && s.current.chain_ok_prev) vo::update_noise_variance(s.noise, s.current, s.cfg);
   if (s.current.chain_ok) {
-    vo::write_scene_estimate(s);
+    vo::write_scene_estimate(s.current, s.tau_est.tau, s.noise.var, s.cfg);
   } else {
     std::copy(s.current.raw.begin(), s.current.raw.end(), s.current.frame.level[0].value.data);
   }
-  vo::build_frame_images(s);
+  vo::build_frame_images(s.current, s.cfg);
 }
 
 // A keyframe made from the current frame's tracking image, its points active at inverse depth

@@ -56,7 +56,7 @@ struct Fixture {
     }
     for (float& v : f) v = static_cast<float>(std::exp(a) * v + b);
     for (std::size_t i = 0; i < f.size(); ++i) s->current.frame.level[0].value.data[i] = f[i], s->current.raw[i] = f[i];
-    vo::build_frame_images(*s);
+    vo::build_frame_images(s->current, s->cfg);
     s->current.t_s = t;
   }
   // A keyframe at time t with points at their true depth (active) or unknown (immature).

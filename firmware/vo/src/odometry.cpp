@@ -240,12 +240,12 @@ namespace {
 // config.hpp, carry_coring. Still pixels then keep the raw frame's noise instead of the inverse
 // filter's, and moving edges (a correction far above the noise) are still deghosted. Until the
 // noise is measured, nothing is taken back.
-void core_carry_correction(State& s, float gain_alpha) {
-  if (!(s.cfg.carry_coring > 0) || !(s.noise.var > 0)) return;
-  const auto limit = static_cast<float>(s.cfg.carry_coring * std::sqrt(2.0 * s.noise.var)) * gain_alpha;
-  float* level0 = s.current.frame.level[0].value.data;
-  for (std::size_t i = 0; i < plane(s.cfg); ++i) {
-    const float correction = gain_alpha * (s.current.raw[i] - s.current.raw_prev[i]);
+void core_carry_correction(CurrentFrame& f, double noise_var, const VoConfig& cfg, float gain_alpha) {
+  if (!(cfg.carry_coring > 0) || !(noise_var > 0)) return;
+  const auto limit = static_cast<float>(cfg.carry_coring * std::sqrt(2.0 * noise_var)) * gain_alpha;
+  float* level0 = f.frame.level[0].value.data;
+  for (std::size_t i = 0; i < plane(cfg); ++i) {
+    const float correction = gain_alpha * (f.raw[i] - f.raw_prev[i]);
     level0[i] -= std::max(-limit, std::min(limit, correction));
   }
 }
@@ -272,9 +272,8 @@ bool same_level(const CurrentFrame& f, const Keyframe& kf) {
          !timing_differs(kf.exposure_s, f.exposure_s) && !timing_differs(kf.readout_prev_s, f.readout_prev_s);
 }
 
-void write_scene_estimate(State& s) {
-  CurrentFrame& f = s.current;
-  f.carry = carry_coefficients(s.tau_est.tau, f.readout_prev_s, f.exposure_s);
+void write_scene_estimate(CurrentFrame& f, Tau tau, double noise_var, const VoConfig& cfg) {
+  f.carry = carry_coefficients(tau, f.readout_prev_s, f.exposure_s);
   // The scene estimate u = (raw_i - alpha raw_{i-1}) / beta (paper Eq. 6), scaled to the level a
   // static pixel reads at this frame's timing: a static pixel keeps its value whatever tau is, so
   // a refined tau does not shift every pixel's level against the keyframes. Without the scale,
@@ -282,18 +281,17 @@ void write_scene_estimate(State& s) {
   // t_e = t_r, and the tau fit and the tracking then chase each other. At a change of the timing the raw static level
   // itself changes (by the true tau's factor): the tracker and the initialiser free the gain and
   // offset there (same_level).
-  f.scene_scale = scene_level_scale(s.tau_est.tau, s.current);
+  f.scene_scale = scene_level_scale(tau, f);
   const auto alpha = static_cast<float>(f.carry.alpha);
   const auto gain = static_cast<float>(f.scene_scale / f.carry.beta);
   float* level0 = f.frame.level[0].value.data;
-  for (std::size_t i = 0; i < plane(s.cfg); ++i) level0[i] = (f.raw[i] - alpha * f.raw_prev[i]) * gain;
-  core_carry_correction(s, alpha * gain);
+  for (std::size_t i = 0; i < plane(cfg); ++i) level0[i] = (f.raw[i] - alpha * f.raw_prev[i]) * gain;
+  core_carry_correction(f, noise_var, cfg, alpha * gain);
 }
 
-void build_frame_images(State& s) {
-  CurrentFrame& f = s.current;
+void build_frame_images(CurrentFrame& f, const VoConfig& cfg) {
   // Level 0's gradient plane is free until build_pyramid fills it.
-  for (std::uint32_t pass = 0; pass < s.cfg.smoothing; ++pass) smooth_binomial(f.frame.level[0].value, f.frame.level[0].gx);
+  for (std::uint32_t pass = 0; pass < cfg.smoothing; ++pass) smooth_binomial(f.frame.level[0].value, f.frame.level[0].gx);
   build_pyramid(f.frame);
   fill_texels(f.frame, f.frame_texels);
 }
@@ -443,7 +441,7 @@ void write_tracking_image(State& s, const FrameInput& in) {
   const VoConfig& c = s.cfg;
   float* level0 = f.frame.level[0].value.data;
   if (c.photometric == Photometric::ir && f.chain_ok) {
-    write_scene_estimate(s);
+    write_scene_estimate(f, s.tau_est.tau, s.noise.var, c);
   } else if (c.photometric == Photometric::ir_loop && f.chain_ok && in.corrected.size() == plane(c)) {
     // Without its predecessor the corrector only scales the frame by 1/beta, a level the keyframes
     // do not share; the raw frame (like ir's) has their static level and is tracked with a free offset.
@@ -452,11 +450,11 @@ void write_tracking_image(State& s, const FrameInput& in) {
     const auto scale = static_cast<float>(f.scene_scale);
     for (std::size_t i = 0; i < plane(c); ++i) level0[i] = static_cast<float>(in.corrected[i]) * scale;
     const CarryCoefficients k = carry_coefficients(s.tau_est.tau, f.readout_prev_s, f.exposure_s);
-    core_carry_correction(s, static_cast<float>(k.alpha * f.scene_scale / k.beta));
+    core_carry_correction(f, s.noise.var, c, static_cast<float>(k.alpha * f.scene_scale / k.beta));
   } else {
     std::memcpy(level0, f.raw.data(), plane(c) * sizeof(float));
   }
-  build_frame_images(s);
+  build_frame_images(f, c);
 }
 
 // A new map from the current frame: the old map's points retired (still output) and its prior

@@ -60,11 +60,12 @@ bool same_level(const CurrentFrame& f, const Keyframe& kf);
 class Arena;
 State* lay_out(const VoConfig& config, Arena& arena);
 
-// After the frame's level 0 is filled: its pyramid, gradients and texels (odometry.cpp).
-// The ir mode's tracking image: level 0 of s.current.frame becomes the scene estimate
-// (raw - alpha raw_prev) / beta, with s.current.carry from the tau estimate and the frame's times,
-// at the static level of the reference timing (times scene_scale = scene_level_scale()).
-void write_scene_estimate(State& s);
-void build_frame_images(State& s);
+// The ir mode's tracking image: level 0 of f.frame becomes the scene estimate
+// (raw - alpha raw_prev) / beta, with f.carry from tau and the frame's times, at the static level
+// of the reference timing (times scene_scale = scene_level_scale()); the carry-over correction
+// cored against the pixel noise noise_var (VoConfig::carry_coring; odometry.cpp).
+void write_scene_estimate(CurrentFrame& f, Tau tau, double noise_var, const VoConfig& cfg);
+// After the frame's level 0 is filled: its low-pass, pyramid, gradients and texels (odometry.cpp).
+void build_frame_images(CurrentFrame& f, const VoConfig& cfg);
 
 }  // namespace bolo::vo
