@@ -19,12 +19,12 @@ float typical_idepth(MapCore& s);
 // Narrows the immature points' inverse-depth intervals by their matches in the current frame f,
 // posed at motion.T_cw with the brightness `brightness`. extra_margin_px widens every match's
 // interval (scale_bridge.cpp: a held turn's frames).
-void search_immature_points(MapCore& map, const CurrentFrame& f, const MotionModel& motion,
+void search_immature_points(MapCore& s, const CurrentFrame& f, const MotionModel& motion,
                             const BrightnessTrack& brightness, float extra_margin_px = 0.0f);
 // Activates the immature points whose depth is known well enough (with tracked_points running
 // short, also those a rotation keeps in view) and marks the tracking reference stale; points
 // placed without a baseline break the map's scale at t_s (the scale bridge notes it).
-void activate_mature_points(MapCore& map, TrackingReference& ref, ScaleBridge& bridge, const InitialiserState& init,
+void activate_mature_points(MapCore& s, TrackingReference& ref, ScaleBridge& bridge, const InitialiserState& init,
                             double t_s, std::uint32_t tracked_points);
 
 }  // namespace bolo::vo

@@ -55,14 +55,14 @@ struct KeyframeParts {
 
 // A free keyframe slot; a full window first retires a keyframe (keyframe_to_retire): its active
 // points go to `retired` and, where the prior is built, its information to the prior.
-std::uint32_t new_keyframe_slot(MapCore& map, RetiredPoints& retired, BaSystem& ba, MarginalPrior& prior);
+std::uint32_t new_keyframe_slot(MapCore& s, RetiredPoints& retired, BaSystem& ba, MarginalPrior& prior);
 // Appends a keyframe's active points (world coordinates) to the retired-points output.
 void retire_points(RetiredPoints& retired, const Keyframe& old, const Camera& camera);
 // The current frame becomes the newest keyframe, in `slot`; with select_points_now, with new
 // immature points where the window's active points do not land.
-void make_keyframe(MapCore& map, const KeyframeParts& parts, std::uint32_t slot, bool select_points_now);
-// Sets map.intensity from the current frame's pixel noise, for VoConfig::intensity_scale 0; leaves
+void make_keyframe(MapCore& s, const KeyframeParts& parts, std::uint32_t slot, bool select_points_now);
+// Sets s.intensity from the current frame's pixel noise, for VoConfig::intensity_scale 0; leaves
 // it pending while the noise cannot be measured yet.
-void measure_intensity_scale(MapCore& map, NoiseEstimate& noise, const CurrentFrame& f);
+void measure_intensity_scale(MapCore& s, NoiseEstimate& noise, const CurrentFrame& f);
 
 }  // namespace bolo::vo

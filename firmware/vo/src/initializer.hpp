@@ -27,7 +27,7 @@ struct InitialiserState {
 // One frame f against the map's first keyframe: refines the relative pose and the keyframe's
 // inverse depths, and sets the camera's pose, motion model and brightness for f. Returns true
 // once the map is initialised (its points active, the tracking reference stale).
-bool initialise_step(MapCore& map, InitialiserState& init, const CurrentFrame& f, MotionModel& motion,
+bool initialise_step(MapCore& s, InitialiserState& init, const CurrentFrame& f, MotionModel& motion,
                      BrightnessTrack& brightness, TrackingReference& ref);
 // A new map starts from `host`, just made from the current frame: its points at inverse depth 1,
 // the initialiser counting afresh.
