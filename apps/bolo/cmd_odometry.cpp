@@ -21,26 +21,29 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   odo::OdometryOptions options = o;  // the run's part, checked below
   const std::optional<fs::path> folder = recording_folder_or_live(o.input.string(), o.max_frames.has_value());
   if (folder) options.recording = *folder;
-  if (!vo::parse_photometric(o.photometric_name.c_str(), options.photometric))
+  vo::VoConfig& config = options.vo;
+  if (!vo::parse_photometric(o.photometric_name.c_str(), config.photometric))
     fail("--photometric: unknown model '", o.photometric_name, "' (none, affine, ir, ir-loop)");
-  if (!(o.tau_init_s >= 0.001 && o.tau_init_s <= 0.05)) fail("--tau-init: must be within 0.001..0.05 s, got ", o.tau_init_s);
+  // The VO holds these settings as floats: against float bounds, a bound itself (0.05) is in range.
+  if (!(config.tau_init_s >= 0.001f && config.tau_init_s <= 0.05f))
+    fail("--tau-init: must be within 0.001..0.05 s, got ", config.tau_init_s);
   if (o.hfov_deg && !(*o.hfov_deg > 1.0 && *o.hfov_deg < 179.0))
     fail("--hfov: must be within 1..179 degrees, got ", *o.hfov_deg);
   if (o.exposure_s && !(*o.exposure_s > 0.0 && *o.exposure_s < 1.0))
     fail("--exposure: must be within 0..1 s (exclusive), got ", *o.exposure_s);
   if (o.readout_s && !(*o.readout_s >= 0.0 && *o.readout_s < 1.0))
     fail("--readout: must be within 0..1 s, got ", *o.readout_s);
-  if (!(o.intensity_scale >= 0.0 && o.intensity_scale <= 1e4))
-    fail("--intensity-scale: must be within 0..10000 (0: measured), got ", o.intensity_scale);
-  if (!(o.carry_coring >= 0.0 && o.carry_coring <= 100.0))
-    fail("--carry-coring: must be within 0..100 (0: the full correction), got ", o.carry_coring);
-  if (o.smoothing > bolo::vo::kMaxSmoothingPasses)
-    fail("--smoothing: must be within 0..", bolo::vo::kMaxSmoothingPasses, " passes, got ", o.smoothing);
-  if (!vo::parse_retirement(o.retirement_name.c_str(), options.retirement))
+  if (!(config.intensity_scale >= 0.0f && config.intensity_scale <= 1e4f))
+    fail("--intensity-scale: must be within 0..10000 (0: measured), got ", config.intensity_scale);
+  if (!(config.carry_coring >= 0.0f && config.carry_coring <= 100.0f))
+    fail("--carry-coring: must be within 0..100 (0: the full correction), got ", config.carry_coring);
+  if (config.smoothing > bolo::vo::kMaxSmoothingPasses)
+    fail("--smoothing: must be within 0..", bolo::vo::kMaxSmoothingPasses, " passes, got ", config.smoothing);
+  if (!vo::parse_retirement(o.retirement_name.c_str(), config.retirement))
     fail("--retirement: must be oldest or spread, got ", o.retirement_name);
-  if (o.max_keyframes < 2 || o.max_keyframes > vo::kMaxKeyframes)
-    fail("--max-keyframes: must be within 2..", vo::kMaxKeyframes, ", got ", o.max_keyframes);
-  if (o.reverse && (options.photometric == vo::Photometric::ir || options.photometric == vo::Photometric::ir_loop))
+  if (config.max_keyframes < 2 || config.max_keyframes > vo::kMaxKeyframes)
+    fail("--max-keyframes: must be within 2..", vo::kMaxKeyframes, ", got ", config.max_keyframes);
+  if (o.reverse && (config.photometric == vo::Photometric::ir || config.photometric == vo::Photometric::ir_loop))
     fail("--reverse: the ir modes' carry-over runs forward in time (use none or affine)");
   Progress progress("odometry", 0, o.progress_bar);
   std::uint64_t total = 0;
@@ -60,7 +63,7 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
       << std::setprecision(3) << (s.seconds > 0 ? s.frames / s.seconds : 0.0) << " fps (VO only), arena "
       << s.arena_bytes / 1024 << " KiB\n";
   if (s.live) out << "odometry: live source " << o.input.string() << " (device faults in summary.json)\n";
-  if (s.intensity_scale != 1.0 && o.intensity_scale == 0.0)
+  if (s.intensity_scale != 1.0 && config.intensity_scale == 0.0f)
     out << "odometry: thresholds scaled by " << std::setprecision(3) << s.intensity_scale
         << " (the frames' pixel noise is above " << vo::kNominalNoiseCounts << " counts)\n";
   if (s.ir_on_tone_mapped)
@@ -138,8 +141,8 @@ Command add_odometry_command(CLI::App& parent) {
       ->required();
   app->add_option("--out", o->output, "Output folder (must not exist unless --overwrite)")->required();
   app->add_option("--photometric", o->photometric_name, "none, affine, ir or ir-loop (default none)");
-  app->add_option("--tau-init", o->tau_init_s, "Starting tau for the ir modes, seconds (default 0.010)");
-  app->add_flag("--fixed-tau", [o](std::int64_t) { o->estimate_tau = false; },
+  app->add_option("--tau-init", o->vo.tau_init_s, "Starting tau for the ir modes, seconds (default 0.010)");
+  app->add_flag("--fixed-tau", [o](std::int64_t) { o->vo.estimate_tau = false; },
                 "ir modes: tau is known (--tau-init) and not estimated");
   app->add_option("--hfov", o->hfov_deg,
                   "Horizontal field of view, degrees: an undistorted pinhole centred on the image, used instead "
@@ -148,15 +151,15 @@ Command add_odometry_command(CLI::App& parent) {
                   "ir modes: exposure (heating) time t_e, seconds, for frames with an empty exposure_s");
   app->add_option("--readout", o->readout_s,
                   "ir modes: readout (cooling) time t_r, seconds, for frames with an empty readout_s");
-  app->add_option("--intensity-scale", o->intensity_scale,
+  app->add_option("--intensity-scale", o->vo.intensity_scale,
                   "Counts per count of the scale the VO's thresholds were tuned for (0, the default: from the "
                   "pixel noise, 1 up to 4 counts and noise/4 above)");
-  app->add_option("--carry-coring", o->carry_coring,
+  app->add_option("--carry-coring", o->vo.carry_coring,
                   "ir modes: leave out of the tracking image the part of the carry-over correction within K "
                   "times its noise (0: the paper's full correction, whose inverse filter "
                   "multiplies the noise of still pixels)")
       ->capture_default_str();
-  app->add_option("--smoothing", o->smoothing,
+  app->add_option("--smoothing", o->vo.smoothing,
                   "Passes of a 3x3 binomial low-pass over each tracking image, 0..3 (0: none; 1, the default, "
                   "damps the detail near the sampling limit that bilinear sampling misreads and cut "
                   "the ir modes' ATE by 40-50 % on the study's sequences: docs/odometry-study.md)")
@@ -164,17 +167,17 @@ Command add_odometry_command(CLI::App& parent) {
   app->add_option("--frames", o->max_frames, "Use only the first N frames (a live camera: read N frames)")
       ->check(not_negative());
   app->add_option("--max-faults", o->max_faults, "A live source's faulted frames in a row before giving up (default 50)");
-  app->add_option("--max-keyframes", o->max_keyframes,
+  app->add_option("--max-keyframes", o->vo.max_keyframes,
                   "Keyframes in the sliding window, 2..8 (default 8; 6 is about a fifth faster and less accurate: docs/odometry-study.md)");
-  app->add_flag("--no-ba", [o](std::int64_t) { o->window_ba = false; }, "Skip the sliding-window bundle adjustment (tracking and depth search only)");
-  app->add_flag("--marginalisation-prior", o->marginalisation_prior,
+  app->add_flag("--no-ba", [o](std::int64_t) { o->vo.window_ba = false; }, "Skip the sliding-window bundle adjustment (tracking and depth search only)");
+  app->add_flag("--marginalisation-prior", o->vo.marginalisation_prior,
                 "Keep a retired keyframe's information as a prior on the window (DSO's marginalisation) "
                 "instead of dropping it; it needs the bundle adjustment (ignored with --no-ba)");
   app->add_option("--retirement", o->retirement_name,
                   "Which keyframe leaves a full window: spread (one much nearer its neighbours along the path than "
                   "the window's mean spacing, made for a turn; else the oldest) or oldest")
       ->capture_default_str();
-  app->add_flag("--no-scale-bridge", [o](std::int64_t) { o->scale_bridge = false; },
+  app->add_flag("--no-scale-bridge", [o](std::int64_t) { o->vo.scale_bridge = false; },
                 "Keep the scale a look-around leaves the map with (by default, after a fast turn that takes the map "
                 "out of view, the new view's map is scaled so that the camera's speed after the turn is its speed "
                 "before: docs/odometry-study.md)");

@@ -48,19 +48,19 @@ void push_truth_frame(vo::State& s, int k, double exposure_s, double readout_s, 
   s.motion.T_cw = T_cw;
   if (s.current.chain_ok && s.current.chain_ok_prev) vo::update_noise_variance(s.noise, s.current, s.cfg);
   if (s.current.chain_ok) {
-    vo::write_scene_estimate(s);
+    vo::write_scene_estimate(s.current, s.tau_est.tau, s.noise.var, s.cfg);
   } else {
     std::copy(s.current.raw.begin(), s.current.raw.end(), s.current.frame.level[0].value.data);
   }
-  vo::build_frame_images(s);
+  vo::build_frame_images(s.current, s.cfg);
 }
 
 // A keyframe made from the current frame's tracking image, its points active at inverse depth
 // idepth_of(true depth) where depth_at(u, v) is in (0, 150) m, dropped elsewhere.
 template <typename DepthAt, typename IdepthOf>
 void keyframe_at_true_depth(vo::State& s, DepthAt depth_at, IdepthOf idepth_of) {
-  const std::uint32_t slot = vo::new_keyframe_slot(s);
-  vo::make_keyframe(s, slot, true);
+  const std::uint32_t slot = vo::new_keyframe_slot(s, s.retired, s.ba, s.prior);
+  vo::make_keyframe(s, vo::keyframe_parts(s), slot, true);
   vo::Keyframe& kf = s.kf[slot];
   for (std::uint32_t i = 0; i < kf.count; ++i) {
     vo::Point& p = kf.points[i];

@@ -56,7 +56,7 @@ struct Fixture {
     }
     for (float& v : f) v = static_cast<float>(std::exp(a) * v + b);
     for (std::size_t i = 0; i < f.size(); ++i) s->current.frame.level[0].value.data[i] = f[i], s->current.raw[i] = f[i];
-    vo::build_frame_images(*s);
+    vo::build_frame_images(s->current, s->cfg);
     s->current.t_s = t;
   }
   // A keyframe at time t with points at their true depth (active) or unknown (immature).
@@ -64,8 +64,8 @@ struct Fixture {
     load(t, blur, a, b);
     s->brightness.a = a, s->brightness.b = b;
     s->motion.T_cw = seq.T_cw(t);
-    const std::uint32_t slot = vo::new_keyframe_slot(*s);
-    vo::make_keyframe(*s, slot, true);
+    const std::uint32_t slot = vo::new_keyframe_slot(*s, s->retired, s->ba, s->prior);
+    vo::make_keyframe(*s, vo::keyframe_parts(*s), slot, true);
     vo::Keyframe& kf = s->kf[slot];
     for (std::uint32_t i = 0; i < kf.count; ++i) {
       vo::Point& p = kf.points[i];
@@ -115,9 +115,9 @@ TEST_CASE("epipolar search recovers true inverse depths from the true pose", "[v
     const double t = t0 + k / 60.0;
     f.load(t);
     f.s->motion.T_cw = f.seq.T_cw(t);
-    vo::search_immature_points(*f.s);
+    vo::search_immature_points(*f.s, f.s->current, f.s->motion, f.s->brightness);
   }
-  vo::activate_mature_points(*f.s, /*tracked_points=*/1000);  // a well-tracked frame
+  vo::activate_mature_points(*f.s, f.s->ref, f.s->bridge, f.s->init, f.s->current.t_s, /*tracked_points=*/1000);  // a well-tracked frame
   std::vector<double> rel;
   std::uint32_t active = 0;
   for (std::uint32_t i = 0; i < kf.count; ++i) {
@@ -146,7 +146,7 @@ TEST_CASE("window bundle adjustment pulls a perturbed keyframe back to the truth
   for (auto& kf : f.s->kf)
     for (std::uint32_t i = 0; i < kf.count; ++i) kf.points[i].idepth *= (i % 2 ? 1.05f : 0.95f);
   const double before = (newest.T_cw * f.seq.T_cw(times[3]).inverse()).t.norm();
-  vo::window_bundle_adjustment(*f.s);
+  vo::window_bundle_adjustment(*f.s, f.s->ba, f.s->prior, f.s->ref);
   const vo::Se3 error = newest.T_cw * f.seq.T_cw(times[3]).inverse();
   INFO("newest keyframe error " << before << " m before, " << error.t.norm() << " m after, rotation "
                                 << angle_deg(error.R) << " deg");
@@ -171,7 +171,7 @@ TEST_CASE("window bundle adjustment's system matches finite differences of its e
   // target derivatives differ while the residuals stay small.
   for (int k = 0; k < 3; ++k) f.keyframe(times[k], true, 25, 0.25 * k, 20.0 * k);
   vo::State& s = *f.s;
-  vo::window_system(s);
+  vo::window_system(s, s.ba);
   const vo::BaVector b = s.ba.b;
   // Parameter q of keyframe `place` moved by `step`.
   const auto nudge = [&s](std::uint32_t place, int q, double step) {
@@ -193,10 +193,10 @@ TEST_CASE("window bundle adjustment's system matches finite differences of its e
       const int index = static_cast<int>(8 * place) + q;
       const vo::Keyframe saved = s.kf[s.order[place]];
       nudge(place, q, steps[q]);
-      const double e_plus = vo::window_system(s);
+      const double e_plus = vo::window_system(s, s.ba);
       s.kf[s.order[place]] = saved;
       nudge(place, q, -steps[q]);
-      const double e_minus = vo::window_system(s);
+      const double e_minus = vo::window_system(s, s.ba);
       s.kf[s.order[place]] = saved;
       const double gradient = (e_plus - e_minus) / (4 * steps[q]);  // dE/dx / 2
       INFO("keyframe " << place << " parameter " << q << ": b " << b[index] << ", finite difference " << gradient);
@@ -223,12 +223,12 @@ TEST_CASE("the marginalisation prior holds the window's shape but not its scale"
   for (int k = 0; k < 4; ++k) f.keyframe(2.0 + 0.2 * k, true);
   REQUIRE(s.kf_count == 4);
   CHECK_FALSE(s.prior.set);
-  CHECK(vo::marginal_prior_energy(s) == 0.0);
+  CHECK(vo::marginal_prior_energy(s, s.prior) == 0.0);
   f.keyframe(2.8, true);  // the oldest retires: its points and then its pose are eliminated
   REQUIRE(s.prior.set);
   CHECK(s.kf_count == 4);
   // At its linearisation point the prior costs nothing (up to rounding).
-  const double at_linearisation = vo::marginal_prior_energy(s);
+  const double at_linearisation = vo::marginal_prior_energy(s, s.prior);
   vo::Keyframe saved[vo::kMaxKeyframes];
   for (std::uint32_t k = 0; k < vo::kMaxKeyframes; ++k) saved[k] = s.kf[k];
   const auto restore = [&] {
@@ -241,14 +241,14 @@ TEST_CASE("the marginalisation prior holds the window's shape but not its scale"
     vo::Se3& T = s.kf[s.order[k]].T_cw;
     T.t = -(T.R * (c0 + 1.25 * (centre(T) - c0)));
   }
-  const double scaled = vo::marginal_prior_energy(s);
+  const double scaled = vo::marginal_prior_energy(s, s.prior);
   restore();
   // One keyframe 3 cm to the side (its neighbours ~0.3 m away): a change of shape.
   {
     vo::Se3& T = s.kf[s.order[1]].T_cw;
     T.t = -(T.R * (centre(T) + T.R.transpose() * vo::Vec3(0.03, 0, 0)));
   }
-  const double reshaped = vo::marginal_prior_energy(s);
+  const double reshaped = vo::marginal_prior_energy(s, s.prior);
   restore();
   INFO("prior energy: at its linearisation point " << at_linearisation << ", window scaled by 1.25 " << scaled
                                                    << ", one keyframe moved 3 cm " << reshaped);

@@ -75,7 +75,7 @@ TEST_CASE("a keyframe made for a turn leaves before the oldest, which holds the 
 
   SECTION("the window closes the gap and keeps its order, the oldest still first") {
     const std::uint32_t gone = s.order[leaving];
-    const std::uint32_t slot = new_keyframe_slot(s);
+    const std::uint32_t slot = new_keyframe_slot(s, s.retired, s.ba, s.prior);
     CHECK(slot == gone);
     CHECK(s.kf_count == kMaxKeyframes - 1);
     CHECK(s.order[0] == 0);

@@ -83,21 +83,22 @@ float typical_idepth(MapCore& s) {
   return upper_median(v, n);
 }
 
-void search_immature_points(State& s, float extra_margin_px) {
-  const Level& cur = s.current.frame.level[0];
+void search_immature_points(MapCore& s, const CurrentFrame& f, const MotionModel& motion, const BrightnessTrack& brightness,
+                            float extra_margin_px) {
+  const Level& cur = f.frame.level[0];
   const Scaled k = camera_at(s.cfg.camera, 0);
   const float hub = huber_threshold(s);
   const float good_energy = kPattern * hub * hub * 4.0f;
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
     Keyframe& host = s.kf[slot];
     if (!host.used) continue;
-    const Se3 M = s.motion.T_cw * host.T_cw.inverse();
+    const Se3 M = motion.T_cw * host.T_cw.inverse();
     if (M.t.norm() < 1e-9) continue;
     const Eigen::Matrix3f R = M.R.cast<float>();
     const Eigen::Vector3f t = M.t.cast<float>();
     const Level& ref = host.pyramid.level[0];
-    const float gain = static_cast<float>(std::exp(s.brightness.a - host.a));
-    const float offset = static_cast<float>(s.brightness.b - std::exp(s.brightness.a - host.a) * host.b);
+    const float gain = static_cast<float>(std::exp(brightness.a - host.a));
+    const float offset = static_cast<float>(brightness.b - std::exp(brightness.a - host.a) * host.b);
     for (std::uint32_t i = 0; i < host.count; ++i) {
       Point& p = host.points[i];
       if (p.status != PointStatus::immature) continue;
@@ -167,7 +168,7 @@ void search_immature_points(State& s, float extra_margin_px) {
       for (int it = 0; it < 3; ++it) {
         float H = 0, g = 0;
         for (std::uint32_t j = 0; j < kPattern; ++j) {
-          const Sample c = bilinear_with_gradient(s.current.frame_texels[0], u0 + ex * sb + kPatternX[j], v0 + ey * sb + kPatternY[j]);
+          const Sample c = bilinear_with_gradient(f.frame_texels[0], u0 + ex * sb + kPatternX[j], v0 + ey * sb + kPatternY[j]);
           const float r = c.value - (gain * refv[j] + offset);
           const float J = c.gx * ex + c.gy * ey;
           const float w = huber_weight(r, hub);
@@ -211,8 +212,9 @@ void search_immature_points(State& s, float extra_margin_px) {
   }
 }
 
-void activate_mature_points(State& s, std::uint32_t tracked_points) {
-  s.ref.dirty = true;
+void activate_mature_points(MapCore& s, TrackingReference& ref, ScaleBridge& bridge, const InitialiserState& init, double t_s,
+                            std::uint32_t tracked_points) {
+  ref.dirty = true;
   // A point is ready when its interval is narrow against the scene's typical inverse depth, not
   // against its own estimate: relative to its own, the points whose inverse depth came out too
   // large (too near) pass first, and a map built from them shrinks the next motion estimates,
@@ -252,7 +254,7 @@ void activate_mature_points(State& s, std::uint32_t tracked_points) {
     }
   }
   // The new view's points have no depth of their own: the map's scale breaks here.
-  if (placed_without_baseline) note_map_break(s.bridge, s.cfg, s.init.map_without_baseline, s.current.t_s);
+  if (placed_without_baseline) note_map_break(bridge, s.cfg, init.map_without_baseline, t_s);
 }
 
 }  // namespace bolo::vo

@@ -6,13 +6,21 @@
 #include <cstdint>
 #include <span>
 
+#include "bolo/vo/config.hpp"
 #include "bolo/vo/odometry.hpp"
 #include "bolo/vo/point_selector.hpp"
 
 namespace bolo::vo {
 
-struct State;
+struct BaSystem;
+struct BrightnessTrack;
+struct CurrentFrame;
 struct Keyframe;
+struct MapCore;
+struct MarginalPrior;
+struct MotionModel;
+struct NoiseEstimate;
+struct TrackingReference;
 
 struct FrameLoop {
   std::uint32_t lost_frames = 0;
@@ -34,12 +42,27 @@ struct RetiredPoints {
   std::size_t count = 0;
 };
 
-std::uint32_t new_keyframe_slot(State& s);
+// What making a keyframe reads besides the map (the current frame, the camera's pose, the frame's
+// brightness) and writes (the brightness's offset step restarts, the tracking reference goes
+// stale, the point selection's buffers).
+struct KeyframeParts {
+  const CurrentFrame& frame;
+  const MotionModel& motion;
+  BrightnessTrack& brightness;
+  TrackingReference& ref;
+  KeyframeSelection& selection;
+};
+
+// A free keyframe slot; a full window first retires a keyframe (keyframe_to_retire): its active
+// points go to `retired` and, where the prior is built, its information to the prior.
+std::uint32_t new_keyframe_slot(MapCore& s, RetiredPoints& retired, BaSystem& ba, MarginalPrior& prior);
 // Appends a keyframe's active points (world coordinates) to the retired-points output.
-void retire_points(State& s, const Keyframe& old);
-void make_keyframe(State& s, std::uint32_t slot, bool select_points_now);
+void retire_points(RetiredPoints& retired, const Keyframe& old, const Camera& camera);
+// The current frame becomes the newest keyframe, in `slot`; with select_points_now, with new
+// immature points where the window's active points do not land.
+void make_keyframe(MapCore& s, const KeyframeParts& parts, std::uint32_t slot, bool select_points_now);
 // Sets s.intensity from the current frame's pixel noise, for VoConfig::intensity_scale 0; leaves
 // it pending while the noise cannot be measured yet.
-void measure_intensity_scale(State& s);
+void measure_intensity_scale(MapCore& s, NoiseEstimate& noise, const CurrentFrame& f);
 
 }  // namespace bolo::vo

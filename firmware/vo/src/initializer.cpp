@@ -41,7 +41,7 @@ struct InitSystem {
   double h_gg = 0, h_go = 0, h_oo = 0, g_g = 0, g_o = 0;
 };
 
-Keyframe& init_host(State& s) { return s.kf[s.order[0]]; }
+Keyframe& init_host(MapCore& s) { return s.kf[s.order[0]]; }
 
 // The frame's brightness against the host, as the tracker has it (value = e^(a - a_host)
 // (reference - b_host) + b). Free only where the frame does not have the host's level
@@ -51,16 +51,16 @@ struct Brightness {
   double a = 0, b = 0;
   bool free = false;  // brightness_free() for this frame
 };
-bool brightness_free(const State& s) {
+bool brightness_free(const MapCore& s, const CurrentFrame& f) {
   const Keyframe& host = s.kf[s.order[0]];
-  return (uses_carry_model(s.cfg) || s.cfg.photometric == Photometric::affine) && !same_level(s.current, host);
+  return (uses_carry_model(s.cfg) || s.cfg.photometric == Photometric::affine) && !same_level(f, host);
 }
 
 constexpr std::uint32_t kCells = 8;  // prior target: the mean inverse depth of the point's cell
 
 // Mean inverse depth per cell of a kCells x kCells grid (falling back to the global mean), so
 // the prior keeps the depth map locally smooth instead of flat.
-void cell_means(const State& s, const Keyframe& host, double* means) {
+void cell_means(const MapCore& s, const Keyframe& host, double* means) {
   double sum[kCells * kCells] = {}, count[kCells * kCells] = {};
   double total = 0, n = 0;
   for (std::uint32_t i = 0; i < host.count; ++i) {
@@ -85,12 +85,12 @@ double mean_idepth(const Keyframe& host) {
 // Per point, in s.scratch (stride 8): coupling to the pose (6), H_rr, g_r. kFree: the brightness
 // is free (a compile-time choice: the frames without it are most of the initialiser's time).
 template <bool kFree>
-InitSystem accumulate_with(State& s, std::uint32_t level, const Se3& M, const Brightness& br, bool with_jacobians) {
+InitSystem accumulate_with(MapCore& s, const CurrentFrame& f, std::uint32_t level, const Se3& M, const Brightness& br, bool with_jacobians) {
   InitSystem sys;
   Keyframe& host = init_host(s);
   const auto gain = kFree ? static_cast<float>(std::exp(br.a - host.a)) : 1.0f;
   const auto host_b = static_cast<float>(host.b), offset = static_cast<float>(br.b);
-  const Level& cur = s.current.frame.level[level];
+  const Level& cur = f.frame.level[level];
   const Level& ref = host.pyramid.level[level];
   const Scaled k = camera_at(s.cfg.camera, level), k0 = camera_at(s.cfg.camera, 0);
   const float scale = 1.0f / static_cast<float>(1u << level);
@@ -128,7 +128,7 @@ InitSystem accumulate_with(State& s, std::uint32_t level, const Se3& M, const Br
     float energy = 0;
     float r[kPattern], w[kPattern], gx[kPattern], gy[kPattern], z[kPattern];
     for (std::uint32_t j = 0; j < kPattern; ++j) {
-      const Sample c = bilinear_with_gradient(s.current.frame_texels[level], u + kPatternX[j], v + kPatternY[j]);
+      const Sample c = bilinear_with_gradient(f.frame_texels[level], u + kPatternX[j], v + kPatternY[j]);
       const float reference = bilinear(ref.value, hu + kPatternX[j], hv + kPatternY[j]);
       if constexpr (kFree) {
         z[j] = reference - host_b;
@@ -178,9 +178,9 @@ InitSystem accumulate_with(State& s, std::uint32_t level, const Se3& M, const Br
   return sys;
 }
 
-InitSystem accumulate(State& s, std::uint32_t level, const Se3& M, const Brightness& br, bool with_jacobians) {
-  return br.free ? accumulate_with<true>(s, level, M, br, with_jacobians)
-                            : accumulate_with<false>(s, level, M, br, with_jacobians);
+InitSystem accumulate(MapCore& s, const CurrentFrame& f, std::uint32_t level, const Se3& M, const Brightness& br, bool with_jacobians) {
+  return br.free ? accumulate_with<true>(s, f, level, M, br, with_jacobians)
+                            : accumulate_with<false>(s, f, level, M, br, with_jacobians);
 }
 
 struct Solved {
@@ -204,24 +204,24 @@ Brightness brightness_step(const InitSystem& sys, const Brightness& br, double l
 // finite. A rejected step calls `undo()`, which puts the depths back and returns whether it did
 // (the system is then accumulated again: its per-point rows hold the trial's).
 template <class Propose, class Undo>
-Solved coarse_to_fine(State& s, Se3& M, Brightness& br, Propose propose, Undo undo) {
+Solved coarse_to_fine(MapCore& s, const CurrentFrame& f, Se3& M, Brightness& br, Propose propose, Undo undo) {
   Solved out;
-  for (int level = static_cast<int>(s.current.frame.levels) - 1; level >= 0; --level) {
+  for (int level = static_cast<int>(f.frame.levels) - 1; level >= 0; --level) {
     const auto l = static_cast<std::uint32_t>(level);
     double lambda = 0.1;
-    InitSystem sys = accumulate(s, l, M, br, true);
+    InitSystem sys = accumulate(s, f, l, M, br, true);
     for (int it = 0; it < 6; ++it) {
       Se3 M_new;
       const double step = propose(sys, lambda, M, M_new);
       if (!(step >= 0)) break;
       const Brightness br_new = brightness_step(sys, br, lambda);
-      InitSystem next = accumulate(s, l, M_new, br_new, true);
+      InitSystem next = accumulate(s, f, l, M_new, br_new, true);
       if (next.energy < sys.energy) {
         M = M_new, br = br_new, sys = next;
         lambda = std::max(lambda * 0.5, 1e-4);
         if (step < 1e-6) break;
       } else {
-        if (undo()) sys = accumulate(s, l, M, br, true);
+        if (undo()) sys = accumulate(s, f, l, M, br, true);
         lambda *= 4;
         if (lambda > 1e3) break;
       }
@@ -233,7 +233,7 @@ Solved coarse_to_fine(State& s, Se3& M, Brightness& br, Propose propose, Undo un
 
 // Joint pose + inverse-depth refinement, coarse to fine, from M and the host's current depths
 // (and the brightness, when it is free).
-Solved refine(State& s, Se3& M, Brightness& br) {
+Solved refine(MapCore& s, const CurrentFrame& f, Se3& M, Brightness& br) {
   Keyframe& host = init_host(s);
   const auto propose = [&](const InitSystem& sys, double lambda, const Se3& from, Se3& to) {
     // Schur complement: eliminate every inverse depth (diagonal block) onto the pose.
@@ -271,13 +271,13 @@ Solved refine(State& s, Se3& M, Brightness& br) {
       if (host.points[i].status == PointStatus::immature) host.points[i].idepth = host.points[i].idepth_min;
     return true;
   };
-  return coarse_to_fine(s, M, br, propose, undo);
+  return coarse_to_fine(s, f, M, br, propose, undo);
 }
 
 // The rotation that explains the frame best with no translation (the depths then do not
 // matter), coarse to fine from M's rotation and the current depths (whose prior terms it leaves
 // as they are, so its energy compares with refine()'s).
-Solved refine_rotation(State& s, Se3& M, Brightness& br) {
+Solved refine_rotation(MapCore& s, const CurrentFrame& f, Se3& M, Brightness& br) {
   M.t.setZero();
   const auto propose = [](const InitSystem& sys, double lambda, const Se3& from, Se3& to) {
     Eigen::Matrix3d H = sys.H.bottomRightCorner<3, 3>();
@@ -289,13 +289,13 @@ Solved refine_rotation(State& s, Se3& M, Brightness& br) {
     to = Se3::exp(xi) * from;
     return dw.norm();
   };
-  return coarse_to_fine(s, M, br, propose, [] { return false; });
+  return coarse_to_fine(s, f, M, br, propose, [] { return false; });
 }
 
 // Two sets of inverse depths (the warm solve's, then the fresh solve's) while another solve runs:
 // BA scratch past the rows that accumulate() writes (odometry.cpp sizes MapCore::scratch for all three).
-float* warm_depths(State& s) { return s.scratch.subspan(std::size_t{s.cfg.points_per_keyframe} * 8).data(); }
-float* fresh_depths(State& s) { return s.scratch.subspan(std::size_t{s.cfg.points_per_keyframe} * 9).data(); }
+float* warm_depths(MapCore& s) { return s.scratch.subspan(std::size_t{s.cfg.points_per_keyframe} * 8).data(); }
+float* fresh_depths(MapCore& s) { return s.scratch.subspan(std::size_t{s.cfg.points_per_keyframe} * 9).data(); }
 void save_depths(const Keyframe& host, float* to) {
   for (std::uint32_t i = 0; i < host.count; ++i) to[i] = host.points[i].idepth;
 }
@@ -312,22 +312,22 @@ void restore_depths(Keyframe& host, const float* from) {
 // point energies are put back as they were. The ratio separates pans (below it) from the study's
 // street sequences with a translation (well above it); scripts/study/pans.sh exercises it.
 constexpr double kRotationEnergyRatio = 1.05;
-bool explained_by_rotation(State& s, Se3& M, Brightness& br) {
+bool explained_by_rotation(MapCore& s, const CurrentFrame& f, Se3& M, Brightness& br) {
   Keyframe& host = init_host(s);
   // A point outside the view keeps the energy of the last fit that saw it: keep the joint
   // solve's, in scratch that is free outside solve_afresh_if_better.
   float* energies = fresh_depths(s);
   for (std::uint32_t i = 0; i < host.count; ++i) energies[i] = host.points[i].energy;
-  const double joint = accumulate(s, 0, M, br, false).energy;
+  const double joint = accumulate(s, f, 0, M, br, false).energy;
   // The translation's flow at the mean inverse depth (1) as a turn: a start in the rotation's basin.
   Se3 M_rot{so3_exp(Vec3(-M.t.y(), M.t.x(), 0.0)) * M.R, Vec3::Zero()};
   Brightness br_rot = br;
-  const Solved rotation = refine_rotation(s, M_rot, br_rot);
+  const Solved rotation = refine_rotation(s, f, M_rot, br_rot);
   if (rotation.energy > kRotationEnergyRatio * joint) {
     for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].energy = energies[i];
     return false;
   }
-  accumulate(s, 0, M_rot, br_rot, false);
+  accumulate(s, f, 0, M_rot, br_rot, false);
   M = M_rot, br = br_rot;
   return true;
 }
@@ -335,15 +335,15 @@ bool explained_by_rotation(State& s, Se3& M, Brightness& br) {
 // Refines a solve kSolvePasses - 1 more times: one coarse-to-fine pass leaves the depths short of
 // converged, and the comparison below is only fair between solves that went equally far.
 constexpr int kSolvePasses = 3;
-Solved converge(State& s, Se3& M, Brightness& br, Solved solved) {
-  for (int pass = 1; pass < kSolvePasses; ++pass) solved = refine(s, M, br);
+Solved converge(MapCore& s, const CurrentFrame& f, Se3& M, Brightness& br, Solved solved) {
+  for (int pass = 1; pass < kSolvePasses; ++pass) solved = refine(s, f, M, br);
   return solved;
 }
 
-Solved solve_from_flat_depths(State& s, Se3& M, Brightness& br) {
+Solved solve_from_flat_depths(MapCore& s, const CurrentFrame& f, Se3& M, Brightness& br) {
   Keyframe& host = init_host(s);
   for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = 1.0f;
-  return refine(s, M, br);
+  return refine(s, f, M, br);
 }
 
 // Two solves found the same basin when their camera centres (host coordinates) point the same
@@ -374,23 +374,23 @@ constexpr double kBasinMargin = 0.01;
 bool fits_well(const Solved& solved, const Keyframe& host) { return solved.inliers * 5 >= host.count * 4; }
 // Returns whether the two solves ended in different basins.
 // The brightness is the frame's whatever the basin: the fresh solves start from the warm one's.
-bool solve_afresh_if_better(State& s, Se3& M, Brightness& br, Solved& solved) {
+bool solve_afresh_if_better(MapCore& s, const CurrentFrame& f, Se3& M, Brightness& br, Solved& solved) {
   Keyframe& host = init_host(s);
   float* warm = warm_depths(s);
   float* fresh_solution = fresh_depths(s);
   save_depths(host, warm);
   Se3 M_fresh;
   Brightness br_fresh = br;
-  Solved fresh = solve_from_flat_depths(s, M_fresh, br_fresh);
+  Solved fresh = solve_from_flat_depths(s, f, M_fresh, br_fresh);
   bool take_fresh = fresh.energy < solved.energy;
   const bool basins_differ = !same_basin(M, M_fresh);
   if (!take_fresh && basins_differ && fits_well(solved, host)) {
-    fresh = converge(s, M_fresh, br_fresh, fresh);
+    fresh = converge(s, f, M_fresh, br_fresh, fresh);
     save_depths(host, fresh_solution);
     Se3 M_warm_basin = M;
     Brightness br_warm_basin = br;
     const Solved warm_basin =
-        converge(s, M_warm_basin, br_warm_basin, solve_from_flat_depths(s, M_warm_basin, br_warm_basin));
+        converge(s, f, M_warm_basin, br_warm_basin, solve_from_flat_depths(s, f, M_warm_basin, br_warm_basin));
     take_fresh = fresh.energy < (1.0 - kBasinMargin) * warm_basin.energy;
     if (take_fresh) restore_depths(host, fresh_solution);
   }
@@ -399,7 +399,7 @@ bool solve_afresh_if_better(State& s, Se3& M, Brightness& br, Solved& solved) {
   } else {
     restore_depths(host, warm);
   }
-  accumulate(s, 0, M, br, false);  // the chosen solution's point energies (outlier test at the end)
+  accumulate(s, f, 0, M, br, false);  // the chosen solution's point energies (outlier test at the end)
   return basins_differ;
 }
 
@@ -407,51 +407,36 @@ bool solve_afresh_if_better(State& s, Se3& M, Brightness& br, Solved& solved) {
 // to kBasinWaitFrames: with more baseline the true basin comes to fit better (the figures:
 // docs/odometry-study.md, "Accuracy").
 constexpr std::uint32_t kBasinWaitFrames = 30;
-bool keep_waiting_for_the_basin(const State& s, bool basins_differ) {
-  return basins_differ && s.init.frames < kBasinWaitFrames;
+bool keep_waiting_for_the_basin(const InitialiserState& init, bool basins_differ) {
+  return basins_differ && init.frames < kBasinWaitFrames;
 }
 
 }  // namespace
 
 double baseline_flow_needed(const VoConfig& cfg) { return kInitFlow * (cfg.width + cfg.height); }
 
-void start_initialisation(State& s) {
-  // A restart retires the whole map: its points are still output.
-  for (auto& kf : s.kf) {
-    if (kf.used) retire_points(s, kf);
-    kf.used = false, kf.count = 0;
-  }
-  s.kf_count = 0;
-  clear_marginal_prior(s);
-  const std::uint32_t slot = new_keyframe_slot(s);
-  make_keyframe(s, slot, true);
-  Keyframe& host = s.kf[slot];
+void start_initialisation(InitialiserState& init, Keyframe& host) {
   for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = 1.0f;
-  s.init.initialised = false;
-  s.init.frames = 0;
-  s.init.map_without_baseline = false;
-  s.motion.step = Se3();
-  s.motion.step_dt_s = 0;
-  s.motion.pose_t_s = s.current.t_s;
-  // A new map has a scale of its own: nothing of the old one's motion is carried over.
-  s.bridge.count = 0;
-  s.bridge.carry = CarriedVelocity();
+  init.initialised = false;
+  init.frames = 0;
+  init.map_without_baseline = false;
 }
 
-void follow_map_baseline(State& s) {
-  if (!s.init.map_without_baseline) return;
-  const Se3 M = s.motion.T_cw * s.init.map_origin.inverse();
-  if (s.cfg.camera.fx * M.t.norm() >= baseline_flow_needed(s.cfg)) s.init.map_without_baseline = false;
+void follow_map_baseline(InitialiserState& init, const MotionModel& motion, const VoConfig& cfg) {
+  if (!init.map_without_baseline) return;
+  const Se3 M = motion.T_cw * init.map_origin.inverse();
+  if (cfg.camera.fx * M.t.norm() >= baseline_flow_needed(cfg)) init.map_without_baseline = false;
 }
 
-bool initialise_step(State& s) {
+bool initialise_step(MapCore& s, InitialiserState& init, const CurrentFrame& f, MotionModel& motion,
+                     BrightnessTrack& brightness, TrackingReference& ref) {
   Keyframe& host = init_host(s);
-  Se3 M = motion_step(s.motion, s.current.t_s) * (s.motion.T_cw * host.T_cw.inverse());  // constant-velocity guess
+  Se3 M = motion_step(motion, f.t_s) * (motion.T_cw * host.T_cw.inverse());  // constant-velocity guess
   // Where the frame has the host's level it has the host's brightness.
-  const bool level_unknown = brightness_free(s);
-  Brightness br = level_unknown ? Brightness{s.brightness.a, s.brightness.b, true} : Brightness{host.a, host.b, false};
-  Solved solved = refine(s, M, br);
-  const bool basins_differ = s.init.frames > 0 && solve_afresh_if_better(s, M, br, solved);
+  const bool level_unknown = brightness_free(s, f);
+  Brightness br = level_unknown ? Brightness{brightness.a, brightness.b, true} : Brightness{host.a, host.b, false};
+  Solved solved = refine(s, f, M, br);
+  const bool basins_differ = init.frames > 0 && solve_afresh_if_better(s, f, M, br, solved);
   const std::uint32_t finest_inliers = solved.inliers;
   // Keep the mean inverse depth at 1: the scale of monocular odometry is free.
   const double mean = mean_idepth(host);
@@ -463,33 +448,33 @@ bool initialise_step(State& s) {
   // tracked from (a view of a blank wall): restart from the next frame.
   if (!M.t.allFinite() || !M.R.allFinite() || M.t.norm() > 10.0 || finest_inliers * 5 < host.count ||
       host.count < kMinInitPoints) {
-    s.init.frames = kGiveUp;
+    init.frames = kGiveUp;
     return false;
   }
-  ++s.init.frames;
+  ++init.frames;
   const double baseline_flow = s.cfg.camera.fx * M.t.norm();
   // The first keyframe's patterns must still match at the end: a slow camera (9 Hz) moves as far
   // in 10 frames as a 60 Hz one in 67, so it may stop at the time 10 frames take at 30 Hz.
-  const bool long_enough = s.init.frames >= kMinInitFrames ||
-                           (s.init.frames >= 2 && s.current.t_s - host.t_s >= kMinInitSeconds - 1e-6);
+  const bool long_enough = init.frames >= kMinInitFrames ||
+                           (init.frames >= 2 && f.t_s - host.t_s >= kMinInitSeconds - 1e-6);
   const bool ready = long_enough && baseline_flow >= baseline_flow_needed(s.cfg);
-  const bool rotation = ready && explained_by_rotation(s, M, br);
-  const Se3 previous = s.motion.T_cw;
-  s.motion.T_cw = (M * host.T_cw).orthonormalised();
-  s.brightness.a = br.a, s.brightness.b = br.b;
-  s.brightness.level_unknown = level_unknown;
-  record_motion(s.motion, previous, s.current.t_s);
+  const bool rotation = ready && explained_by_rotation(s, f, M, br);
+  const Se3 previous = motion.T_cw;
+  motion.T_cw = (M * host.T_cw).orthonormalised();
+  brightness.a = br.a, brightness.b = br.b;
+  brightness.level_unknown = level_unknown;
+  record_motion(motion, previous, f.t_s);
   if (!ready) return false;
   if (rotation) {
     // The camera has turned about its centre since the host: the map starts flat, the motion
     // model turns at the average rate, and there is no basin to wait for.
     for (std::uint32_t i = 0; i < host.count; ++i) host.points[i].idepth = 1.0f;
-    const double frames = static_cast<double>(s.init.frames);
-    s.motion.step = Se3::exp(M.log() / frames).orthonormalised();
-    s.motion.step_dt_s = (s.current.t_s - host.t_s) / frames;
-    s.init.map_without_baseline = true;
-    s.init.map_origin = host.T_cw;
-  } else if (keep_waiting_for_the_basin(s, basins_differ)) {
+    const double frames = static_cast<double>(init.frames);
+    motion.step = Se3::exp(M.log() / frames).orthonormalised();
+    motion.step_dt_s = (f.t_s - host.t_s) / frames;
+    init.map_without_baseline = true;
+    init.map_origin = host.T_cw;
+  } else if (keep_waiting_for_the_basin(init, basins_differ)) {
     return false;
   }
   // Done: the points that fit become the map.
@@ -504,8 +489,8 @@ bool initialise_step(State& s) {
     p.status = PointStatus::active;
     p.idepth_min = p.idepth * 0.5f, p.idepth_max = p.idepth * 2.0f;
   }
-  s.init.initialised = true;
-  s.ref.dirty = true;
+  init.initialised = true;
+  ref.dirty = true;
   return true;
 }
 

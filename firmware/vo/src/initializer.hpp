@@ -8,7 +8,12 @@
 
 namespace bolo::vo {
 
-struct State;
+struct BrightnessTrack;
+struct CurrentFrame;
+struct Keyframe;
+struct MapCore;
+struct MotionModel;
+struct TrackingReference;
 
 struct InitialiserState {
   bool initialised = false;
@@ -19,12 +24,17 @@ struct InitialiserState {
   Se3 map_origin;  // world to camera at the map's first keyframe
 };
 
-// Returns true once the map is initialised from the first keyframe and the current frame.
-bool initialise_step(State& s);
-void start_initialisation(State& s);
+// One frame f against the map's first keyframe: refines the relative pose and the keyframe's
+// inverse depths, and sets the camera's pose, motion model and brightness for f. Returns true
+// once the map is initialised (its points active, the tracking reference stale).
+bool initialise_step(MapCore& s, InitialiserState& init, const CurrentFrame& f, MotionModel& motion,
+                     BrightnessTrack& brightness, TrackingReference& ref);
+// A new map starts from `host`, just made from the current frame: its points at inverse depth 1,
+// the initialiser counting afresh.
+void start_initialisation(InitialiserState& init, Keyframe& host);
 // Clears map_without_baseline once the tracked camera has moved as far from the map's first
 // keyframe as the initialisation's baseline.
-void follow_map_baseline(State& s);
+void follow_map_baseline(InitialiserState& init, const MotionModel& motion, const VoConfig& cfg);
 // The baseline a map needs, as the flow it causes at the typical depth (pixels, level 0).
 double baseline_flow_needed(const VoConfig& cfg);
 

@@ -149,23 +149,23 @@ std::uint32_t active_in_window(const State& s) {
 
 }  // namespace
 
-void retire_points(State& s, const Keyframe& old) {
-  for (std::uint32_t i = 0; i < old.count && s.retired.count < s.retired.points.size(); ++i) {
+void retire_points(RetiredPoints& retired, const Keyframe& old, const Camera& camera) {
+  for (std::uint32_t i = 0; i < old.count && retired.count < retired.points.size(); ++i) {
     const Point& p = old.points[i];
     if (p.status != PointStatus::active || p.idepth <= 0) continue;
-    const Vec3 X = world_point(old, p, s.cfg.camera);
-    s.retired.points[s.retired.count++] = {static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()),
+    const Vec3 X = world_point(old, p, camera);
+    retired.points[retired.count++] = {static_cast<float>(X.x()), static_cast<float>(X.y()), static_cast<float>(X.z()),
                                     old.pyramid.level[0].value.at(static_cast<std::uint32_t>(p.u), static_cast<std::uint32_t>(p.v))};
   }
 }
 
-std::uint32_t new_keyframe_slot(State& s) {
+std::uint32_t new_keyframe_slot(MapCore& s, RetiredPoints& retired, BaSystem& ba, MarginalPrior& prior) {
   if (s.kf_count == s.cfg.max_keyframes) {
     // Retire a keyframe; its active points leave the window as map output.
-    if (builds_marginalisation_prior(s.cfg)) marginalise_oldest_keyframe(s);
+    if (builds_marginalisation_prior(s.cfg)) marginalise_oldest_keyframe(s, ba, prior);
     const std::uint32_t leaving = keyframe_to_retire(s);
     Keyframe& old = s.kf[s.order[leaving]];
-    retire_points(s, old);
+    retire_points(retired, old, s.cfg.camera);
     old.used = false;
     for (std::uint32_t k = leaving + 1; k < s.kf_count; ++k) s.order[k - 1] = s.order[k];
     --s.kf_count;
@@ -175,28 +175,30 @@ std::uint32_t new_keyframe_slot(State& s) {
   return 0;  // unreachable: kf_count < max_keyframes here
 }
 
-void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
+void make_keyframe(MapCore& s, const KeyframeParts& parts, std::uint32_t slot, bool select_points_now) {
+  const CurrentFrame& f = parts.frame;
+  KeyframeSelection& selection = parts.selection;
   Keyframe& kf = s.kf[slot];
   kf.used = true;
   kf.id = s.kf_created++;
-  s.ref.dirty = true;
-  kf.T_cw = s.motion.T_cw;
-  kf.a = s.brightness.a, kf.b = s.brightness.b;
-  kf.t_s = s.current.t_s, kf.exposure_s = s.current.exposure_s, kf.readout_prev_s = s.current.readout_prev_s;
-  kf.chain_ok = s.current.chain_ok;
-  kf.settled = s.current.frames_since_timing_change >= kTimingSettleFrames;
-  s.brightness.offset_step = 0;
+  parts.ref.dirty = true;
+  kf.T_cw = parts.motion.T_cw;
+  kf.a = parts.brightness.a, kf.b = parts.brightness.b;
+  kf.t_s = f.t_s, kf.exposure_s = f.exposure_s, kf.readout_prev_s = f.readout_prev_s;
+  kf.chain_ok = f.chain_ok;
+  kf.settled = f.frames_since_timing_change >= kTimingSettleFrames;
+  parts.brightness.offset_step = 0;
   kf.count = 0;
-  copy_pyramid(s.current.frame, kf.pyramid, s.cfg);
+  copy_pyramid(f.frame, kf.pyramid, s.cfg);
   s.order[s.kf_count++] = slot;
   if (!select_points_now) return;
   // Where the window's active points already land, no new point is needed.
-  std::memset(s.selection.occupied.data(), 0, s.selection.occupied.size());
+  std::memset(selection.occupied.data(), 0, selection.occupied.size());
   const Scaled k = camera_at(s.cfg.camera, 0);
   const auto radius = static_cast<int>(std::sqrt(static_cast<float>(plane(s.cfg)) / static_cast<float>(s.cfg.points_per_keyframe)) * 0.5f);
   for (const Keyframe& other : s.kf) {
     if (!other.used || &other == &kf) continue;
-    const Se3 M = s.motion.T_cw * other.T_cw.inverse();
+    const Se3 M = parts.motion.T_cw * other.T_cw.inverse();
     for (std::uint32_t i = 0; i < other.count; ++i) {
       const Point& p = other.points[i];
       if (p.status != PointStatus::active) continue;
@@ -207,15 +209,15 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
       for (int y = v - radius; y <= v + radius; ++y)
         for (int x = u - radius; x <= u + radius; ++x)
           if (x >= 0 && y >= 0 && x < static_cast<int>(s.cfg.width) && y < static_cast<int>(s.cfg.height))
-            s.selection.occupied[static_cast<std::size_t>(y) * s.cfg.width + static_cast<std::size_t>(x)] = 1;
+            selection.occupied[static_cast<std::size_t>(y) * s.cfg.width + static_cast<std::size_t>(x)] = 1;
     }
   }
-  const std::size_t n = select_points(s.current.frame.level[0], s.selection.occupied, s.cfg.points_per_keyframe, 4,
-                                      s.selection.scratch, s.selection.candidates, s.intensity);
+  const std::size_t n = select_points(f.frame.level[0], selection.occupied, s.cfg.points_per_keyframe, 4,
+                                      selection.scratch, selection.candidates, s.intensity);
   for (std::size_t i = 0; i < n && kf.count < kf.points.size(); ++i) {
     Point& p = kf.points[kf.count++];
     p = Point();
-    p.u = s.selection.candidates[i].x, p.v = s.selection.candidates[i].y;
+    p.u = selection.candidates[i].x, p.v = selection.candidates[i].y;
     p.status = PointStatus::immature;
     p.idepth = 1.0f, p.idepth_min = 0.0f, p.idepth_max = -1.0f;
   }
@@ -224,8 +226,8 @@ void make_keyframe(State& s, std::uint32_t slot, bool select_points_now) {
 // The thresholds in counts were tuned on frames with up to kNominalNoiseCounts of pixel noise;
 // noisier frames (a larger gain, or another renderer's scale) get them in proportion. Measured
 // once, from the first three frames, so that thresholds do not move under a running map.
-void measure_intensity_scale(State& s) {
-  const double var = frame_noise_variance(s.noise, s.current, s.cfg);
+void measure_intensity_scale(MapCore& s, NoiseEstimate& noise, const CurrentFrame& f) {
+  const double var = frame_noise_variance(noise, f, s.cfg);
   if (var < 0 && s.raw_frames < kIntensityMeasureFrames) return;  // too few flat blocks: try the next frame
   s.intensity_pending = false;
   const double sigma = var > 0 ? std::sqrt(var) : 0.0;
@@ -238,12 +240,12 @@ namespace {
 // config.hpp, carry_coring. Still pixels then keep the raw frame's noise instead of the inverse
 // filter's, and moving edges (a correction far above the noise) are still deghosted. Until the
 // noise is measured, nothing is taken back.
-void core_carry_correction(State& s, float gain_alpha) {
-  if (!(s.cfg.carry_coring > 0) || !(s.noise.var > 0)) return;
-  const auto limit = static_cast<float>(s.cfg.carry_coring * std::sqrt(2.0 * s.noise.var)) * gain_alpha;
-  float* level0 = s.current.frame.level[0].value.data;
-  for (std::size_t i = 0; i < plane(s.cfg); ++i) {
-    const float correction = gain_alpha * (s.current.raw[i] - s.current.raw_prev[i]);
+void core_carry_correction(CurrentFrame& f, double noise_var, const VoConfig& cfg, float gain_alpha) {
+  if (!(cfg.carry_coring > 0) || !(noise_var > 0)) return;
+  const auto limit = static_cast<float>(cfg.carry_coring * std::sqrt(2.0 * noise_var)) * gain_alpha;
+  float* level0 = f.frame.level[0].value.data;
+  for (std::size_t i = 0; i < plane(cfg); ++i) {
+    const float correction = gain_alpha * (f.raw[i] - f.raw_prev[i]);
     level0[i] -= std::max(-limit, std::min(limit, correction));
   }
 }
@@ -270,9 +272,8 @@ bool same_level(const CurrentFrame& f, const Keyframe& kf) {
          !timing_differs(kf.exposure_s, f.exposure_s) && !timing_differs(kf.readout_prev_s, f.readout_prev_s);
 }
 
-void write_scene_estimate(State& s) {
-  CurrentFrame& f = s.current;
-  f.carry = carry_coefficients(s.tau_est.tau, f.readout_prev_s, f.exposure_s);
+void write_scene_estimate(CurrentFrame& f, Tau tau, double noise_var, const VoConfig& cfg) {
+  f.carry = carry_coefficients(tau, f.readout_prev_s, f.exposure_s);
   // The scene estimate u = (raw_i - alpha raw_{i-1}) / beta (paper Eq. 6), scaled to the level a
   // static pixel reads at this frame's timing: a static pixel keeps its value whatever tau is, so
   // a refined tau does not shift every pixel's level against the keyframes. Without the scale,
@@ -280,18 +281,17 @@ void write_scene_estimate(State& s) {
   // t_e = t_r, and the tau fit and the tracking then chase each other. At a change of the timing the raw static level
   // itself changes (by the true tau's factor): the tracker and the initialiser free the gain and
   // offset there (same_level).
-  f.scene_scale = scene_level_scale(s.tau_est.tau, s.current);
+  f.scene_scale = scene_level_scale(tau, f);
   const auto alpha = static_cast<float>(f.carry.alpha);
   const auto gain = static_cast<float>(f.scene_scale / f.carry.beta);
   float* level0 = f.frame.level[0].value.data;
-  for (std::size_t i = 0; i < plane(s.cfg); ++i) level0[i] = (f.raw[i] - alpha * f.raw_prev[i]) * gain;
-  core_carry_correction(s, alpha * gain);
+  for (std::size_t i = 0; i < plane(cfg); ++i) level0[i] = (f.raw[i] - alpha * f.raw_prev[i]) * gain;
+  core_carry_correction(f, noise_var, cfg, alpha * gain);
 }
 
-void build_frame_images(State& s) {
-  CurrentFrame& f = s.current;
+void build_frame_images(CurrentFrame& f, const VoConfig& cfg) {
   // Level 0's gradient plane is free until build_pyramid fills it.
-  for (std::uint32_t pass = 0; pass < s.cfg.smoothing; ++pass) smooth_binomial(f.frame.level[0].value, f.frame.level[0].gx);
+  for (std::uint32_t pass = 0; pass < cfg.smoothing; ++pass) smooth_binomial(f.frame.level[0].value, f.frame.level[0].gx);
   build_pyramid(f.frame);
   fill_texels(f.frame, f.frame_texels);
 }
@@ -429,7 +429,7 @@ bool load_frame(State& s, const FrameInput& in, bool chain_broken) {
   f.scene_scale = 1.0;
   const bool ir = uses_carry_model(c);
   if (ir && had_prev) count_unchanged_frames(s.tau_est, s.current, s);
-  if (s.intensity_pending && ++s.raw_frames >= 3) measure_intensity_scale(s);
+  if (s.intensity_pending && ++s.raw_frames >= 3) measure_intensity_scale(s, s.noise, s.current);
   // Before the tracking image: its carry-over correction is cored against this noise.
   if (ir && f.chain_ok && f.chain_ok_prev) update_noise_variance(s.noise, s.current, s.cfg);
   return after_repeat;
@@ -441,7 +441,7 @@ void write_tracking_image(State& s, const FrameInput& in) {
   const VoConfig& c = s.cfg;
   float* level0 = f.frame.level[0].value.data;
   if (c.photometric == Photometric::ir && f.chain_ok) {
-    write_scene_estimate(s);
+    write_scene_estimate(f, s.tau_est.tau, s.noise.var, c);
   } else if (c.photometric == Photometric::ir_loop && f.chain_ok && in.corrected.size() == plane(c)) {
     // Without its predecessor the corrector only scales the frame by 1/beta, a level the keyframes
     // do not share; the raw frame (like ir's) has their static level and is tracked with a free offset.
@@ -450,15 +450,35 @@ void write_tracking_image(State& s, const FrameInput& in) {
     const auto scale = static_cast<float>(f.scene_scale);
     for (std::size_t i = 0; i < plane(c); ++i) level0[i] = static_cast<float>(in.corrected[i]) * scale;
     const CarryCoefficients k = carry_coefficients(s.tau_est.tau, f.readout_prev_s, f.exposure_s);
-    core_carry_correction(s, static_cast<float>(k.alpha * f.scene_scale / k.beta));
+    core_carry_correction(f, s.noise.var, c, static_cast<float>(k.alpha * f.scene_scale / k.beta));
   } else {
     std::memcpy(level0, f.raw.data(), plane(c) * sizeof(float));
   }
-  build_frame_images(s);
+  build_frame_images(f, c);
 }
 
-// A frame while the map is not initialised: the initialiser's next step, or its (re)start.
-FrameResult initialisation_frame(State& s, bool after_repeat, double frame_dt_s, FrameResult out) {
+// A new map from the current frame: the old map's points retired (still output) and its prior
+// dropped, the frame its first keyframe, and nothing of the old map's motion carried over (a new
+// map has a scale of its own).
+void restart_map(State& s) {
+  for (auto& kf : s.kf) {
+    if (kf.used) retire_points(s.retired, kf, s.cfg.camera);
+    kf.used = false, kf.count = 0;
+  }
+  s.kf_count = 0;
+  clear_marginal_prior(s.prior);
+  const std::uint32_t slot = new_keyframe_slot(s, s.retired, s.ba, s.prior);
+  make_keyframe(s, keyframe_parts(s), slot, true);
+  start_initialisation(s.init, s.kf[slot]);
+  s.motion.step = Se3();
+  s.motion.step_dt_s = 0;
+  s.motion.pose_t_s = s.current.t_s;
+  s.bridge.count = 0;
+  s.bridge.carry = CarriedVelocity();
+}
+
+// Initialise: a frame while the map is not initialised, the initialiser's next step or its (re)start.
+FrameResult initialise_phase(State& s, bool after_repeat, double frame_dt_s, FrameResult out) {
   const bool ir = uses_carry_model(s.cfg);
   // A broken carry-over chain (ir modes) gives a frame that matches nothing: wait for the next.
   if (s.kf_count == 0 || s.init.frames >= kMaxInitFrames || (ir && !s.current.chain_ok)) {
@@ -474,10 +494,10 @@ FrameResult initialisation_frame(State& s, bool after_repeat, double frame_dt_s,
     s.motion.T_cw = s.kf_count > 0 ? s.kf[s.order[0]].T_cw : s.motion.last_good;
     // A map lost far out (scale drift) cannot anchor a new one with any precision: restart at the origin.
     if (!s.motion.T_cw.t.allFinite() || s.motion.T_cw.t.norm() > 1e3) s.motion.T_cw = Se3();
-    start_initialisation(s);
+    restart_map(s);
     return out;
   }
-  if (!initialise_step(s)) return out;
+  if (!initialise_step(s, s.init, s.current, s.motion, s.brightness, s.ref)) return out;
   s.motion.posed = true;
   out.state = TrackingState::tracking;
   out.has_pose = true;
@@ -618,7 +638,7 @@ void coast_lost_frame(State& s, const Se3& step, FrameResult& out) {
     out.reinitialised = true;
     s.motion.T_cw = s.motion.last_good;  // the coasted pose is a guess; anchor the new map at the last fix
     if (!s.motion.T_cw.t.allFinite() || s.motion.T_cw.t.norm() > 1e3) s.motion.T_cw = Se3();
-    start_initialisation(s);
+    restart_map(s);
   }
 }
 
@@ -684,22 +704,33 @@ bool keyframe_if_due(State& s, const TrackResult& best, double frame_dt_s) {
   // the rotation's points are all the map can get: the count the next keyframe would track
   // decides. (Not on a map with depths: there the same rule costs scale in the look-arounds of
   // walks.)
-  activate_mature_points(s, s.init.map_without_baseline ? tracked_at_next_keyframe(s, best.inliers) : best.inliers);
-  const std::uint32_t slot = new_keyframe_slot(s);
-  make_keyframe(s, slot, true);
-  if (c.window_ba && s.kf_count >= 2) window_bundle_adjustment(s);
+  activate_mature_points(s, s.ref, s.bridge, s.init, s.current.t_s,
+                         s.init.map_without_baseline ? tracked_at_next_keyframe(s, best.inliers) : best.inliers);
+  const std::uint32_t slot = new_keyframe_slot(s, s.retired, s.ba, s.prior);
+  make_keyframe(s, keyframe_parts(s), slot, true);
+  if (c.window_ba && s.kf_count >= 2) {
+    window_bundle_adjustment(s, s.ba, s.prior, s.ref);
+    // The newest keyframe is the current frame: follow its refined pose.
+    const Keyframe& newest = s.kf[s.order[s.kf_count - 1]];
+    s.motion.T_cw = newest.T_cw;
+    s.brightness.a = newest.a, s.brightness.b = newest.b;
+  }
   s.loop.frames_since_kf = 0;
   s.loop.since_kf_s = 0;
   return true;
 }
 
-}  // namespace
+// The phases of Odometry::process, in order.
 
-FrameResult Odometry::process(const FrameInput& in) {
-  FrameResult out;
-  if (!state_) return out;
-  State& s = *state_;
-  s.retired.count = 0;
+// How the loaded frame follows the last one.
+struct FrameArrival {
+  bool after_repeat = false;  // it follows a repeated frame (its sensor predecessor was never delivered)
+  double dt_s = 0;            // the time since the last frame (0 for the first)
+};
+
+// Load: the frame becomes the current one, with its tracking image; false for a repeat of the
+// last frame, which is skipped (out: duplicate).
+bool load_phase(State& s, const FrameInput& in, FrameArrival& arrival, FrameResult& out) {
   const bool chain_broken = in.chain_broken || in.shutter_event;
   if (s.current.have_prev && !chain_broken && repeats(in.raw.first(plane(s.cfg)), s.current.raw)) {
     // Processed as a frame it would pose the camera where it was a frame ago, at the new time,
@@ -707,14 +738,18 @@ FrameResult Odometry::process(const FrameInput& in) {
     s.current.predecessor_missing = true;
     out.state = TrackingState::duplicate;
     out.tau = s.tau_est.tau;
-    return out;
+    return false;
   }
-  const double frame_dt_s = s.current.have_prev ? in.t_s - s.current.t_s : 0.0;
-  const bool after_repeat = load_frame(s, in, chain_broken);
+  arrival.dt_s = s.current.have_prev ? in.t_s - s.current.t_s : 0.0;
+  arrival.after_repeat = load_frame(s, in, chain_broken);
   write_tracking_image(s, in);
   out.tau = s.tau_est.tau;
-  if (!s.init.initialised) return initialisation_frame(s, after_repeat, frame_dt_s, out);
+  return true;
+}
 
+// Track: the frame aligned against the newest keyframe from the motion model's guesses; its pose
+// and brightness adopted (returns ok), or the camera coasted as lost (not ok).
+TrackResult track_phase(State& s, const FrameInput& in, FrameResult& out) {
   const Keyframe& reference = s.kf[s.order[s.kf_count - 1]];  // the tracking reference
   const BrightnessStart start = brightness_start(s, in, reference);
   const Se3 step = motion_step(s.motion, s.current.t_s);
@@ -724,7 +759,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   out.tracked_points = best.inliers;
   if (!best.ok) {
     coast_lost_frame(s, step, out);
-    return out;
+    return best;
   }
   adopt_pose(s, best);
   out.centre_held = held;
@@ -732,15 +767,46 @@ FrameResult Odometry::process(const FrameInput& in) {
   out.state = TrackingState::tracking;
   out.has_pose = true;
   s.motion.posed = true;
+  return best;
+}
 
+// Tau: the ir modes' estimate refined from the carry-over between this posed frame and the last.
+void tau_phase(State& s) {
   if (uses_carry_model(s.cfg) && s.cfg.estimate_tau) refine_tau(s.tau_est, s, s.current, s.motion, s.noise.var);
-  follow_map_baseline(s);
-  search_immature_points(s, depth_search_margin(s.bridge, s.cfg, s.current.t_s));
-  out.keyframe = keyframe_if_due(s, best, frame_dt_s);
+}
+
+// Depths: what this posed frame tells about the map's depths (its baseline since a map begun
+// without one, the immature points' intervals).
+void depth_phase(State& s) {
+  follow_map_baseline(s.init, s.motion, s.cfg);
+  search_immature_points(s, s.current, s.motion, s.brightness, depth_search_margin(s.bridge, s.cfg, s.current.t_s));
+}
+
+// Bookkeeping: the scale bridge's carry, and the frame's result (pose, tau) with the residual the
+// next frame's guess is judged against.
+void bookkeeping_phase(State& s, const TrackResult& best, FrameResult& out) {
   update_bridge(s.bridge, s.current.t_s, out.keyframe);
   out.T_wc = s.motion.T_cw.inverse();
   out.tau = s.tau_est.tau;
   s.loop.last_rms = best.rms;
+}
+
+}  // namespace
+
+FrameResult Odometry::process(const FrameInput& in) {
+  FrameResult out;
+  if (!state_) return out;
+  State& s = *state_;
+  s.retired.count = 0;
+  FrameArrival arrival;
+  if (!load_phase(s, in, arrival, out)) return out;
+  if (!s.init.initialised) return initialise_phase(s, arrival.after_repeat, arrival.dt_s, out);
+  const TrackResult best = track_phase(s, in, out);
+  if (!best.ok) return out;
+  tau_phase(s);
+  depth_phase(s);
+  out.keyframe = keyframe_if_due(s, best, arrival.dt_s);  // with the window BA
+  bookkeeping_phase(s, best, out);
   return out;
 }
 

@@ -41,6 +41,9 @@ struct State : MapCore {  // NOLINT(clang-analyzer-optin.performance.Padding)
   ScaleBridge bridge;        // scale_bridge.cpp
 };
 
+// The parts make_keyframe() reads and writes besides the map.
+inline KeyframeParts keyframe_parts(State& s) { return {s.current, s.motion, s.brightness, s.ref, s.selection}; }
+
 // The factor that takes the scene estimate u = (raw - alpha raw_prev) / beta to the raw level a
 // static pixel reads at the frame's timing, beta / (1 - alpha) with the current tau: the tracking
 // images then keep the keyframes' level whatever tau is and however t_e and t_r split the frame
@@ -57,11 +60,12 @@ bool same_level(const CurrentFrame& f, const Keyframe& kf);
 class Arena;
 State* lay_out(const VoConfig& config, Arena& arena);
 
-// After the frame's level 0 is filled: its pyramid, gradients and texels (odometry.cpp).
-// The ir mode's tracking image: level 0 of s.current.frame becomes the scene estimate
-// (raw - alpha raw_prev) / beta, with s.current.carry from the tau estimate and the frame's times,
-// at the static level of the reference timing (times scene_scale = scene_level_scale()).
-void write_scene_estimate(State& s);
-void build_frame_images(State& s);
+// The ir mode's tracking image: level 0 of f.frame becomes the scene estimate
+// (raw - alpha raw_prev) / beta, with f.carry from tau and the frame's times, at the static level
+// of the reference timing (times scene_scale = scene_level_scale()); the carry-over correction
+// cored against the pixel noise noise_var (VoConfig::carry_coring; odometry.cpp).
+void write_scene_estimate(CurrentFrame& f, Tau tau, double noise_var, const VoConfig& cfg);
+// After the frame's level 0 is filled: its low-pass, pyramid, gradients and texels (odometry.cpp).
+void build_frame_images(CurrentFrame& f, const VoConfig& cfg);
 
 }  // namespace bolo::vo

@@ -35,7 +35,7 @@ constexpr std::size_t kRowObserved = kRowRef + kPattern, kRowBad = kRowObserved 
 static_assert(kRowBad < kBaStride, "the BA row layout must fit kBaStride");
 
 // The window of one bundle adjustment: each keyframe's parameter block by slot, and its active
-// points (rows first .. first + points - 1 of s.scratch, s.ba.index naming them), whose host
+// points (rows first .. first + points - 1 of s.scratch, ba.index naming them), whose host
 // patterns are sampled here once: host images and pixels do not change during the adjustment.
 struct Window {
   int index[kMaxKeyframes];
@@ -44,7 +44,7 @@ struct Window {
   std::uint32_t points = 0;
 };
 
-Window window_of(State& s) {
+Window window_of(MapCore& s, BaSystem& ba) {
   Window w;
   for (auto& i : w.index) i = -1;
   for (std::uint32_t k = 0; k < s.kf_count; ++k) w.index[s.order[k]] = static_cast<int>(k);
@@ -57,7 +57,7 @@ Window window_of(State& s) {
       const Point& p = host.points[i];
       if (p.status != PointStatus::active) continue;
       float* row = s.scratch.data() + std::size_t{w.points} * kBaStride;
-      s.ba.index[w.points++] = hs << 16 | i;
+      ba.index[w.points++] = hs << 16 | i;
       for (std::uint32_t j = 0; j < kPattern; ++j)
         row[kRowRef + j] = bilinear(host.pyramid.level[0].value, p.u + kPatternX[j], p.v + kPatternY[j]);
     }
@@ -120,14 +120,14 @@ PatternSums pattern_sums(const float* w, const float* gx, const float* gy, const
 // drop_outliers: points that fit most of the keyframes they are seen in badly are marked `leaving`.
 // Pair by pair (host, target), so each pass walks one target image at a time. only_host >= 0:
 // the points of that slot only.
-Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_outliers, int only_host = -1) {
+Totals accumulate(MapCore& s, BaSystem& ba, const Window& win, bool with_jacobians, bool drop_outliers, int only_host = -1) {
   Totals tot;
   const Scaled k = camera_at(s.cfg.camera, 0);
   const float hub = huber_threshold(s), c2 = gradient_weight_c(s) * gradient_weight_c(s);
   const float cutoff = kPattern * hub * hub * 6.0f;
   if (with_jacobians) {
-    s.ba.H.setZero();
-    s.ba.b.setZero();
+    ba.H.setZero();
+    ba.b.setZero();
   }
   for (std::uint32_t pi = 0; pi < win.points; ++pi) {
     float* row = s.scratch.data() + std::size_t{pi} * kBaStride;
@@ -156,7 +156,7 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
       const std::uint32_t end = win.first[hs] + win.points_of[hs];
       for (std::uint32_t pi = win.first[hs]; pi < end; ++pi) {
         float* row = s.scratch.data() + std::size_t{pi} * kBaStride;
-        const Point& p = host.points[s.ba.index[pi] & 0xffff];
+        const Point& p = host.points[ba.index[pi] & 0xffff];
         const Eigen::Vector3d nv((p.u - k.cx) / k.fx, (p.v - k.cy) / k.fy, 1.0);
         const Eigen::Vector3d X = M * (nv / p.idepth);
         if (X.z() <= 1e-4) continue;
@@ -228,19 +228,19 @@ Totals accumulate(State& s, const Window& win, bool with_jacobians, bool drop_ou
       pair_H = pair_H.selfadjointView<Eigen::Upper>();
       const Mat8 HA = pair_H * A;
       const Eigen::Index t0 = Eigen::Index{8} * ti, h0 = Eigen::Index{8} * hi;
-      s.ba.H.block<8, 8>(t0, t0) += pair_H;
-      s.ba.H.block<8, 8>(t0, h0) += HA;
-      s.ba.H.block<8, 8>(h0, t0) += HA.transpose();
-      s.ba.H.block<8, 8>(h0, h0) += At * HA;
-      s.ba.b.segment<8>(t0) += pair_b;
-      s.ba.b.segment<8>(h0) += At * pair_b;
+      ba.H.block<8, 8>(t0, t0) += pair_H;
+      ba.H.block<8, 8>(t0, h0) += HA;
+      ba.H.block<8, 8>(h0, t0) += HA.transpose();
+      ba.H.block<8, 8>(h0, h0) += At * HA;
+      ba.b.segment<8>(t0) += pair_b;
+      ba.b.segment<8>(h0) += At * pair_b;
     }
   }
   if (drop_outliers)
     for (std::uint32_t pi = 0; pi < win.points; ++pi) {
       const float* row = s.scratch.data() + std::size_t{pi} * kBaStride;
       if (row[kRowObserved] > 0 && row[kRowBad] * 2 > row[kRowObserved])
-        s.kf[s.ba.index[pi] >> 16].points[s.ba.index[pi] & 0xffff].status = PointStatus::leaving;
+        s.kf[ba.index[pi] >> 16].points[ba.index[pi] & 0xffff].status = PointStatus::leaving;
     }
   return tot;
 }
@@ -258,15 +258,15 @@ struct PriorAtCurrent {
 
 Vec3 camera_centre(const Se3& T_cw) { return -(T_cw.R.transpose() * T_cw.t); }
 
-PriorAtCurrent prior_at_current(const State& s) {
+PriorAtCurrent prior_at_current(const MapCore& s, const MarginalPrior& prior) {
   PriorAtCurrent out;
   Vec3 centroid_now = Vec3::Zero(), centroid_lin = Vec3::Zero();
   Vec3 centre_now[kMaxKeyframes], centre_lin[kMaxKeyframes];
   int n = 0;
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
-    if (!s.kf[slot].used || !s.prior.in_prior[slot]) continue;
+    if (!s.kf[slot].used || !prior.in_prior[slot]) continue;
     const Se3& now = s.kf[slot].T_cw;
-    const Se3& lin = s.prior.T_cw[slot];
+    const Se3& lin = prior.T_cw[slot];
     centre_now[slot] = camera_centre(now), centre_lin[slot] = camera_centre(lin);
     centroid_now += centre_now[slot], centroid_lin += centre_lin[slot], ++n;
   }
@@ -274,20 +274,20 @@ PriorAtCurrent prior_at_current(const State& s) {
   if (n > 0) {
     centroid_now /= n, centroid_lin /= n;
     for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
-      if (s.kf[slot].used && s.prior.in_prior[slot])
+      if (s.kf[slot].used && prior.in_prior[slot])
         spread_now += (centre_now[slot] - centroid_now).squaredNorm(), spread_lin += (centre_lin[slot] - centroid_lin).squaredNorm();
   }
   const double k = n >= 2 && spread_lin > 0 && spread_now > 0 ? std::sqrt(spread_now / spread_lin) : 1.0;
   out.inv_scale = 1 / k;
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
-    if (!s.kf[slot].used || !s.prior.in_prior[slot]) continue;
+    if (!s.kf[slot].used || !prior.in_prior[slot]) continue;
     const Keyframe& kf = s.kf[slot];
-    Se3 lin = s.prior.T_cw[slot];
+    Se3 lin = prior.T_cw[slot];
     if (n >= 2) lin.t = -(lin.R * (centroid_now + k * (centre_lin[slot] - centroid_lin)));
     Vec8 d;
     d.head<6>() = (kf.T_cw * lin.inverse()).log();
     d.head<3>() *= out.inv_scale;
-    d[6] = kf.a - s.prior.a[slot], d[7] = kf.b - s.prior.b_offset[slot];
+    d[6] = kf.a - prior.a[slot], d[7] = kf.b - prior.b_offset[slot];
     out.d.segment<8>(block8(slot)) = d;
   }
   return out;
@@ -302,16 +302,16 @@ BaVector prior_scaling(double inv_scale) {
 
 // The prior's half-gradient D (b + H d) by slot, and its energy in the photometric energy's
 // units (twice the quadratic model).
-BaVector prior_gradient(const State& s, const PriorAtCurrent& at) {
-  return prior_scaling(at.inv_scale).cwiseProduct(s.prior.b + s.prior.H * at.d);
+BaVector prior_gradient(const MarginalPrior& prior, const PriorAtCurrent& at) {
+  return prior_scaling(at.inv_scale).cwiseProduct(prior.b + prior.H * at.d);
 }
-double prior_energy(const State& s, const PriorAtCurrent& at) {
-  return 2 * s.prior.b.dot(at.d) + at.d.dot(s.prior.H * at.d);
+double prior_energy(const MarginalPrior& prior, const PriorAtCurrent& at) {
+  return 2 * prior.b.dot(at.d) + at.d.dot(prior.H * at.d);
 }
 
 // The current window's scale direction in window order (left increments; the oldest keyframe,
 // the BA's gauge, stays), normalised: the prior must neither push nor hold along it.
-BaVector scale_direction(const State& s) {
+BaVector scale_direction(const MapCore& s) {
   BaVector v = BaVector::Zero();
   const Se3& oldest = s.kf[s.order[0]].T_cw;
   const Vec3 c0 = camera_centre(oldest);
@@ -329,18 +329,18 @@ struct PriorInWindow {
   PriorAtCurrent at;
   BaVector scale_dir = BaVector::Zero();
 };
-PriorInWindow prior_in_window(const State& s) {
+PriorInWindow prior_in_window(const MapCore& s, const MarginalPrior& prior) {
   PriorInWindow p;
-  if (s.prior.set) p.at = prior_at_current(s), p.scale_dir = scale_direction(s);
+  if (prior.set) p.at = prior_at_current(s, prior), p.scale_dir = scale_direction(s);
   return p;
 }
 
 // The prior's Hessian D H D in window order (the BA's parameter layout).
-void prior_hessian_in_window(const State& s, const Window& win, const PriorInWindow& p, BaMatrix& H) {
+void prior_hessian_in_window(const MarginalPrior& prior, const Window& win, const PriorInWindow& p, BaMatrix& H) {
   H.setZero();
-  if (!s.prior.set) return;
+  if (!prior.set) return;
   const BaVector D = prior_scaling(p.at.inv_scale);
-  const BaMatrix DHD = D.asDiagonal() * s.prior.H * D.asDiagonal();
+  const BaMatrix DHD = D.asDiagonal() * prior.H * D.asDiagonal();
   for (std::uint32_t si = 0; si < kMaxKeyframes; ++si) {
     if (win.index[si] < 0) continue;
     for (std::uint32_t sj = 0; sj < kMaxKeyframes; ++sj)
@@ -354,17 +354,17 @@ void prior_hessian_in_window(const State& s, const Window& win, const PriorInWin
 }
 
 // The prior's half-gradient at the current parameters in window order; returns its energy.
-double prior_gradient_in_window(const State& s, const Window& win, const PriorInWindow& p, BaVector& b) {
+double prior_gradient_in_window(const MarginalPrior& prior, const Window& win, const PriorInWindow& p, BaVector& b) {
   b.setZero();
-  if (!s.prior.set) return 0;
-  const BaVector g = prior_gradient(s, p.at);
+  if (!prior.set) return 0;
+  const BaVector g = prior_gradient(prior, p.at);
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
     if (win.index[slot] >= 0) b.segment<8>(Eigen::Index{8} * win.index[slot]) = g.segment<8>(block8(slot));
   b -= p.scale_dir.dot(b) * p.scale_dir;
-  return prior_energy(s, p.at);
+  return prior_energy(prior, p.at);
 }
 
-void set_status(State& s, PointStatus from, PointStatus to) {
+void set_status(MapCore& s, PointStatus from, PointStatus to) {
   for (Keyframe& kf : s.kf)
     if (kf.used)
       for (std::uint32_t i = 0; i < kf.count; ++i)
@@ -373,27 +373,29 @@ void set_status(State& s, PointStatus from, PointStatus to) {
 
 }  // namespace
 
-double window_system(State& s) { return accumulate(s, window_of(s), true, false).energy; }
+double window_system(MapCore& s, BaSystem& ba) { return accumulate(s, ba, window_of(s, ba), true, false).energy; }
 
-double marginal_prior_energy(const State& s) { return s.prior.set ? prior_energy(s, prior_at_current(s)) : 0.0; }
-
-void clear_marginal_prior(State& s) {
-  for (bool& in : s.prior.in_prior) in = false;
-  s.prior.H.setZero();
-  s.prior.b.setZero();
-  s.prior.set = false;
+double marginal_prior_energy(const MapCore& s, const MarginalPrior& prior) {
+  return prior.set ? prior_energy(prior, prior_at_current(s, prior)) : 0.0;
 }
 
-void marginalise_oldest_keyframe(State& s) {
+void clear_marginal_prior(MarginalPrior& prior) {
+  for (bool& in : prior.in_prior) in = false;
+  prior.H.setZero();
+  prior.b.setZero();
+  prior.set = false;
+}
+
+void marginalise_oldest_keyframe(MapCore& s, BaSystem& ba, MarginalPrior& prior) {
   if (s.kf_count < 2) return;
   const std::uint32_t old = s.order[0];
-  const Window win = window_of(s);
+  const Window win = window_of(s, ba);
   const int n = static_cast<int>(8 * win.count);
   const bool affine = s.cfg.photometric == Photometric::affine;
-  accumulate(s, win, true, false, static_cast<int>(old));
+  accumulate(s, ba, win, true, false, static_cast<int>(old));
   // Eliminate the retiring keyframe's points from their observations' system.
-  BaMatrix& H = s.ba.H;
-  BaVector& b = s.ba.b;
+  BaMatrix& H = ba.H;
+  BaVector& b = ba.b;
   const std::uint32_t end = win.first[old] + win.points_of[old];
   for (std::uint32_t pi = win.first[old]; pi < end; ++pi) {
     const float* row = s.scratch.data() + std::size_t{pi} * kBaStride;
@@ -410,61 +412,61 @@ void marginalise_oldest_keyframe(State& s) {
   H = H.selfadjointView<Eigen::Lower>();
   // Move the prior's linearisation point to the current parameters, then add the new terms
   // (window order to slots).
-  if (s.prior.set) {
-    const PriorAtCurrent at = prior_at_current(s);
+  if (prior.set) {
+    const PriorAtCurrent at = prior_at_current(s, prior);
     const BaVector D = prior_scaling(at.inv_scale);
-    s.prior.b = prior_gradient(s, at);
-    s.prior.H = D.asDiagonal() * s.prior.H * D.asDiagonal();
+    prior.b = prior_gradient(prior, at);
+    prior.H = D.asDiagonal() * prior.H * D.asDiagonal();
   }
   for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot) {
     const Keyframe& kf = s.kf[slot];
-    s.prior.in_prior[slot] = kf.used && slot != old;
-    if (kf.used) s.prior.T_cw[slot] = kf.T_cw, s.prior.a[slot] = kf.a, s.prior.b_offset[slot] = kf.b;
+    prior.in_prior[slot] = kf.used && slot != old;
+    if (kf.used) prior.T_cw[slot] = kf.T_cw, prior.a[slot] = kf.a, prior.b_offset[slot] = kf.b;
   }
   for (std::uint32_t si = 0; si < kMaxKeyframes; ++si) {
     if (win.index[si] < 0) continue;
     const Eigen::Index wi = Eigen::Index{8} * win.index[si], pi = block8(si);
-    s.prior.b.segment<8>(pi) += b.segment<8>(wi);
+    prior.b.segment<8>(pi) += b.segment<8>(wi);
     for (std::uint32_t sj = 0; sj < kMaxKeyframes; ++sj)
       if (win.index[sj] >= 0)
-        s.prior.H.block<8, 8>(pi, block8(sj)) += H.block<8, 8>(wi, Eigen::Index{8} * win.index[sj]);
+        prior.H.block<8, 8>(pi, block8(sj)) += H.block<8, 8>(wi, Eigen::Index{8} * win.index[sj]);
   }
   // Brightness parameters the mode holds carry no information.
   if (!affine)
     for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
       for (Eigen::Index q = block8(slot) + 6; q < block8(slot) + 8; ++q)
-        s.prior.H.row(q).setZero(), s.prior.H.col(q).setZero(), s.prior.b[q] = 0;
+        prior.H.row(q).setZero(), prior.H.col(q).setZero(), prior.b[q] = 0;
   // Eliminate the retiring keyframe's own parameters.
   const Eigen::Index o = block8(old), m = affine ? 8 : 6;
-  Eigen::Matrix<double, 8, 8> Hoo = s.prior.H.block<8, 8>(o, o);
+  Eigen::Matrix<double, 8, 8> Hoo = prior.H.block<8, 8>(o, o);
   for (Eigen::Index q = 0; q < m; ++q) Hoo(q, q) += 1e-9 * (1 + Hoo(q, q));
   for (Eigen::Index q = m; q < 8; ++q) Hoo(q, q) = 1;
   const Eigen::LDLT<Eigen::Matrix<double, 8, 8>> Hoo_ldlt(Hoo);
-  const Eigen::Matrix<double, 8, kMaxBaParams> Hor = s.prior.H.middleRows<8>(o);
+  const Eigen::Matrix<double, 8, kMaxBaParams> Hor = prior.H.middleRows<8>(o);
   const Eigen::Matrix<double, 8, kMaxBaParams> X = Hoo_ldlt.solve(Hor);
-  const Eigen::Matrix<double, 8, 1> y = Hoo_ldlt.solve(s.prior.b.segment<8>(o));
+  const Eigen::Matrix<double, 8, 1> y = Hoo_ldlt.solve(prior.b.segment<8>(o));
   if (X.allFinite() && y.allFinite()) {
-    s.prior.H.noalias() -= Hor.transpose() * X;
-    s.prior.b.noalias() -= Hor.transpose() * y;
+    prior.H.noalias() -= Hor.transpose() * X;
+    prior.b.noalias() -= Hor.transpose() * y;
   }
-  s.prior.H.middleRows<8>(o).setZero(), s.prior.H.middleCols<8>(o).setZero(), s.prior.b.segment<8>(o).setZero();
-  s.prior.H = (0.5 * (s.prior.H + s.prior.H.transpose())).eval();
-  s.prior.set = true;
+  prior.H.middleRows<8>(o).setZero(), prior.H.middleCols<8>(o).setZero(), prior.b.segment<8>(o).setZero();
+  prior.H = (0.5 * (prior.H + prior.H.transpose())).eval();
+  prior.set = true;
 }
 
-void window_bundle_adjustment(State& s) {
-  const Window win = window_of(s);
+void window_bundle_adjustment(MapCore& s, BaSystem& ba, const MarginalPrior& prior, TrackingReference& ref) {
+  const Window win = window_of(s, ba);
   // Eigen::Index is int on 32-bit boards: signed loop indices throughout.
   const int n = static_cast<int>(8 * win.count);
   const bool affine = s.cfg.photometric == Photometric::affine;
   double lambda = 1e-3;
   bool outliers_marked = false;
-  BaMatrix& prior_H = s.ba.prior_H;
-  const PriorInWindow prior_at_start = prior_in_window(s);
-  prior_hessian_in_window(s, win, prior_at_start, prior_H);
+  BaMatrix& prior_H = ba.prior_H;
+  const PriorInWindow prior_at_start = prior_in_window(s, prior);
+  prior_hessian_in_window(prior, win, prior_at_start, prior_H);
   BaVector prior_b;
-  Totals cur = accumulate(s, win, true, false);
-  double prior_energy = prior_gradient_in_window(s, win, prior_at_start, prior_b);
+  Totals cur = accumulate(s, ba, win, true, false);
+  double prior_energy = prior_gradient_in_window(prior, win, prior_at_start, prior_b);
   cur.energy += prior_energy;
   // The parameters the adjustment moves, in window order: every keyframe's pose but the oldest's
   // (the gauge) and, in affine only, the brightness. Held parameters stay out of the reduced system
@@ -474,9 +476,9 @@ void window_bundle_adjustment(State& s) {
   for (int k = 1; k < n / 8; ++k)
     for (int q = 0; q < (affine ? 8 : 6); ++q) moved[m++] = 8 * k + q;
   for (int it = 0; it < kIterations && cur.inliers > 0; ++it) {
-    BaMatrix& H = s.ba.H;
-    if (s.prior.set) H += prior_H;
-    const BaVector b_full = s.ba.b + prior_b;
+    BaMatrix& H = ba.H;
+    if (prior.set) H += prior_H;
+    const BaVector b_full = ba.b + prior_b;
     const std::uint32_t points = win.points;
     // Schur complement onto the moved keyframe parameters, in their compact order.
     BaMatrix Hs = BaMatrix::Identity();  // the rows past m stay the identity, their steps 0
@@ -518,7 +520,7 @@ void window_bundle_adjustment(State& s) {
     }
     for (std::uint32_t pi = 0; pi < points; ++pi) {
       float* row = s.scratch.data() + std::size_t{pi} * kBaStride;
-      Point& p = s.kf[s.ba.index[pi] >> 16].points[s.ba.index[pi] & 0xffff];
+      Point& p = s.kf[ba.index[pi] >> 16].points[ba.index[pi] & 0xffff];
       row[kRowBackup] = p.idepth;
       if (row[kRowHrr] <= 0) continue;
       double coupling = 0;
@@ -531,9 +533,9 @@ void window_bundle_adjustment(State& s) {
     // iteration no system is needed, so that trial only sums the energy and marks the outliers
     // (when it is accepted, as it usually is, no pass of its own is needed for them).
     const bool last = it + 1 == kIterations;
-    Totals next = accumulate(s, win, !last, last);
+    Totals next = accumulate(s, ba, win, !last, last);
     BaVector next_prior_b;
-    const double next_prior_energy = prior_gradient_in_window(s, win, prior_in_window(s), next_prior_b);
+    const double next_prior_energy = prior_gradient_in_window(prior, win, prior_in_window(s, prior), next_prior_b);
     next.energy += next_prior_energy;
     if (last) outliers_marked = true;
     if (next.energy < cur.energy) {
@@ -544,21 +546,17 @@ void window_bundle_adjustment(State& s) {
       for (std::uint32_t slot = 0; slot < kMaxKeyframes; ++slot)
         if (s.kf[slot].used) s.kf[slot].T_cw = saved_pose[slot], s.kf[slot].a = saved_a[slot], s.kf[slot].b = saved_b[slot];
       for (std::uint32_t pi = 0; pi < points; ++pi)
-        s.kf[s.ba.index[pi] >> 16].points[s.ba.index[pi] & 0xffff].idepth = s.scratch[std::size_t{pi} * kBaStride + kRowBackup];
+        s.kf[ba.index[pi] >> 16].points[ba.index[pi] & 0xffff].idepth = s.scratch[std::size_t{pi} * kBaStride + kRowBackup];
       lambda *= 10;
       if (last) set_status(s, PointStatus::leaving, PointStatus::active), outliers_marked = false;
       // The refused trial overwrote the system: rebuild it at the restored parameters (an
       // energy-only trial leaves it alone).
-      if (!last) cur = accumulate(s, win, true, false), cur.energy += prior_energy;
+      if (!last) cur = accumulate(s, ba, win, true, false), cur.energy += prior_energy;
     }
   }
-  if (!outliers_marked) accumulate(s, win, false, true);
+  if (!outliers_marked) accumulate(s, ba, win, false, true);
   set_status(s, PointStatus::leaving, PointStatus::empty);  // points that fit most keyframes badly leave the map
-  s.ref.dirty = true;
-  // The newest keyframe is the current frame: follow its refined pose.
-  const Keyframe& newest = s.kf[s.order[s.kf_count - 1]];
-  s.motion.T_cw = newest.T_cw;
-  s.brightness.a = newest.a, s.brightness.b = newest.b;
+  ref.dirty = true;
 }
 
 }  // namespace bolo::vo

@@ -1,6 +1,7 @@
 #include "bolo/odometry/run_odometry.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -88,6 +89,16 @@ struct FrameTiming {
 
 std::uint32_t to_ns(double seconds) { return static_cast<std::uint32_t>(std::llround(seconds * 1e9)); }
 
+// A setting the VO holds as a float, as the decimal it was given (0.01, not 0.009999999776): the
+// shortest decimal that reads back as the same float.
+double as_given(float value) {
+  char text[32];
+  const std::to_chars_result written = std::to_chars(text, text + sizeof text, value);
+  double out = value;
+  std::from_chars(text, written.ptr, out);
+  return out;
+}
+
 // A change of exposure or readout between frames is a step response of the static scene, which
 // the tau fit reads at first order, as it does a shutter event; compared as the VO compares them.
 TauSource tau_source(bool ir, bool estimated, bool from_shutter, const std::vector<FrameTiming>& timing) {
@@ -159,26 +170,15 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   Input input;
   open(input);
   const std::uint32_t w = input.width, h = input.height;
-  vo::VoConfig config;
+  vo::VoConfig config = options.vo;
   config.width = w, config.height = h;
   const PinholeRemap remap = pinhole_remap(options, input);
   config.camera = remap.pinhole();
-  config.photometric = options.photometric;
-  config.tau_init_s = static_cast<float>(options.tau_init_s);
-  config.window_ba = options.window_ba;
-  config.marginalisation_prior = options.marginalisation_prior;
-  config.retirement = options.retirement;
-  config.scale_bridge = options.scale_bridge;
-  config.max_keyframes = options.max_keyframes;
-  config.intensity_scale = static_cast<float>(options.intensity_scale);
-  config.carry_coring = static_cast<float>(options.carry_coring);
-  config.smoothing = options.smoothing;
-  config.estimate_tau = options.estimate_tau;
   if (const char* why = vo::invalid_reason(config)) throw Error(input.name + ": " + why);
 
   const std::vector<rec::FrameRow>& rows = *input.rows;
   const std::uint64_t frames = std::min<std::uint64_t>(rows.size(), options.max_frames.value_or(rows.size()));
-  const bool ir = options.photometric == vo::Photometric::ir || options.photometric == vo::Photometric::ir_loop;
+  const bool ir = config.photometric == vo::Photometric::ir || config.photometric == vo::Photometric::ir_loop;
   if (ir && options.reverse) throw Error(input.name + ": the ir modes' carry-over runs forward in time (reverse: none or affine)");
   const fs::path& csv = input.csv;
   for (std::uint64_t i = 0; i < frames; ++i)
@@ -223,7 +223,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
       if (!(timing[i].readout_s >= 0)) throw Error(at + "readout_s must not be negative");
     }
     if (summary.timing_assumed > 0) summary.assumed_half_period_s = half;
-  } else if (options.photometric == vo::Photometric::affine) {
+  } else if (config.photometric == vo::Photometric::affine) {
     // affine starts a frame whose exposure changed at the exposures' ratio (as DSO with known
     // exposure times); where frames.csv does not give them, nothing is assumed.
     for (std::uint64_t i = 0; i < frames; ++i) {
@@ -242,7 +242,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   std::vector<fw::Pixel> corrector_storage(fw::TwoFrameCorrector::storage_pixels(w, h));
   fw::CorrectorConfig cc;
   cc.width = w, cc.height = h;
-  cc.tau = {to_ns(options.tau_init_s), to_ns(options.tau_init_s)};
+  cc.tau = {to_ns(as_given(config.tau_init_s)), to_ns(as_given(config.tau_init_s))};
   fw::TwoFrameCorrector corrector(cc, corrector_storage, corrected);
 
 
@@ -300,7 +300,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     // sequence it gets has a gap and it restarts its carry-over chain after it.
     const bool repeated = !in.chain_broken && raw == previous_raw;
     const auto start = std::chrono::steady_clock::now();
-    if (options.photometric == vo::Photometric::ir_loop && !repeated) {
+    if (config.photometric == vo::Photometric::ir_loop && !repeated) {
       const vo::Tau tau = odometry.tau();
       corrector.set_time_constants({to_ns(tau.h), to_ns(tau.c)});
       // The frame's header with the timing resolved above (assumed where frames.csv has none).
@@ -350,7 +350,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   summary.intensity_scale = odometry.intensity_scale();
   summary.seconds = vo_seconds;
 
-  std::string tum = "# bolo odometry: " + std::string(vo::to_string(options.photometric)) +
+  std::string tum = "# bolo odometry: " + std::string(vo::to_string(config.photometric)) +
                     " (t tx ty tz qx qy qz qw, camera-to-world)\n";
   std::vector<StampedPose> by_time = trajectory;  // a reversed run's poses come last to first
   std::sort(by_time.begin(), by_time.end(), [](const StampedPose& a, const StampedPose& b) { return a.t < b.t; });
@@ -366,15 +366,15 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   std::optional<std::vector<StampedPose>> truth;
   if (!input.live && fs::exists(input.dir / "poses.tum")) truth = read_tum(input.dir / "poses.tum");
   const std::vector<PlotSeries> series = trajectory_series(
-      trajectory, pose_segment, truth, period, "estimate (" + std::string(vo::to_string(options.photometric)) + ")");
+      trajectory, pose_segment, truth, period, "estimate (" + std::string(vo::to_string(config.photometric)) + ")");
   write_text(folder.path() / "trajectory.svg", trajectory_svg("bolo odometry: " + (input.live ? input.name : input.dir.filename().string()) +
                                                              ", top view (x, y)", series));
-  summary.tau_source = tau_source(ir, options.estimate_tau, !summary.shutter_taus.empty(), timing);
+  summary.tau_source = tau_source(ir, config.estimate_tau, !summary.shutter_taus.empty(), timing);
   nlohmann::json shutter_json = nlohmann::json::array();
   for (const auto& [t, tau] : summary.shutter_taus) shutter_json.push_back({{"t_s", t}, {"tau_s", tau}});
   nlohmann::json bridges_json = nlohmann::json::array();
   for (const auto& [from, to] : summary.scale_bridges) bridges_json.push_back({{"from_t_s", from}, {"to_t_s", to}});
-  nlohmann::json j = {{"photometric", vo::to_string(options.photometric)},
+  nlohmann::json j = {{"photometric", vo::to_string(config.photometric)},
                       {"reverse", options.reverse},
                       {"frames", summary.frames},
                       {"posed", summary.posed},
@@ -389,15 +389,15 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
                                   {"fy", remap.pinhole().fy},
                                   {"cx", remap.pinhole().cx},
                                   {"cy", remap.pinhole().cy}}},
-                      {"tau_init_s", options.tau_init_s},
-                      {"tau_estimated", options.estimate_tau},
-                      {"carry_coring", options.carry_coring},
-                      {"smoothing", options.smoothing},
-                      {"max_keyframes", options.max_keyframes},
-                      {"window_ba", options.window_ba},
+                      {"tau_init_s", as_given(config.tau_init_s)},
+                      {"tau_estimated", config.estimate_tau},
+                      {"carry_coring", as_given(config.carry_coring)},
+                      {"smoothing", config.smoothing},
+                      {"max_keyframes", config.max_keyframes},
+                      {"window_ba", config.window_ba},
                       {"marginalisation_prior", vo::builds_marginalisation_prior(config)},
-                      {"retirement", vo::to_string(options.retirement)},
-                      {"scale_bridge", options.scale_bridge},
+                      {"retirement", vo::to_string(config.retirement)},
+                      {"scale_bridge", config.scale_bridge},
                       {"scale_bridges", bridges_json},
                       {"timing_from_options", summary.timing_from_options},
                       {"timing_assumed", summary.timing_assumed},

@@ -20,12 +20,12 @@
 
 namespace bolo::odo {
 
+// The VO's settings (vo::VoConfig, its defaults; the frame size and camera come from the input)
+// and the run's own.
 struct OdometryOptions {
+  vo::VoConfig vo;
   std::filesystem::path recording;
   std::filesystem::path output;
-  vo::Photometric photometric = vo::Photometric::none;
-  double tau_init_s = 0.010;
-  bool estimate_tau = true;  // false: tau_init_s is the known tau
   // Intrinsics from a horizontal field of view (pinhole, centred, square pixels) instead of
   // camera.json.
   std::optional<double> hfov_deg;
@@ -33,15 +33,6 @@ struct OdometryOptions {
   // them such a frame gets half the median frame interval for each (the simulator's default
   // split); the summary counts those frames.
   std::optional<double> exposure_s, readout_s;
-  // VoConfig::intensity_scale: 0 = measured from the pixel noise.
-  double intensity_scale = 0.0;
-  double carry_coring = 1.0;  // vo::VoConfig::carry_coring
-  std::uint32_t smoothing = vo::VoConfig{}.smoothing;  // vo::VoConfig::smoothing
-  bool window_ba = true;
-  bool marginalisation_prior = false;  // retired keyframes leave a prior on the window
-  vo::Retirement retirement = vo::VoConfig{}.retirement;
-  bool scale_bridge = vo::VoConfig{}.scale_bridge;  // vo::VoConfig::scale_bridge
-  std::uint32_t max_keyframes = vo::VoConfig{}.max_keyframes;  // sliding window, 2..8
   // The frames last to first (a check of the geometry without ground truth: the trajectory is
   // written at the frames' own times, to be compared with the forward run's); none and affine only,
   // since the carry-over runs forward in time.
