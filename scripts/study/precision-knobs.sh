@@ -33,6 +33,9 @@ variants=(
   "ir, no low-pass|ir|--smoothing 0"
   "ir, two low-pass passes|ir|--smoothing 2"
   "ir, full carry-over correction|ir|--carry-coring 0"
+  "ir, 1 000 points a keyframe|ir|--points-per-keyframe 1000"
+  "ir, 1 000 points, tau held at the truth|ir|--points-per-keyframe 1000 --fixed-tau --tau-init $TAU"
+  "none, 1 000 points a keyframe|none|--points-per-keyframe 1000"
 )
 mkdir -p "$work"
 index="$work/index-knobs.txt"
