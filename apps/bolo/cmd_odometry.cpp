@@ -41,6 +41,10 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
     fail("--smoothing: must be within 0..", bolo::vo::kMaxSmoothingPasses, " passes, got ", config.smoothing);
   if (!vo::parse_retirement(o.retirement_name.c_str(), config.retirement))
     fail("--retirement: must be oldest or spread, got ", o.retirement_name);
+  if (config.points_per_keyframe != 0 &&
+      (config.points_per_keyframe < vo::kMinPointsPerKeyframe || config.points_per_keyframe > vo::kMaxPointsPerKeyframe))
+    fail("--points-per-keyframe: must be 0 (one per 40 pixels, at most ", vo::kMaxDefaultPointsPerKeyframe, ") or within ",
+         vo::kMinPointsPerKeyframe, "..", vo::kMaxPointsPerKeyframe, ", got ", config.points_per_keyframe);
   if (config.max_keyframes < 2 || config.max_keyframes > vo::kMaxKeyframes)
     fail("--max-keyframes: must be within 2..", vo::kMaxKeyframes, ", got ", config.max_keyframes);
   if (o.reverse && (config.photometric == vo::Photometric::ir || config.photometric == vo::Photometric::ir_loop))
@@ -125,7 +129,7 @@ Command add_odometry_command(CLI::App& parent) {
       "A frame identical to the one before (a camera or link sending a frame twice) is skipped (state\n"
       "'duplicate' in stats.csv, no pose) and breaks the chain for the frame after it.\n"
       "Each keyframe selects one point per 40 pixels, at most 500 (160x120: 480; 320x256 and larger:\n"
-      "500, about DSO's density).\n"
+      "500), or --points-per-keyframe N.\n"
       "A live source (not a recording) is read first, to its end or --frames N (required for a camera\n"
       "that streams on; faulted frames are skipped and counted, more than --max-faults in a row give\n"
       "up), held in memory and run as a recording; frames.csv's columns are then each frame's header,\n"
@@ -169,6 +173,10 @@ Command add_odometry_command(CLI::App& parent) {
   app->add_option("--max-faults", o->max_faults, "A live source's faulted frames in a row before giving up (default 50)");
   app->add_option("--max-keyframes", o->vo.max_keyframes,
                   "Keyframes in the sliding window, 2..8 (default 8; 6 is about a fifth faster and less accurate: docs/odometry-study.md)");
+  app->add_option("--points-per-keyframe", o->vo.points_per_keyframe,
+                  "Points each keyframe selects, 50..8000 (default 0: one per 40 pixels, at most 500; more cost "
+                  "time in the depth search and the window BA, and on the study's drives bought accuracy only with "
+                  "tau known: docs/odometry-study.md)");
   app->add_flag("--no-ba", [o](std::int64_t) { o->vo.window_ba = false; }, "Skip the sliding-window bundle adjustment (tracking and depth search only)");
   app->add_flag("--marginalisation-prior", o->vo.marginalisation_prior,
                 "Keep a retired keyframe's information as a prior on the window (DSO's marginalisation) "

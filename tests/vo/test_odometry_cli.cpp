@@ -198,6 +198,19 @@ TEST_CASE("odometry: --max-keyframes sets the sliding window", "[vo][cli][long]"
   CHECK(e["ate_relative"].get<double>() < 0.10);
 }
 
+TEST_CASE("odometry: --points-per-keyframe sets the keyframes' point count", "[vo][cli][long]") {
+  const fs::path& seq = sequence("drive", "0.0002");
+  TempDir out;
+  odometry(seq, out / "few", {"--points-per-keyframe", "150"});
+  odometry(seq, out / "default", {});
+  const nlohmann::json few = summary_of(out / "few"), standard = summary_of(out / "default");
+  CHECK(few["points_per_keyframe"].get<int>() == 150);
+  CHECK(standard["points_per_keyframe"].get<int>() == 480);  // one per 40 pixels of 160x120
+  // The VO is configured with it: fewer points in the arena and in the map.
+  CHECK(few["arena_bytes"].get<double>() < 0.8 * standard["arena_bytes"].get<double>());
+  CHECK(few["points"].get<double>() < 0.6 * standard["points"].get<double>());
+}
+
 TEST_CASE("odometry: --marginalisation-prior keeps what retired keyframes knew", "[vo][cli][long]") {
   // 60 frames and a window of 3 keyframes, so that keyframes retire (the 36-frame sequence of the
   // other tests makes 3 to 5 keyframes, which leaves the prior untested on some builds).
@@ -971,6 +984,9 @@ TEST_CASE("odometry and evaluate refuse bad input with one line and leave nothin
             .find("--intensity-scale: must be within 0..10000 (0: measured), got -1") != std::string::npos);
   CHECK(refused({"odometry", seq.string(), "--out", (tmp / "e").string(), "--max-keyframes", "9"})
             .find("--max-keyframes: must be within 2..8, got 9") != std::string::npos);
+  CHECK(refused({"odometry", seq.string(), "--out", (tmp / "e").string(), "--points-per-keyframe", "20"})
+            .find("--points-per-keyframe: must be 0 (one per 40 pixels, at most 500) or within 50..8000, got 20") !=
+        std::string::npos);
   CHECK(refused({"odometry", seq.string(), "--out", (tmp / "e").string(), "--retirement", "newest"})
             .find("--retirement: must be oldest or spread, got newest") != std::string::npos);
   CHECK(refused({"odometry", seq.string(), "--out", (tmp / "e").string(), "--carry-coring", "-0.5"})

@@ -66,6 +66,8 @@ const char* invalid_reason(const VoConfig& config) {
   if (!(c.intensity_scale >= 0) || !(c.intensity_scale <= 1e4f)) return "intensity_scale must be within 0..10000";
   if (!(c.carry_coring >= 0) || !(c.carry_coring <= 100)) return "carry_coring must be within 0..100";
   if (c.smoothing > kMaxSmoothingPasses) return "smoothing must be within 0..3 passes";
+  if (c.points_per_keyframe < kMinPointsPerKeyframe || c.points_per_keyframe > kMaxPointsPerKeyframe)
+    return "points_per_keyframe must be within 50..8000";
   return nullptr;
 }
 

@@ -394,6 +394,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
                       {"carry_coring", as_given(config.carry_coring)},
                       {"smoothing", config.smoothing},
                       {"max_keyframes", config.max_keyframes},
+                      {"points_per_keyframe", vo::resolved(config).points_per_keyframe},
                       {"window_ba", config.window_ba},
                       {"marginalisation_prior", vo::builds_marginalisation_prior(config)},
                       {"retirement", vo::to_string(config.retirement)},

@@ -39,7 +39,7 @@ struct VoConfig {
   bool estimate_tau = true;    // false: tau_init_s is known and kept
   std::uint32_t levels = 0;    // pyramid levels; 0 = until the coarsest is ~20 px high
   std::uint32_t max_keyframes = 8;
-  std::uint32_t points_per_keyframe = 0;  // 0 = ~1 per 40 pixels, 100 to kMaxDefaultPointsPerKeyframe
+  std::uint32_t points_per_keyframe = 0;  // 0 = ~1 per 40 pixels, 100 to kMaxDefaultPointsPerKeyframe; at most kMaxPointsPerKeyframe
   float huber_counts = 16.0f;  // residual where the Huber weight starts to drop
   float gradient_c = 40.0f;    // gradient weight c^2 / (c^2 + |grad|^2)
   // The frames' counts per count of the scale the thresholds above (and the point selection's,
@@ -89,5 +89,7 @@ inline constexpr std::uint32_t kMaxSmoothingPasses = 3;
 inline constexpr std::uint32_t kMaxKeyframes = 8;
 inline constexpr std::uint32_t kPattern = 8;  // pixels in each point's residual pattern
 inline constexpr std::uint32_t kMaxDefaultPointsPerKeyframe = 500;  // the cap of points_per_keyframe = 0
+inline constexpr std::uint32_t kMinPointsPerKeyframe = 50;  // below, a keyframe cannot hold the tracker's least inliers
+inline constexpr std::uint32_t kMaxPointsPerKeyframe = 8000;
 
 }  // namespace bolo::vo
