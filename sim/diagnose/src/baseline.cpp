@@ -10,6 +10,7 @@
 #include <Eigen/Dense>
 
 #include "bolo/effects/stats.hpp"
+#include "checkerboard.hpp"
 #include "exposure_motion.hpp"
 
 namespace bolo::diag {
@@ -39,8 +40,7 @@ bool exposure_varies(const DiagnoseData& d) { return varies(d.exposure_s); }
 // (the frames before are not logged: the camera ran at its typical timing) and carried over a
 // median readout into the frame's own exposure:
 //   s_n = restart_n L + weight_n u_n,  restart_n = carry_typ  (L: the first frame's input, or the
-// shutter's level). Settled at the first frame's own timing instead, a 0.3 % jitter left that
-// frame a few counts off. With `nominal_timing`, every frame has the median exposure and readout.
+// shutter's level). With `nominal_timing`, every frame has the median exposure and readout.
 struct FrameSteps {
   std::vector<double> carry, weight, restart;  // restart: only at the first frame and flagged shutter frames
 };
@@ -105,10 +105,8 @@ void two_frame(const DiagnoseData& d, double tau_c, double tau_h, std::vector<fl
 //   rate_n = after_n s_{n+1} + centre_n s_n - before_n s_{n-1},
 // sim's central difference (one-sided in the first and last frame) with each frame's unit
 // response q divided out and put back: after_n = q_n / (2 q_{n+1}), before_n = q_n / (2 q_{n-1})
-// inside. The plain difference also held the level changes a jittered exposure or readout makes
-// (~0.1-0.2 % of the level from frame to frame), which the fitted timing shift turned into a
-// frame-to-frame global offset fluctuation; left at 0 in the end frames, a panning null's first
-// frame missed by the shift times the scene's change (1.5 counts).
+// inside: the plain difference also holds the level changes a jittered exposure or readout makes,
+// which a fitted timing shift would turn into a frame-to-frame global offset.
 struct RateWeights {
   std::vector<double> before, centre, after;
 };
@@ -721,7 +719,7 @@ double noise_floor(const DiagnoseData& d, bool without_line_patterns) {
   std::vector<double> kept(P);
   // The checkerboard figure (below): per disjoint 2x2 block, half its second difference of the
   // frame difference, and the same of the still reference's change.
-  std::vector<float> board, board_reference;
+  std::vector<float> board, board_reference, still_change(P);
   const std::size_t board_stride = std::max<std::size_t>(1, d.shape.size() / 4 / 400000);
   std::size_t still_count = 0, valid_count = 0, block = 0;
   for (int n = 1; n < d.shape.n; ++n) {
@@ -738,6 +736,7 @@ double noise_floor(const DiagnoseData& d, bool without_line_patterns) {
       kept[p] = 1.0;
       if (used[p]) still.push_back(frame_diff[p]);
       valid_count += v[p] && v0[p];
+      if (without_line_patterns) still_change[p] = s[p] - s0[p];
     }
     still_count += still.size();
     if (without_line_patterns)
@@ -747,9 +746,8 @@ double noise_floor(const DiagnoseData& d, bool without_line_patterns) {
                                     std::size_t(r + 1) * W + c + 1};
           if (!(v[q[0]] && v[q[1]] && v[q[2]] && v[q[3]] && v0[q[0]] && v0[q[1]] && v0[q[2]] && v0[q[3]])) continue;
           if (block++ % board_stride != 0) continue;
-          auto second = [&](auto value) { return 0.5f * (value(q[0]) - value(q[1]) - value(q[2]) + value(q[3])); };
-          board.push_back(std::fabs(second([&](std::size_t p) { return frame_diff[p]; })));
-          board_reference.push_back(std::fabs(second([&](std::size_t p) { return s[p] - s0[p]; })));
+          board.push_back(std::fabs(checkerboard_difference(frame_diff.data(), q[0], std::size_t(W))));
+          board_reference.push_back(std::fabs(checkerboard_difference(still_change.data(), q[0], std::size_t(W))));
         }
     if (still.size() < 16) continue;
     const float common = median_in_place(still);
@@ -780,10 +778,9 @@ double noise_floor(const DiagnoseData& d, bool without_line_patterns) {
   }
   const double plain_sigma = pixel_sigma(plain, std::vector<double>(plain.size(), 1.0));
   if (!without_line_patterns) return plain_sigma;
-  // Where few pixel-frames hold still bitwise (a pan leaves a few hundred of a million: the floor
-  // was read on those, 2.14-2.68 for a pixel noise of 2.52), the frame difference's 2x2 second
-  // difference over the pixel-frames where the still reference's own second difference is under
-  // a tenth of that rough figure: a change that is locally linear in the image (the scene panning
+  // Where few pixel-frames hold still bitwise (a pan), too few to read the floor on: the frame
+  // difference's 2x2 second difference over the pixel-frames where the still reference's own
+  // second difference is under a tenth of that rough figure: a change that is locally linear in the image (the scene panning
   // over a smooth background, a level step, row or column patterns) cancels, the pixel noise
   // stays (variance 8 sigma^2, halved to that of one frame difference).
   if (still_count * 10 < valid_count) {

@@ -1,3 +1,4 @@
+#include "checkerboard.hpp"
 #include "locate.hpp"
 
 #include <algorithm>
@@ -179,7 +180,7 @@ double checkerboard_sigma(const DiagnoseData& d, const std::vector<float>& r) {
       for (int x = 0; x + 1 < W; x += 2) {
         const std::size_t p = std::size_t(y) * W + x;
         if (!(v[p] && v[p + 1] && v[p + W] && v[p + W + 1])) continue;
-        c.push_back(std::fabs(0.5f * (rn[p] - rn[p + 1] - rn[p + W] + rn[p + W + 1])));
+        c.push_back(std::fabs(checkerboard_difference(rn, p, std::size_t(W))));
       }
   }
   if (c.size() < 64) return 0.0;

@@ -204,12 +204,11 @@ class TemporalFilterCandidate final : public PooledLinear {
     // it is lost in it, and what a model misses where the input changes (a rolling readout, motion
     // within the exposure) is proportional to that step too.
     // The part of that change the frame's own timing makes is kept, as a second regressor: a
-    // jittered exposure or readout moves every pixel's level from frame to frame (~0.25 % of it
-    // under a 0.5 % jitter), and the filter drags each frame back towards the previous level by
-    // alpha, in every pixel alike; left in the residual, that global fluctuation cut the effective
-    // samples tenfold. It is the baseline less its run at the median timing (zero when the timing
-    // never changes), with a coefficient of its own: the baseline's tau_c takes up part of that
-    // lag (tied to alpha, it pulled alpha from 0.05 to 0.033).
+    // jittered exposure or readout moves every pixel's level from frame to frame, and the filter
+    // drags each frame back towards the previous level by alpha, in every pixel alike, a global
+    // fluctuation that would otherwise cut the effective samples. It is the baseline less its run
+    // at the median timing (zero when the timing never changes), with a coefficient of its own,
+    // since the baseline's tau_c takes up part of that lag.
     const bool timing_varies = !d.baseline_nominal.empty();
     for (int n = 1; n < N; ++n) {
       const float* rp = d.frame(r, n - 1);
