@@ -731,16 +731,20 @@ TEST_CASE("odometry: a lens with distortion is resampled onto a pinhole", "[vo][
   }
   fs::create_directories(tmp / "run");
   fs::create_directories(tmp / "naive-run");
+  // Compared on the frames tracked as they came: the initialisation's, posed at its end in the
+  // map's first scale, would blur the lens model's effect.
   for (const char* mode : {"none", "ir"}) {
     INFO(mode);
-    const CliResult r = run_bolo({"odometry", seq.string(), "--out", (tmp / "run" / mode).string(), "--photometric", mode});
+    const CliResult r = run_bolo({"odometry", seq.string(), "--out", (tmp / "run" / mode).string(), "--photometric", mode,
+                                  "--online-poses-only"});
     INFO(r.err);
     REQUIRE(r.code == 0);
     CHECK(r.out.find("camera.json has lens distortion: frames resampled onto a pinhole (focal lengths x1)") !=
           std::string::npos);
     CHECK(summary_of(tmp / "run" / mode)["undistorted"] == true);
     const nlohmann::json resampled = evaluate(tmp / "run" / mode);
-    const nlohmann::json ignored = odometry_evaluated(naive, tmp / "naive-run" / mode, mode);
+    odometry(naive, tmp / "naive-run" / mode, {"--photometric", mode, "--online-poses-only"});
+    const nlohmann::json ignored = evaluate(tmp / "naive-run" / mode);
     CHECK(summary_of(tmp / "naive-run" / mode)["undistorted"] == false);
     CHECK(resampled["coverage"].get<double>() > 0.8);  // the first ~10 frames initialise
     CHECK(resampled["ate_relative"].get<double>() < 0.004);

@@ -31,6 +31,7 @@ struct InitialiserState {
   bool initialised = false;
   std::uint32_t frames = 0;  // frames tried against the first keyframe
   std::array<SolvedFrame, kMaxInitFrames> solved;
+  std::uint32_t agreed_since = 0;  // the first solved frame after the last on which the solves' basins differed
   // Once it completes: the first keyframe and the frames solved before the completing one, as
   // world poses in its basin (Odometry::initialisation_poses).
   std::array<TimedPose, kMaxInitFrames> poses;

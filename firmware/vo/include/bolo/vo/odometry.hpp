@@ -87,7 +87,7 @@ class Odometry {
   std::uint32_t keyframes_created() const;
   // The frames an initialisation took before the frame that completed it (the map's first
   // keyframe first), posed in the basin it completed in; non-empty only after the process() call
-  // that completed it. Frames solved in another basin are left out.
+  // that completed it. Frames solved before its solves last disagreed on the basin are left out.
   std::span<const TimedPose> initialisation_poses() const;
 
  private:
