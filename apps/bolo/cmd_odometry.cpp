@@ -192,6 +192,11 @@ Command add_odometry_command(CLI::App& parent) {
   app->add_flag("--reverse", o->reverse,
                 "Run the frames last to first (none, affine); trajectory.tum keeps the frames' times, so "
                 "`bolo evaluate FORWARD --truth REVERSED/trajectory.tum` compares the two runs");
+  app->add_flag("--online-poses-only", o->online_poses_only,
+                "Write only the poses given as each frame came (what a live consumer gets); by default the frames "
+                "the initialisation took after its solves last disagreed on the basin are posed too once it completes "
+                "(their rotations, the camera centre on the way to the completing frame's), counted as "
+                "posed_at_initialisation in summary.json");
   app->add_flag("--overwrite", o->overwrite, "Replace DIR if it exists");
   app->add_flag("--no-progress", [o](std::int64_t) { o->progress_bar = false; }, "Never draw the progress bar");
   return {app, [o](std::ostream& out) { return run_odometry(*o, out); }};

@@ -1,13 +1,10 @@
 // The monocular initialiser's choice of basin (initializer.cpp, solve_afresh_if_better) on the
 // sequence that exposed it: a street walk (handheld, seed 4), forward along a pavement with a
-// near building front on the right. Started on each of its frames 1-8, the initialiser used to
-// settle on a lateral translation whose flow a wrong rotation cancels on 5 of the 8 (direction
-// 37-75 degrees off; the map then turned 15-20 degrees a second, in every photometric mode): the
-// fresh solve found the right basin, but at a higher energy than the warm solve, whose depths had
-// been refined over every earlier frame. Compared on equal terms (both from flat depths), the
-// right basin won on 6 of the 8; starts 1 and 2 still ended 63-70 degrees off, their wrong basin
-// fitting better even from flat depths until the initialisation ended at frame 10. Going on
-// while the two solves disagree, every start ends within 7 degrees when written.
+// near building front on the right. A lateral translation whose flow a wrong rotation cancels
+// fits these frames nearly as well as the truth, and the warm solve's depths, refined over every
+// earlier frame, favour it: the fresh solve is compared on equal terms (both from flat depths),
+// and the initialisation goes on while the two disagree. Started on each of frames 1-8, every
+// start must end near the true direction.
 
 #include <algorithm>
 #include <cmath>

@@ -2,11 +2,8 @@
 // correction stands on: street/drive frames (3 x 3 rays) through the two-frame bolometer model
 // (tau 12 ms), with a fixed per-pixel offset pattern, row offsets that change every frame and
 // white noise of known sigma added. The fixed pattern and the row offsets are not temporal pixel
-// noise and must not be counted; the moving texture must not either. Measured when written, for
-// white sigma 2 / 3 / 6 (2.02 / 3.01 / 6.01 with rounding): 2.10 / 3.08 / 6.10 counts, and
-// 2.19 / 3.19 / 6.19 with a fixed pattern of 20 counts rms and row offsets of 3: the fixed
-// pattern hides which blocks are flat in the scene, so some moving texture is counted. A tenth
-// too much sigma moves tau by about 1 % (the noise is 1-10 % of the fit's information).
+// noise and must not be counted; the moving texture must not either. A fixed pattern hides which
+// blocks are flat in the scene, so some moving texture is counted there: its bound is looser.
 
 #include <cmath>
 #include <cstdint>

@@ -459,14 +459,12 @@ TEST_CASE("frames whose exposure changes keep the carry-over fit unbiased", "[vo
   // The pairs assumed beta_i = beta_{i-1}: at each switch A - alpha B was (beta_i - beta_{i-1}) u,
   // a first-order error. With rho = beta_i / beta_{i-1} in the pairs the switch is a step response
   // instead, which measures alpha at first order, once d r / d alpha takes in that rho and kappa
-  // move with tau too. Measured when written: 10.05 ms after 1.5 s for 10 from 15 (without rho:
-  // 11.25; with rho but the Jacobian -B: 11.11).
+  // move with tau too.
   const SwitchingWall run = run_switching_wall(12, 0.015f);
   INFO("tau after 1.5 s " << run.tau_end * 1e3 << " ms; " << run.posed << " of " << run.frames << " posed");
   CHECK(run.tau_end == Approx(0.010).epsilon(0.05));
-  // 13 frames initialise the map. Until the brightness was freed across timing changes the first
-  // switch, right after the initialisation and with tau still at 15 ms, lost the track for 8
-  // frames (60 posed).
+  // 13 frames initialise the map; the first switch comes right after, with tau still at 15 ms,
+  // and the brightness must follow it without losing the track.
   CHECK(run.posed >= run.frames - 15);
 }
 

@@ -411,6 +411,29 @@ bool keep_waiting_for_the_basin(const InitialiserState& init, bool basins_differ
   return basins_differ && init.frames < kBasinWaitFrames;
 }
 
+// The first keyframe and the frames solved before `completing`, as world poses (init.poses;
+// completing < kMaxInitFrames leaves a slot for the keyframe). Each keeps the rotation its step
+// solved, which the frames show from the start; its camera centre lies on the way to the
+// completing frame's in proportion to its time, since the translation was not yet observable when
+// it was solved (that is what the initialisation waits for). Only frames solved after the warm and
+// the fresh solve last disagreed on the basin: before, a wrong basin's rotation (the one that
+// cancels its lateral translation's flow) may stand in a frame's pose.
+void publish_initialisation_poses(InitialiserState& init, const Keyframe& host, std::uint32_t completing) {
+  const SolvedFrame& last = init.solved[completing];
+  const Vec3 final_centre = -(last.M.R.transpose() * last.M.t);
+  const double span_s = last.t_s - host.t_s;
+  init.poses[0] = {host.t_s, host.T_cw.inverse()};
+  std::uint32_t n = 1;
+  for (std::uint32_t i = init.agreed_since; i < completing && span_s > 0; ++i) {
+    const SolvedFrame& frame = init.solved[i];
+    const Vec3 centre = final_centre * ((frame.t_s - host.t_s) / span_s);
+    const Se3 M{frame.M.R, -(frame.M.R * centre)};
+    init.poses[n++] = {frame.t_s, (M * host.T_cw).inverse()};
+  }
+  init.pose_count = n;
+  init.completed_now = true;
+}
+
 }  // namespace
 
 double baseline_flow_needed(const VoConfig& cfg) { return kInitFlow * (cfg.width + cfg.height); }
@@ -420,6 +443,8 @@ void start_initialisation(InitialiserState& init, Keyframe& host) {
   init.initialised = false;
   init.frames = 0;
   init.map_without_baseline = false;
+  init.pose_count = 0;
+  init.agreed_since = 0;
 }
 
 void follow_map_baseline(InitialiserState& init, const MotionModel& motion, const VoConfig& cfg) {
@@ -452,6 +477,8 @@ bool initialise_step(MapCore& s, InitialiserState& init, const CurrentFrame& f, 
     return false;
   }
   ++init.frames;
+  if (init.frames <= kMaxInitFrames) init.solved[init.frames - 1] = {f.t_s, M};  // relative, until it completes
+  if (basins_differ) init.agreed_since = init.frames;
   const double baseline_flow = s.cfg.camera.fx * M.t.norm();
   // The first keyframe's patterns must still match at the end: a slow camera (9 Hz) moves as far
   // in 10 frames as a 60 Hz one in 67, so it may stop at the time 10 frames take at 30 Hz.
@@ -489,6 +516,7 @@ bool initialise_step(MapCore& s, InitialiserState& init, const CurrentFrame& f, 
     p.status = PointStatus::active;
     p.idepth_min = p.idepth * 0.5f, p.idepth_max = p.idepth * 2.0f;
   }
+  publish_initialisation_poses(init, host, init.frames - 1);
   init.initialised = true;
   ref.dirty = true;
   return true;

@@ -1,9 +1,11 @@
 #pragma once
 // The initialiser (initializer.cpp): a map from the first keyframe and a later frame.
 
+#include <array>
 #include <cstdint>
 
 #include "bolo/vo/config.hpp"
+#include "bolo/vo/odometry.hpp"
 #include "bolo/vo/se3.hpp"
 
 namespace bolo::vo {
@@ -15,9 +17,26 @@ struct MapCore;
 struct MotionModel;
 struct TrackingReference;
 
+// An initialisation that has taken this many frames without completing starts afresh.
+constexpr std::uint32_t kMaxInitFrames = 90;
+
+// A frame the initialisation took: its pose relative to the first keyframe (the frame's T_cw times
+// the keyframe's T_wc) as that step solved it, in the map's scale.
+struct SolvedFrame {
+  double t_s = 0;
+  Se3 M;
+};
+
 struct InitialiserState {
   bool initialised = false;
   std::uint32_t frames = 0;  // frames tried against the first keyframe
+  std::array<SolvedFrame, kMaxInitFrames> solved;
+  std::uint32_t agreed_since = 0;  // the first solved frame after the last on which the solves' basins differed
+  // Once it completes: the first keyframe and the frames solved before the completing one, as
+  // world poses in its basin (Odometry::initialisation_poses).
+  std::array<TimedPose, kMaxInitFrames> poses;
+  std::uint32_t pose_count = 0;
+  bool completed_now = false;  // by the frame being processed
   // The map began as a rotation about the camera's centre and the camera has not translated since:
   // none of its points has a depth of its own.
   bool map_without_baseline = false;

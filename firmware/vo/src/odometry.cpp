@@ -27,7 +27,6 @@ namespace {
 
 constexpr std::uint32_t kLostFramesBeforeRestart = 8;
 constexpr double kMinKeyframeSpacingS = 3.0 / 30.0;
-constexpr std::uint32_t kMaxInitFrames = 90;
 constexpr double kMaxStepFlow = 0.06;  // median translation flow per frame, share of width + height
 constexpr float kRetrackRatio = 1.5f;  // the constant-velocity guess stands if its rms is within this of the last frame's
 constexpr std::uint32_t kIntensityMeasureFrames = 30;  // the intensity scale stays 1 if unmeasured by then
@@ -324,6 +323,11 @@ Odometry::Odometry(const VoConfig& config, std::span<std::byte> arena) {
 Tau Odometry::tau() const { return state_ ? state_->tau_est.tau : Tau{}; }
 std::uint32_t Odometry::keyframes_created() const { return state_ ? state_->kf_created : 0; }
 float Odometry::intensity_scale() const { return state_ ? state_->intensity : 1.0f; }
+
+std::span<const TimedPose> Odometry::initialisation_poses() const {
+  if (!state_ || !state_->init.completed_now) return {};
+  return {state_->init.poses.data(), state_->init.pose_count};
+}
 
 std::span<const WorldPoint> Odometry::retired_points() const {
   if (!state_) return {};
@@ -798,6 +802,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (!state_) return out;
   State& s = *state_;
   s.retired.count = 0;
+  s.init.completed_now = false;
   FrameArrival arrival;
   if (!load_phase(s, in, arrival, out)) return out;
   if (!s.init.initialised) return initialise_phase(s, arrival.after_repeat, arrival.dt_s, out);

@@ -276,6 +276,9 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     }
     return header;
   };
+  std::vector<double> fed_t;  // the time the VO got with the frame fed i-th
+  fed_t.reserve(frames);
+  const auto is_sane = [](const vo::Se3& T_wc) { return T_wc.t.allFinite() && T_wc.R.allFinite() && T_wc.t.norm() < 1e6; };
   fw::FrameHeader previous_header;
   for (std::uint64_t i = 0; i < frames; ++i) {
     const std::uint64_t j = frame_of(i), before = i > 0 ? frame_of(i - 1) : j;
@@ -289,6 +292,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     vo::FrameInput in;
     in.raw = raw;
     in.t_s = vo_time(j);
+    fed_t.push_back(in.t_s);
     in.exposure_s = timing[j].exposure_s;
     in.readout_prev_s = i > 0 ? timing[before].readout_s : 0.0;
     // The carry-over chain breaks where the corrector's does (a shutter event, a gap in time).
@@ -315,8 +319,17 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     vo_seconds += ms / 1e3;
     for (const vo::WorldPoint& p : odometry.retired_points()) points.push_back(p);
+    // The frames the initialisation that completed here took, posed now (before this frame's pose,
+    // so that the trajectory stays in the order fed).
+    for (const vo::TimedPose& p : options.online_poses_only ? std::span<const vo::TimedPose>() : odometry.initialisation_poses()) {
+      const auto fed = std::find(fed_t.rbegin(), fed_t.rend(), p.t_s);
+      if (fed == fed_t.rend() || !is_sane(p.T_wc)) continue;
+      const auto k = static_cast<std::uint64_t>(fed_t.rend() - fed - 1);
+      trajectory.push_back({*rows[frame_of(k)].t_s, p.T_wc}), pose_frame.push_back(k);
+      ++summary.posed, ++summary.posed_at_initialisation;
+    }
     // A pose the VO reports but that has run away (scale blow-up) is not written as one.
-    const bool sane = r.has_pose && r.T_wc.t.allFinite() && r.T_wc.R.allFinite() && r.T_wc.t.norm() < 1e6;
+    const bool sane = r.has_pose && is_sane(r.T_wc);
     if (sane) trajectory.push_back({*row.t_s, r.T_wc}), pose_frame.push_back(i), ++summary.posed;
     states.emplace_back(vo::to_string(r.state));
     summary.lost += r.state == vo::TrackingState::lost;
@@ -378,6 +391,8 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
                       {"reverse", options.reverse},
                       {"frames", summary.frames},
                       {"posed", summary.posed},
+                      {"posed_at_initialisation", summary.posed_at_initialisation},
+                      {"online_poses_only", options.online_poses_only},
                       {"lost", summary.lost},
                       {"duplicates", summary.duplicates},
                       {"keyframes", summary.keyframes},

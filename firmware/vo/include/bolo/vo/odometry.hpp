@@ -54,6 +54,12 @@ struct FrameResult {
   bool centre_held = false;
 };
 
+// A pose given to a frame after it was processed (camera-to-world, at the frame's t_s).
+struct TimedPose {
+  double t_s = 0;
+  Se3 T_wc;
+};
+
 struct WorldPoint {
   float x = 0, y = 0, z = 0, intensity = 0;
 };
@@ -79,6 +85,10 @@ class Odometry {
   // Active points of the keyframes still in the window; returns how many were written.
   std::size_t window_points(std::span<WorldPoint> out) const;
   std::uint32_t keyframes_created() const;
+  // The frames an initialisation took before the frame that completed it (the map's first
+  // keyframe first), posed in the basin it completed in; non-empty only after the process() call
+  // that completed it. Frames solved before its solves last disagreed on the basin are left out.
+  std::span<const TimedPose> initialisation_poses() const;
 
  private:
   State* state_ = nullptr;

@@ -37,6 +37,10 @@ struct OdometryOptions {
   // written at the frames' own times, to be compared with the forward run's); none and affine only,
   // since the carry-over runs forward in time.
   bool reverse = false;
+  // Write only the poses the VO gave as each frame came (what a live consumer gets); by default
+  // the frames an initialisation took are also posed once it completes (vo::Odometry's
+  // initialisation_poses).
+  bool online_poses_only = false;
   bool overwrite = false;
   std::optional<std::uint64_t> max_frames;
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
@@ -51,6 +55,8 @@ const char* to_string(TauSource source);
 
 struct OdometrySummary {
   std::uint64_t frames = 0, posed = 0, lost = 0, keyframes = 0, reinitialisations = 0;
+  // Of the posed frames, those an initialisation took, posed once it completed.
+  std::uint64_t posed_at_initialisation = 0;
   std::uint64_t points = 0;  // in points.ply
   std::uint64_t duplicates = 0;  // frames repeating the previous one bit for bit (skipped by the VO)
   // ir modes: frames whose empty exposure_s / readout_s cell was filled from the options
