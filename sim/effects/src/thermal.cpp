@@ -148,47 +148,20 @@ class TauTemperatureCandidate final : public PooledLinear {
   int parameter_count() const override { return 1; }
 
  protected:
-  // The camera calibrated to read its input in steady state at every level (only the transient
-  // depends on gamma), or at one level (the steady-state gain follows tau as well).
-  int alternatives() const override { return 2; }
-  bool calibrated_per_level(int alt) const { return alt == 0; }
-  bool regressors(int alt, Regressors& X) const override {
+  // The camera reads its input in steady state at every level: only the transient depends on
+  // gamma. A steady state that bends with the level is nonlinearity's (one candidate per idea):
+  // with the steady-state gain following tau as well, this candidate took the second generator's
+  // nonlinearity recordings.
+  bool regressors(int, Regressors& X) const override {
     const DiagnoseData& d = *data_;
     if (!d.has_scene || !(d.tau_c_s > 0)) return false;
     X.assign(1, {});
-    std::vector<double> kappa_slope;
     const double tau_h = d.tau_h_s > 0 ? d.tau_h_s : d.tau_c_s;  // the baseline's own assumption
-    level_tau_derivative(d, d.tau_c_s, tau_h, d.level_mid, X[0], &kappa_slope);
-    if (!calibrated_per_level(alt)) add_steady_state_gain(kappa_slope, X[0]);
+    level_tau_derivative(d, d.tau_c_s, tau_h, d.level_mid, X[0]);
     return true;
   }
-  // Uncalibrated, the steady state is the input times kappa(tau): d/d(gamma) = kappa' y q. Its
-  // part in 1 and q (an offset and a gain) is the baseline's; the rest is kappa' q^2 less that.
-  void add_steady_state_gain(const std::vector<double>& kappa_slope, std::vector<float>& x) const {
-    const DiagnoseData& d = *data_;
-    const std::size_t P = d.shape.pixels();
-    auto part = [&](std::size_t i) {
-      const double q = double(d.baseline[i]) - d.level_mid;
-      return kappa_slope[i / P] * q * q;
-    };
-    double n = 0, sq = 0, sqq = 0, ss = 0, sqs = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      if (!d.valid[i]) continue;
-      const double q = double(d.baseline[i]) - d.level_mid, s = part(i);
-      n += 1; sq += q; sqq += q * q; ss += s; sqs += q * s;
-    }
-    const double vq = sqq - sq * sq / std::max(1.0, n);
-    const double slope = vq > 0 ? (sqs - sq * ss / n) / vq : 0.0, mean_q = n > 0 ? sq / n : 0.0;
-    const double mean_s = n > 0 ? ss / n : 0.0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      const double q = double(d.baseline[i]) - d.level_mid;
-      x[i] += static_cast<float>(part(i) - mean_s - slope * (q - mean_q));
-    }
-  }
-  nlohmann::json params_of(int alt, const Eigen::VectorXd& beta) const override {
-    return {{S::gamma.name, beta[0]},
-            {"y0", data_->level_mid},
-            {"calibration", calibrated_per_level(alt) ? "per level" : "at one level"}};
+  nlohmann::json params_of(int, const Eigen::VectorXd& beta) const override {
+    return {{S::gamma.name, beta[0]}, {"y0", data_->level_mid}};
   }
   // tau stays positive over the levels of the recording: |gamma| x (level range) well below 1.
   bool physical(int, const Eigen::VectorXd& beta) const override {

@@ -38,19 +38,17 @@ void two_frame_derivative(const DiagnoseData& d, double tau_c, Scale scale, std:
 // input in steady state at every level (only the transient depends on gamma):
 //   E_n = c_n E_{n-1} + (q_{n-1} - q_n) (c'_n / (1 - c_n) q_{n-1} + kappa'_n q_n),
 // c' = dc/d(ln tau_c), kappa' = d ln(h / (1 - c)) / d(ln tau) (h the exposure's heating share).
-// Another reference adds a multiple of d(baseline)/d(ln tau). `kappa_slope` gets kappa'_n.
+// Another reference adds a multiple of d(baseline)/d(ln tau).
 inline void level_tau_derivative(const DiagnoseData& d, double tau_c, double tau_h, double reference,
-                                 std::vector<float>& out, std::vector<double>* kappa_slope = nullptr) {
+                                 std::vector<float>& out) {
   const std::size_t P = d.shape.pixels();
   out.assign(d.shape.size(), 0.0f);
-  if (kappa_slope) kappa_slope->assign(d.shape.n, 0.0);
   std::vector<double> e(P, 0.0);
   for (int n = 1; n < d.shape.n; ++n) {
     const double c = std::exp(-d.readout_s[n - 1] / tau_c), x_h = d.exposure_s[n] / tau_h;
     const double h = -std::expm1(-x_h);
     const double dc_share = c * d.readout_s[n - 1] / tau_c / (1 - c);
     const double kappa_slope_n = -x_h * std::exp(-x_h) / h + dc_share;
-    if (kappa_slope) (*kappa_slope)[n] = kappa_slope_n;
     const float* b = d.frame(d.baseline, n);
     const float* bp = d.frame(d.baseline, n - 1);
     float* o = out.data() + std::size_t(n) * P;
@@ -60,7 +58,6 @@ inline void level_tau_derivative(const DiagnoseData& d, double tau_c, double tau
       o[p] = static_cast<float>(e[p]);
     }
   }
-  if (kappa_slope && d.shape.n > 1) (*kappa_slope)[0] = (*kappa_slope)[1];
 }
 
 // d(baseline)/d(ln tau).
