@@ -149,9 +149,8 @@ class TauTemperatureCandidate final : public PooledLinear {
 
  protected:
   // The camera reads its input in steady state at every level: only the transient depends on
-  // gamma. A steady state that bends with the level is nonlinearity's (one candidate per idea):
-  // with the steady-state gain following tau as well, this candidate took the second generator's
-  // nonlinearity recordings.
+  // gamma. A steady state that bends with the level is nonlinearity's (one candidate per idea;
+  // with it here too, this candidate took nonlinearity's recordings).
   bool regressors(int, Regressors& X) const override {
     const DiagnoseData& d = *data_;
     if (!d.has_scene || !(d.tau_c_s > 0)) return false;

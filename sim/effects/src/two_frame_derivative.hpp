@@ -1,7 +1,7 @@
 #pragma once
 // Two-frame sensitivity: d(output)/d(parameter) propagated through the two-frame recursion, for
-// the effects that act on the time constant (tau_temperature, tau_spread) and for the baseline's
-// own tau as a nuisance regressor (pooled.cpp).
+// the effects that act on the time constant (tau_spread, and tau_temperature's level-dependent
+// tau below) and for the baseline's own tau as a nuisance regressor (pooled.cpp).
 
 #include <cmath>
 #include <vector>
