@@ -4,6 +4,7 @@
 // (nearly) all its pixel-frames with no finding. It needs a Python with NumPy; without one the
 // case skips with the reason.
 
+#include <cmath>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 
 #include "../test_skip.hpp"
 #include "diagnose_test_support.hpp"
+#include "../../sim/diagnose/src/exposure_motion.hpp"
 
 using namespace bolo;
 using namespace bolo::test;
@@ -51,4 +53,56 @@ TEST_CASE("blobs moving within the exposure (second generator): a null, diagnose
   CHECK(d["baseline"]["params"]["exposure_motion"].get<double>() > 0.1);
   CHECK(unexplained_with(d, "where the simulated input changes") == 0);
   CHECK(d["baseline"]["heldout_rms"].get<double>() < 1.1 * d["noise_floor_rms"].get<double>());
+}
+
+TEST_CASE("motion within the exposure is read along the object's own flow at its trailing edge", "[diagnose][timing]") {
+  // A soft disc crossing a textured background at 4 pixels a frame (the background panning at a
+  // fifth of a pixel), exposed over half the period.
+  // The flow out of a frame is measured on the next frame's pixels; read at the same pixel, a
+  // trailing edge takes the background's flow there (none), and the motion term got half the
+  // object's motion at the edge that it leaves behind.
+  constexpr int H = 32, W = 64, N = 5, kSub = 16;
+  constexpr double period = 1.0 / 30, te = 0.5 * period, tau_h = 0.012, speed = 4.0;  // pixels per frame
+  auto disc = [&](double t, int r, int c) {  // t in frames from frame 0's mid-exposure
+    const double dx = c - (16.0 + speed * t), dy = r - 15.5;
+    const double background = 1000.0 + 150.0 * std::sin(0.3 * (c - 0.2 * t)) * std::cos(0.2 * r);
+    return background + 2000.0 / (1.0 + std::exp((std::sqrt(dx * dx + dy * dy) - 7.0) / 0.7));
+  };
+  diag::DiagnoseData d;
+  d.shape = {N, H, W};
+  d.has_scene = true;
+  d.fps = 1.0 / period;
+  d.input.resize(d.shape.size());
+  for (int n = 0; n < N; ++n) {
+    d.t_s.push_back(n * period);
+    d.exposure_s.push_back(te);
+    d.readout_s.push_back(period - te);
+    d.flagged_event.push_back(0);
+    for (int r = 0; r < H; ++r)
+      for (int c = 0; c < W; ++c) {
+        double sum = 0;  // scene.npy: the exposure's even average
+        for (int k = 0; k < kSub; ++k) sum += disc(n + ((k + 0.5) / kSub - 0.5) * te / period, r, c);
+        d.input[std::size_t(n) * H * W + std::size_t(r) * W + c] = static_cast<float>(sum / kSub);
+      }
+  }
+  diag::fill_exposure_motion(d, tau_h);
+  REQUIRE(d.exposure_motion.size() == d.shape.size());
+  // The truth in frame 2: the sharp input weighed by exp(-(t_e - t) / tau_h), less the even average.
+  const int n = 2;
+  double err_trailing = 0, truth_trailing = 0;
+  for (int r = 0; r < H; ++r)
+    for (int c = 0; c < W; ++c) {
+      double weighted = 0, weights = 0, even = 0;
+      for (int k = 0; k < kSub; ++k) {
+        const double s = (k + 0.5) / kSub * te, w = std::exp(-(te - s) / tau_h);
+        const double u = disc(n + (s / te - 0.5) * te / period, r, c);
+        weighted += w * u, weights += w, even += u / kSub;
+      }
+      const double truth = weighted / weights - even;
+      const double got = d.exposure_motion[std::size_t(n) * H * W + std::size_t(r) * W + c];
+      if (c < 16.0 + speed * n) { err_trailing += (got - truth) * (got - truth); truth_trailing += truth * truth; }
+    }
+  INFO("trailing edge: RMS error " << std::sqrt(err_trailing) << " of " << std::sqrt(truth_trailing));
+  CHECK(truth_trailing > 0);
+  CHECK(std::sqrt(err_trailing) < 0.2 * std::sqrt(truth_trailing));
 }

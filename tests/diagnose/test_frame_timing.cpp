@@ -213,3 +213,61 @@ TEST_CASE("an in-core filter under timing jitter is fitted with its own pole", "
   REQUIRE(f != nullptr);
   CHECK((*f)["params"]["alpha"].get<double>() == Approx(0.05).epsilon(0.15));
 }
+
+TEST_CASE("a time constant that follows the level, in a camera calibrated at every level, is fitted with its sign",
+          "[diagnose][concealed]") {
+  // Both time constants follow the previous reading, tau = tau0 (1 + gamma (y - y0)), and the
+  // camera reads its input in steady state at every level (only the transients depend on gamma).
+  // Fitted with tau_c alone following the level, gamma came out at a fraction of the truth or with
+  // the other sign; the heating's share and the calibration move with tau too.
+  constexpr int W = 64, H = 48, N = 150;
+  constexpr double tau0 = 0.011, te = 0.012, tr = 1.0 / 30 - te, gamma = 8e-6, y0 = 6000;
+  constexpr double pi = 3.14159265358979;
+  auto scene = [&](int x, int y, int n) {
+    const double cx = 32 + 20 * std::sin(2 * pi * n / 45.0), cy = 24 + 12 * std::cos(2 * pi * n / 70.0);
+    const double r = std::hypot(x - cx, y - cy);
+    return 6000 + 200 * std::sin(2 * pi * x / 23.0) + 2500 / (1 + std::exp((r - 8) / 1.5));
+  };
+  auto kappa = [&](double level) {
+    const double f = 1 + gamma * (level - y0);
+    return (1 - std::exp(-te / (tau0 * f))) / (1 - std::exp(-tr / (tau0 * f)));
+  };
+  const double kappa0 = kappa(y0);
+  TempDir tmp;
+  const fs::path rec = tmp / "tau-level";
+  rec::RecordingInfo info;
+  info.sensor = "hand-made two-frame sensor";
+  info.width = W, info.height = H, info.bits = 14, info.fps = 30.0;
+  rec::RecordingWriter writer(rec, info);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal(0.0, 0.5);
+  std::vector<double> state(W * H);
+  std::vector<float> input(W * H);
+  std::vector<std::uint16_t> counts(W * H);
+  for (int n = 0; n < N; ++n) {
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const std::size_t p = std::size_t(y) * W + x;
+        const double u = scene(x, y, n);
+        input[p] = static_cast<float>(u);
+        if (n == 0) {
+          state[p] = u * kappa(u);
+        } else {
+          const double tau = tau0 * (1 + gamma * (state[p] / kappa0 - y0));
+          state[p] = state[p] * std::exp(-tr / tau) + u * (1 - std::exp(-te / tau));
+        }
+        const double y_out = state[p] / kappa(state[p] / kappa0);
+        counts[p] = static_cast<std::uint16_t>(std::lround(y_out + normal(rng)));
+      }
+    rec::FrameRow row;
+    row.index = std::uint64_t(n), row.t_s = n / 30.0, row.exposure_s = te, row.readout_s = tr, row.ffc = false;
+    writer.append(std::span<const std::uint16_t>(counts), row);
+    writer.append_scene(input);
+  }
+  writer.commit();
+  const nlohmann::json d = diagnose(rec, tmp / "tau-level.d");
+  INFO(d["findings"].dump(1));
+  const nlohmann::json* f = finding(d, "tau_temperature");
+  REQUIRE(f != nullptr);
+  CHECK((*f)["params"]["gamma"].get<double>() == Approx(gamma).epsilon(0.25));
+}

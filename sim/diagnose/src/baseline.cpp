@@ -586,7 +586,8 @@ BaselineFit fit_baseline(DiagnoseData& d) {
     // without them, and mask again with the refitted timing. Where it does, the edges are
     // modelled: masked, they left only the pixels where the motion is below the noise to fit its
     // share on (0.25 where it took 0.74 on a moving null).
-    if (!(fit.exposure_motion >= kModelledShare)) {
+    // The masks for motion the term does not model (below), then the large misses (after).
+    auto mask_unmodelled_motion = [&] {
       // Then the term is left out of this and every refit: the model is the one before it.
       if (!d.exposure_motion.empty()) {
         d.exposure_motion.clear();
@@ -602,16 +603,29 @@ BaselineFit fit_baseline(DiagnoseData& d) {
         // of the edges, is <= 0): the unmasked fit is the consistent one.
         if (fit.moving_fraction == 0) fit = fit_two_frame(d);
       }
-    }
-    // Again after each refit: the first fit, pulled by the misses, also leaves the static pixels
-    // a residual that hides the smaller misses.
-    for (int pass = 0; pass < 3 && mask_large_misses(d, fit, sigma) > 0; ++pass) {
-      const std::vector<std::uint8_t> mask = d.valid;
-      fit = fit_two_frame(d, &mask);
-      std::size_t masked = 0;
-      for (std::size_t i = 0; i < mask.size(); ++i) masked += !mask[i] && (d.unclipped.empty() || d.unclipped[i]);
-      fit.moving_fraction = double(masked) / double(mask.size());
-      fit.large_miss_mask = true;
+    };
+    auto mask_large_misses_and_refit = [&] {
+      // Again after each refit: the first fit, pulled by the misses, also leaves the static pixels
+      // a residual that hides the smaller misses.
+      for (int pass = 0; pass < 3 && mask_large_misses(d, fit, sigma) > 0; ++pass) {
+        const std::vector<std::uint8_t> mask = d.valid;
+        fit = fit_two_frame(d, &mask);
+        std::size_t masked = 0;
+        for (std::size_t i = 0; i < mask.size(); ++i) masked += !mask[i] && (d.unclipped.empty() || d.unclipped[i]);
+        fit.moving_fraction = double(masked) / double(mask.size());
+        fit.large_miss_mask = true;
+      }
+    };
+    const bool modelled = fit.exposure_motion >= kModelledShare;
+    if (!modelled) mask_unmodelled_motion();
+    mask_large_misses_and_refit();
+    // Decided on the fit that stands: a share the edges' largest misses had lifted over the line
+    // and that falls under it once they are masked does not model the motion either.
+    if (modelled && !(fit.exposure_motion >= kModelledShare)) {
+      d.reset_valid();
+      fit = fit_two_frame(d);
+      mask_unmodelled_motion();
+      mask_large_misses_and_refit();
     }
     fit.assumption += std::string(d.exposure_motion.empty()
                           ? "; motion within the exposure is modelled to first order (timing shift; the term along "

@@ -46,11 +46,27 @@ void fill_exposure_motion(DiagnoseData& d, double tau_h) {
     const float* u = d.frame(d.input, n);
     float* m = motion.data() + std::size_t(n) * P;
     auto at = [&](int r, int c) { return double(u[std::size_t(std::clamp(r, 0, H - 1)) * W + std::clamp(c, 0, W - 1)]); };
+    // The flow out of the frame is measured on the next frame's pixels (where the content goes):
+    // read it where this frame's content lands, found by following the flow (into the frame, or
+    // out of it without one). At a moving object's trailing edge the same pixel of the next
+    // frame shows the background, whose flow halved the object's motion there.
+    auto landed = [&](const std::vector<float>& f, int r, int c, double vy, double vx) {
+      const int rr = std::clamp(int(std::lround(r + vy)), 0, H - 1), cc = std::clamp(int(std::lround(c + vx)), 0, W - 1);
+      return f[std::size_t(rr) * W + cc];
+    };
     for (int r = 0; r < H; ++r)
       for (int c = 0; c < W; ++c) {
         const std::size_t p = std::size_t(r) * W + c;
-        const double vy = has_in && has_out ? 0.5 * (in_dy[p] + out_dy[p]) : has_in ? in_dy[p] : out_dy[p];
-        const double vx = has_in && has_out ? 0.5 * (in_dx[p] + out_dx[p]) : has_in ? in_dx[p] : out_dx[p];
+        double oy = 0, ox = 0;
+        if (has_out) {
+          oy = has_in ? in_dy[p] : out_dy[p], ox = has_in ? in_dx[p] : out_dx[p];
+          for (int pass = 0; pass < 2; ++pass) {
+            const double ny = landed(out_dy, r, c, oy, ox), nx = landed(out_dx, r, c, oy, ox);
+            oy = ny, ox = nx;
+          }
+        }
+        const double vy = has_in && has_out ? 0.5 * (in_dy[p] + oy) : has_in ? in_dy[p] : oy;
+        const double vx = has_in && has_out ? 0.5 * (in_dx[p] + ox) : has_in ? in_dx[p] : ox;
         if (vy == 0 && vx == 0) continue;
         double sum = 0;
         for (int k = 0; k < kSamples; ++k) {

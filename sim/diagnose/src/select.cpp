@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
@@ -303,8 +304,14 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       const double mismatch = s.evidence.sse_before / samples - noise_variance;
       const bool visible = explained >= floor * floor;
       const bool material = !data.has_scene || explained >= options.min_mismatch_share * mismatch;
-      if (s.fitted && !visible) result.scores.back().note = "below the practical floor";
-      else if (s.fitted && !material) result.scores.back().note = "a small share of the mismatch";
+      // The numbers the two rules compared (held-out mean squares per pixel-frame).
+      auto against = [&](double limit) {
+        char text[96];
+        std::snprintf(text, sizeof text, " (explained %.3g of %.3g)", explained, limit);
+        return std::string(text);
+      };
+      if (s.fitted && !visible) result.scores.back().note = "below the practical floor" + against(floor * floor);
+      else if (s.fitted && !material) result.scores.back().note = "a small share of the mismatch" + against(mismatch);
       const bool passes = s.fitted && visible && material && s.evidence.delta_bic > options.min_delta_bic &&
                           s.evidence.block_z > options.min_block_z && s.evidence.sse_after < s.evidence.sse_before;
       if (passes && (best < 0 || s.evidence.delta_bic > best_score.evidence.delta_bic)) {

@@ -148,15 +148,15 @@ class TauTemperatureCandidate final : public PooledLinear {
   int parameter_count() const override { return 1; }
 
  protected:
+  // The camera reads its input in steady state at every level: only the transient depends on
+  // gamma. A steady state that bends with the level is nonlinearity's (one candidate per idea;
+  // with it here too, this candidate took nonlinearity's recordings).
   bool regressors(int, Regressors& X) const override {
     const DiagnoseData& d = *data_;
     if (!d.has_scene || !(d.tau_c_s > 0)) return false;
     X.assign(1, {});
-    const std::size_t P = d.shape.pixels();
-    // tau = tau0 (1 + gamma (y_prev - y0)): d ln tau / d gamma = y_prev - y0.
-    two_frame_derivative(d, d.tau_c_s,
-                         [&](int n, std::size_t p) { return double(d.baseline[std::size_t(n - 1) * P + p]) - d.level_mid; },
-                         X[0]);
+    const double tau_h = d.tau_h_s > 0 ? d.tau_h_s : d.tau_c_s;  // the baseline's own assumption
+    level_tau_derivative(d, d.tau_c_s, tau_h, d.level_mid, X[0]);
     return true;
   }
   nlohmann::json params_of(int, const Eigen::VectorXd& beta) const override {

@@ -1,7 +1,7 @@
 #pragma once
 // Two-frame sensitivity: d(output)/d(parameter) propagated through the two-frame recursion, for
-// the effects that act on the time constant (tau_temperature, tau_spread) and for the baseline's
-// own tau as a nuisance regressor (pooled.cpp).
+// the effects that act on the time constant (tau_spread, and tau_temperature's level-dependent
+// tau below) and for the baseline's own tau as a nuisance regressor (pooled.cpp).
 
 #include <cmath>
 #include <vector>
@@ -29,6 +29,33 @@ void two_frame_derivative(const DiagnoseData& d, double tau_c, Scale scale, std:
       const double u = (b[p] - c * bp[p]) / (1 - c);
       ds[p] = dc_dlntau * scale(n, p) * (bp[p] - u) + c * ds[p];
       o[p] = static_cast<float>(ds[p]);
+    }
+  }
+}
+
+// d(output)/d(gamma) when both time constants follow the pixel's previous level,
+// tau = tau0 (1 + gamma q_{n-1}) with q = level - `reference`, in a camera calibrated to read its
+// input in steady state at every level (only the transient depends on gamma):
+//   E_n = c_n E_{n-1} + (q_{n-1} - q_n) (c'_n / (1 - c_n) q_{n-1} + kappa'_n q_n),
+// c' = dc/d(ln tau_c), kappa' = d ln(h / (1 - c)) / d(ln tau) (h the exposure's heating share).
+// Another reference adds a multiple of d(baseline)/d(ln tau).
+inline void level_tau_derivative(const DiagnoseData& d, double tau_c, double tau_h, double reference,
+                                 std::vector<float>& out) {
+  const std::size_t P = d.shape.pixels();
+  out.assign(d.shape.size(), 0.0f);
+  std::vector<double> e(P, 0.0);
+  for (int n = 1; n < d.shape.n; ++n) {
+    const double c = std::exp(-d.readout_s[n - 1] / tau_c), x_h = d.exposure_s[n] / tau_h;
+    const double h = -std::expm1(-x_h);
+    const double dc_share = c * d.readout_s[n - 1] / tau_c / (1 - c);
+    const double kappa_slope_n = -x_h * std::exp(-x_h) / h + dc_share;
+    const float* b = d.frame(d.baseline, n);
+    const float* bp = d.frame(d.baseline, n - 1);
+    float* o = out.data() + std::size_t(n) * P;
+    for (std::size_t p = 0; p < P; ++p) {
+      const double q = b[p] - reference, qp = bp[p] - reference;
+      e[p] = c * e[p] + (qp - q) * (dc_share * qp + kappa_slope_n * q);
+      o[p] = static_cast<float>(e[p]);
     }
   }
 }
