@@ -13,6 +13,13 @@ using namespace bolo::test;
 
 namespace {
 
+// A street drive, 96x72, 200 frames, noise 2, 4 sub-steps, into `rec`.
+void simulate_street_drive(const fs::path& rec, const char* seed) {
+  const CliResult r = run_bolo({"simulate", rec.string(), "--scene", "street", "--trajectory", "drive", "--size",
+                                "96x72", "--frames", "200", "--noise", "2", "--substeps", "4", "--seed", seed});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+}
 
 }  // namespace
 
@@ -42,16 +49,12 @@ TEST_CASE("null at 8.7 Hz (lepton3 preset): no findings", "[diagnose][null][long
 }
 
 // Motion within the exposure (the simulator's default 4 sub-steps; scene.npy holds one image per
-// frame): the baseline misses by hundreds of counts at moving edges. Before those pixel-frames
-// were masked, this recording gave 4 false findings (rolling_readout, crosstalk, nonlinearity,
-// tau_temperature).
+// frame): the baseline misses by hundreds of counts at moving edges, which must not be read as
+// findings.
 TEST_CASE("null with sub-frame motion (street drive, 4 sub-steps): no findings", "[diagnose][null][long]") {
   TempDir tmp;
   const fs::path rec = tmp / "drive";
-  const CliResult r = run_bolo({"simulate", rec.string(), "--scene", "street", "--trajectory", "drive", "--size",
-                                "96x72", "--frames", "200", "--noise", "2", "--substeps", "4", "--seed", "2"});
-  INFO(r.err);
-  REQUIRE(r.code == 0);
+  simulate_street_drive(rec, "2");
   const nlohmann::json d = diagnose(rec, tmp / "drive.d");
   INFO(d["findings"].dump());
   CHECK(d["findings"].empty());
@@ -60,18 +63,14 @@ TEST_CASE("null with sub-frame motion (street drive, 4 sub-steps): no findings",
   CHECK(d["baseline"]["heldout_rms"].get<double>() < 1.2 * d["noise_floor_rms"].get<double>());
 }
 
-// The same drive, seed 201: the first fit's share of the motion term along the flow was lifted
-// over a tenth by the edges' largest misses and fell to 0.006 once they were masked; fitted as
-// modelled, the rest of its edges left a held-out RMS of 2.34 on a floor of 2.04. The choice
-// between modelling and masking is made on the fit that stands.
+// The same drive, seed 201: the edges' largest misses lift the motion term's share along the flow
+// in the first fit, and it falls once they are masked, so the choice between modelling and masking
+// is made on the fit that stands.
 TEST_CASE("null with sub-frame motion (street drive, seed 201): the motion term decided on the fit that stands",
           "[diagnose][null][long]") {
   TempDir tmp;
   const fs::path rec = tmp / "drive";
-  const CliResult r = run_bolo({"simulate", rec.string(), "--scene", "street", "--trajectory", "drive", "--size",
-                                "96x72", "--frames", "200", "--noise", "2", "--substeps", "4", "--seed", "201"});
-  INFO(r.err);
-  REQUIRE(r.code == 0);
+  simulate_street_drive(rec, "201");
   const nlohmann::json d = diagnose(rec, tmp / "drive.d");
   INFO(d["baseline"].dump(1));
   CHECK(d["findings"].empty());
