@@ -7,7 +7,7 @@
 #   scripts/study/lag-time.sh BOLO WORK OUT_MD
 #
 # WORK holds a finished dso-side-by-side.sh run (index-dso.txt). Environment: TAU (0.010), the
-# rendered tau; FIXED_MODES (ir ir-loop); SHIFTS_MS (-4 -2 0 2 4 6 8 10 12); NOTE (the table's
+# rendered tau; FIXED_MODES (ir ir-loop); SHIFTS_MS (-4 0 4 8 12); NOTE (the table's
 # description of the sequences). Held-tau runs already done are kept unless REDO=1.
 set -euo pipefail
 [ $# -eq 3 ] || { echo "usage: lag-time.sh BOLO WORK OUT_MD" >&2; exit 2; }
@@ -15,7 +15,7 @@ here="$(cd "$(dirname "$0")/../.." && pwd)"
 bolo=$(realpath "$1"); work=$(realpath "$2"); out_md=$(realpath -m "$3")
 TAU="${TAU:-0.010}"
 FIXED_MODES="${FIXED_MODES:-ir ir-loop}"
-SHIFTS_MS="${SHIFTS_MS:--4 -2 0 2 4 6 8 10 12}"
+SHIFTS_MS="${SHIFTS_MS:--4 0 4 8 12}"
 NOTE="${NOTE:-$(basename "$work")}"
 [ -f "$work/index-dso.txt" ] || { echo "lag-time: $work/index-dso.txt: run dso-side-by-side.sh first" >&2; exit 2; }
 index="$work/index-time.txt"
