@@ -33,4 +33,4 @@ awk '$6 ~ /-vo-/ { seq = $6; sub(/-vo-[^/]*$/, "", seq); if (!(seq in seen)) { s
   done
 done
 echo >&2
-/usr/bin/python3 "$here/scripts/study/lag_time_table.py" "$bolo" "$index" "$out_md" "$NOTE" "$SHIFTS_MS"
+/usr/bin/python3 -B "$here/scripts/study/lag_time_table.py" "$bolo" "$index" "$out_md" "$NOTE" "$SHIFTS_MS"

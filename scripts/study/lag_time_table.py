@@ -36,7 +36,7 @@ def scored(run, shift_ms):
     work = Path(run, "time-shift")
     work.mkdir(exist_ok=True)
     truth, result = work / f"truth{shift_ms:+g}ms.tum", work / f"evaluation{shift_ms:+g}ms.json"
-    subprocess.run(["/usr/bin/python3", str(here / "time_shift.py"), str(Path(recording, "poses.tum")),
+    subprocess.run(["/usr/bin/python3", "-B", str(here / "time_shift.py"), str(Path(recording, "poses.tum")),
                     str(shift_ms * 1e-3), str(truth)], check=True)
     done = subprocess.run([bolo, "evaluate", run, "--truth", str(truth), "--json", str(result)],
                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
