@@ -131,6 +131,11 @@ const char* to_string(TauSource source) {
   return "none";
 }
 
+double corrected_image_delay_s(double exposure_s, double tau_h_s) {
+  const double x = exposure_s / tau_h_s;
+  return x < 1e-6 ? 0.5 * exposure_s : tau_h_s - exposure_s * std::exp(-x) / -std::expm1(-x);
+}
+
 namespace {
 OdometrySummary run(const OdometryOptions& options, const std::function<void(Input&)>& open);
 }  // namespace
@@ -259,6 +264,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   summary.focal_scale = remap.focal_scale();
   double vo_seconds = 0;
   bool held_before = false;
+  std::optional<std::pair<double, vo::Se3>> previous_pose;  // --poses-at-read: the last frame's tracked pose
   // The frame fed i-th, and the time the VO gets for it (mirrored when reversed, so it increases).
   const auto frame_of = [&](std::uint64_t i) { return options.reverse ? frames - 1 - i : i; };
   const auto vo_time = [&](std::uint64_t j) {
@@ -317,7 +323,22 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     for (const vo::WorldPoint& p : odometry.retired_points()) points.push_back(p);
     // A pose the VO reports but that has run away (scale blow-up) is not written as one.
     const bool sane = r.has_pose && r.T_wc.t.allFinite() && r.T_wc.R.allFinite() && r.T_wc.t.norm() < 1e6;
-    if (sane) trajectory.push_back({*row.t_s, r.T_wc}), pose_frame.push_back(i), ++summary.posed;
+    if (sane) {
+      vo::Se3 pose = r.T_wc;
+      // --poses-at-read: the pose carried from its image's instant to t_s at the camera's motion
+      // since the frame before, when that one was posed in the same map.
+      if (options.poses_at_read && previous_pose && !r.reinitialised) {
+        const double dt = *row.t_s - previous_pose->first;
+        if (dt > 0 && dt < 1.5 * period) {
+          const double delay = corrected_image_delay_s(in.exposure_s, odometry.tau().h);
+          pose = (pose * vo::Se3::exp((previous_pose->second.inverse() * pose).log() * (delay / dt))).orthonormalised();
+        }
+      }
+      previous_pose = std::make_pair(*row.t_s, r.T_wc);
+      trajectory.push_back({*row.t_s, pose}), pose_frame.push_back(i), ++summary.posed;
+    } else {
+      previous_pose.reset();
+    }
     states.emplace_back(vo::to_string(r.state));
     summary.lost += r.state == vo::TrackingState::lost;
     summary.duplicates += r.state == vo::TrackingState::duplicate;
@@ -376,6 +397,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   for (const auto& [from, to] : summary.scale_bridges) bridges_json.push_back({{"from_t_s", from}, {"to_t_s", to}});
   nlohmann::json j = {{"photometric", vo::to_string(config.photometric)},
                       {"reverse", options.reverse},
+                      {"poses_at_read", options.poses_at_read},
                       {"frames", summary.frames},
                       {"posed", summary.posed},
                       {"lost", summary.lost},
