@@ -49,6 +49,8 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
     fail("--max-keyframes: must be within 2..", vo::kMaxKeyframes, ", got ", config.max_keyframes);
   if (o.reverse && (config.photometric == vo::Photometric::ir || config.photometric == vo::Photometric::ir_loop))
     fail("--reverse: the ir modes' carry-over runs forward in time (use none or affine)");
+  if (o.poses_at_read && config.photometric != vo::Photometric::ir && config.photometric != vo::Photometric::ir_loop)
+    fail("--poses-at-read: the ir modes only (their corrected image's instant is known from tau and the exposure)");
   Progress progress("odometry", 0, o.progress_bar);
   std::uint64_t total = 0;
   options.progress = [&](std::uint64_t done, std::uint64_t n) {
@@ -197,6 +199,11 @@ Command add_odometry_command(CLI::App& parent) {
                 "the initialisation took after its solves last disagreed on the basin are posed too once it completes "
                 "(their rotations, the camera centre on the way to the completing frame's), counted as "
                 "posed_at_initialisation in summary.json");
+  app->add_flag("--poses-at-read", o->poses_at_read,
+                "ir modes: frames.csv's t_s is the instant each frame is read, the end of its exposure (bolo simulate "
+                "--lag continuous): each pose, which stands for its corrected image's instant (the heating weights' "
+                "centroid, 6.1 ms before the read at 60 Hz, tau 10 ms, a whole-period exposure), is carried to t_s "
+                "along the camera's motion since the frame before (docs/odometry-study.md, \"A continuous lag\")");
   app->add_flag("--overwrite", o->overwrite, "Replace DIR if it exists");
   app->add_flag("--no-progress", [o](std::int64_t) { o->progress_bar = false; }, "Never draw the progress bar");
   return {app, [o](std::ostream& out) { return run_odometry(*o, out); }};

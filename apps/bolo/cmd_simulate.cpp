@@ -41,20 +41,22 @@ void require_positive(const char* flag, double value) {
   if (!std::isfinite(value) || value <= 0) fail(flag, ": must be a positive number, got ", value);
 }
 
-// Everything the simulator needs, resolved from the preset and the flags.
-sim::SimulatorConfig resolve(const SimulateOptions& o, const sim::SensorPreset& preset) {
-  sim::SimulatorConfig c;
+// The frame's timing: --lag, then exposure, readout, their schedule and jitter.
+void resolve_timing(const SimulateOptions& o, sim::SimulatorConfig& c) {
   sim::SimulationInfo& i = c.info;
-  i.width = preset.width;
-  i.height = preset.height;
-  if (o.size) parse_size(*o.size, i.width, i.height);
-  i.fps = o.fps.value_or(preset.fps);
-  require_positive("--fps", i.fps);
-  i.tau_h_s = o.tau_h_s.value_or(o.tau_s.value_or(preset.tau_s));
-  i.tau_c_s = o.tau_c_s.value_or(o.tau_s.value_or(preset.tau_s));
-  require_positive(o.tau_h_s ? "--tau-h" : "--tau", i.tau_h_s);
-  require_positive(o.tau_c_s ? "--tau-c" : "--tau", i.tau_c_s);
   const double period = 1.0 / i.fps;
+  if (o.lag == "continuous") {
+    // The pixel relaxes through the whole period: the two-frame model's t_e = t_r = the period.
+    if (o.exposure_s || o.readout_s) fail("--exposure, --readout: not with --lag continuous (both are the frame period)");
+    if (o.alternate_every > 0 || o.alternate_exposure_s || o.timing_jitter != 0)
+      fail("--alternate-exposure, --alternate-every, --timing-jitter: not with --lag continuous");
+    if (i.tau_h_s != i.tau_c_s)
+      fail("--tau-h ", i.tau_h_s, " s and --tau-c ", i.tau_c_s, " s: --lag continuous has one time constant (--tau)");
+    c.lag = sim::PixelLag::continuous;
+    i.exposure_s = i.readout_s = period;
+    return;
+  }
+  if (o.lag != "exposure-readout") fail("--lag: expected exposure-readout or continuous, got '", o.lag, "'");
   i.exposure_s = o.exposure_s.value_or(0.5 * period);
   require_positive("--exposure", i.exposure_s);
   i.readout_s = o.readout_s.value_or(period - i.exposure_s);
@@ -75,6 +77,22 @@ sim::SimulatorConfig resolve(const SimulateOptions& o, const sim::SensorPreset& 
   if (!std::isfinite(o.timing_jitter) || o.timing_jitter < 0 || o.timing_jitter > 0.1)
     fail("--timing-jitter: must be 0..0.1 (a relative spread), got ", o.timing_jitter);
   c.timing_jitter = o.timing_jitter;
+}
+
+// Everything the simulator needs, resolved from the preset and the flags.
+sim::SimulatorConfig resolve(const SimulateOptions& o, const sim::SensorPreset& preset) {
+  sim::SimulatorConfig c;
+  sim::SimulationInfo& i = c.info;
+  i.width = preset.width;
+  i.height = preset.height;
+  if (o.size) parse_size(*o.size, i.width, i.height);
+  i.fps = o.fps.value_or(preset.fps);
+  require_positive("--fps", i.fps);
+  i.tau_h_s = o.tau_h_s.value_or(o.tau_s.value_or(preset.tau_s));
+  i.tau_c_s = o.tau_c_s.value_or(o.tau_s.value_or(preset.tau_s));
+  require_positive(o.tau_h_s ? "--tau-h" : "--tau", i.tau_h_s);
+  require_positive(o.tau_c_s ? "--tau-c" : "--tau", i.tau_c_s);
+  resolve_timing(o, c);
   i.bits = o.bits.value_or(preset.bits);
   if (i.bits < 8 || i.bits > 16) fail("--bits: must be 8..16, got ", i.bits);
   i.reference_level = preset.level_300k * std::ldexp(1.0, static_cast<int>(i.bits) - 14);
@@ -136,6 +154,7 @@ void apply_simulate_config(const std::string& file, const CLI::App& app, Simulat
     else if (e.option == "noise") o.noise = number();
     else if (e.option == "noise-1f") o.noise_1f = number();
     else if (e.option == "bits") o.bits = static_cast<std::uint32_t>(count());
+    else if (e.option == "lag") o.lag = one();
     else if (e.option == "substeps") o.substeps = static_cast<std::uint32_t>(std::min(count(), 1e6));
     else if (e.option == "seed") o.seed = static_cast<std::uint64_t>(count());
     else if (e.option == "preset") o.preset = one();
@@ -173,6 +192,7 @@ int run_simulate(const SimulateOptions& o, std::ostream& out) {
   if (config.exposure_schedule.every_frames > 0)
     source << ", exposure alternating with " << config.exposure_schedule.alternate_exposure_s << " s every "
            << config.exposure_schedule.every_frames << " frames";
+  if (config.lag == sim::PixelLag::continuous) source << ", continuous lag through the frame period";
   if (config.timing_jitter > 0) source << ", exposure and readout jittered by " << config.timing_jitter << " (relative)";
   if (!o.distortion.empty()) {
     source << ", lens distortion";
@@ -191,8 +211,7 @@ int run_simulate(const SimulateOptions& o, std::ostream& out) {
     simulator.next(frame);
     writer.append(frame.counts, frame.row);
     writer.append_scene(frame.scene);
-    // The pose at the middle of the exposure, on the frames.csv clock.
-    if (scene.pose_line) poses += scene.pose_line(*frame.row.t_s + 0.5 * *frame.row.exposure_s);
+    if (scene.pose_line) poses += scene.pose_line(frame.pose_t_s);
     progress.update(n + 1);
   }
   progress.finish();
@@ -225,7 +244,8 @@ Command add_simulate_command(CLI::App& parent) {
   CLI::App* app = add_command(
       parent, "simulate", "Simulate a microbolometer recording with known physics (scene, tau, effects, noise)",
       "Renders a scene, runs it through the continuous-time bolometer model (the paper's two-frame\n"
-      "model for an input constant within a frame; motion within the exposure sampled at --substeps),\n"
+      "model for an input constant within a frame; motion within the exposure sampled at --substeps;\n"
+      "--lag continuous: a first-order lag through the whole frame period),\n"
       "adds the chosen effects of the catalogue (--effect ID:KEY=VALUE,..., repeatable; ids:\n"
       "rolling_readout tau_spread tau_temperature thermal_memory crosstalk nonlinearity gain_fpn\n"
       "offset_fpn column_fpn row_fpn shading ffc_step fpa_drift temporal_filter agc dead_pixels\n"
@@ -260,7 +280,14 @@ Command add_simulate_command(CLI::App& parent) {
   app->add_option("--noise", o->noise, "White temporal noise, standard deviation in counts (default: the preset's)");
   app->add_option("--noise-1f", o->noise_1f, "1/f temporal noise, standard deviation in counts")->capture_default_str();
   app->add_option("--bits", o->bits, "Sensor bit depth 8..16 (default: the preset's)")->check(not_negative());
-  app->add_option("--substeps", o->substeps, "Scene samples per exposure (motion within a frame), 1 to 64")
+  app->add_option("--lag", o->lag,
+                  "How a pixel forms its reading: exposure-readout (heats during --exposure, then only cools over "
+                  "--readout; t_s is the exposure's start, the pose its middle) or continuous (a first-order lag "
+                  "with --tau through the whole frame period while the scene moves, read at its end, which is t_s "
+                  "and the pose's time; frames.csv records exposure = readout = the period, the two-frame model's "
+                  "exact coefficients for it)")
+      ->capture_default_str();
+  app->add_option("--substeps", o->substeps, "Scene samples per exposure, or per period with --lag continuous (motion within a frame), 1 to 64")
       ->check(not_negative())->capture_default_str();
   app->add_option("--supersample", o->supersample,
                   "3D scenes: N x N rays per pixel, averaged (the pixel's area; 1 = one ray through its centre, aliased), 1 to 8")

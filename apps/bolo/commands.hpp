@@ -54,7 +54,7 @@ int run_render(const RenderOptions& options, std::ostream& out);
 // bolo simulate OUT [--preset NAME] [--scene NAME] [--trajectory NAME] [--frames N] [--size WxH]
 //   [--fps F] [--tau S | --tau-h S --tau-c S] [--exposure S] [--readout S] [--noise C] [--noise-1f C]
 //   [--bits B] [--substeps K] [--supersample N] [--distortion K1,K2,P1,P2] [--effect ID:K=V,...]...
-//   [--seed K] [--overwrite]
+//   [--lag exposure-readout|continuous] [--seed K] [--overwrite]
 struct SimulateOptions {
   std::filesystem::path output;
   std::string preset = "generic";
@@ -73,6 +73,7 @@ struct SimulateOptions {
   std::optional<double> noise;         // counts, standard deviation; default: the preset's
   double noise_1f = 0.0;
   std::optional<std::uint32_t> bits;   // default: the preset's
+  std::string lag = "exposure-readout";  // how a pixel forms its reading (sim::PixelLag)
   std::uint32_t substeps = 4;
   std::uint32_t supersample = 1;       // 3D scenes: N x N rays per pixel
   std::vector<double> distortion;      // 3D scenes: k1[, k2[, p1[, p2]]] of the lens (camera.json)

@@ -11,6 +11,7 @@
 #
 # DSO_DATASET from scripts/study/dso-build.sh. Environment: TRAJECTORIES (drive handheld), SEEDS
 # (1 .. 10), SIZE (320x256), FPS (60), TAU (0.010), NOISE (3), SUPERSAMPLE (3), SECONDS_LONG (4),
+# LAG (exposure-readout; continuous: `bolo simulate --lag continuous`), SUBSTEPS (simulate's default),
 # MODES (none affine ir ir-loop), DSO_VARIANTS (dso dso-corrected dso-every3 dso-corrected-every3;
 # a suffix -everyK gives DSO every K-th frame). Sequences already in WORK are reused; runs are
 # redone unless KEEP_DONE=1 (then a finished run is kept, with its times).
@@ -30,6 +31,8 @@ SECONDS_LONG="${SECONDS_LONG:-4}"
 MODES="${MODES:-none affine ir ir-loop}"
 DSO_VARIANTS="${DSO_VARIANTS:-dso dso-corrected dso-every3 dso-corrected-every3}"
 KEEP_DONE="${KEEP_DONE:-0}"
+LAG="${LAG:-exposure-readout}"
+SUBSTEPS="${SUBSTEPS:-}"
 [ -x "$bolo" ] || { echo "dso-side-by-side: $bolo is not an executable" >&2; exit 2; }
 [ -x "$dso" ] || { echo "dso-side-by-side: $dso is not an executable (scripts/study/dso-build.sh)" >&2; exit 2; }
 frames=$((SECONDS_LONG * FPS))
@@ -39,10 +42,14 @@ index="$work/index-dso.txt"
 TIMEFORMAT='%R %U %S'
 for traj in $TRAJECTORIES; do
   for seed in $SEEDS; do
-    seq="$work/seq-$traj-$SIZE-${FPS}hz-tau$TAU-ss$SUPERSAMPLE-s$seed"
+    # The present renders keep their names; another pixel lag or sub-step count is in the name.
+    render=(--lag "$LAG") tag=""
+    [ "$LAG" = exposure-readout ] || tag="$tag-$LAG"
+    [ -z "$SUBSTEPS" ] || { render+=(--substeps "$SUBSTEPS"); tag="$tag-k$SUBSTEPS"; }
+    seq="$work/seq-$traj-$SIZE-${FPS}hz-tau$TAU-ss$SUPERSAMPLE$tag-s$seed"
     if [ ! -d "$seq" ]; then
       "$bolo" simulate "$seq" --scene street --trajectory "$traj" --fps "$FPS" --frames "$frames" --size "$SIZE" \
-        --tau "$TAU" --noise "$NOISE" --seed "$seed" --supersample "$SUPERSAMPLE" > /dev/null
+        --tau "$TAU" --noise "$NOISE" --seed "$seed" --supersample "$SUPERSAMPLE" "${render[@]}" > /dev/null
     fi
     for mode in $MODES; do
       run="$seq-vo-$mode"
@@ -75,5 +82,5 @@ for traj in $TRAJECTORIES; do
 done
 echo >&2
 /usr/bin/python3 "$here/scripts/study/dso_table.py" "$index" "$out_md" \
-  "street, $SIZE, $FPS Hz, tau $TAU s, noise $NOISE counts, $SUPERSAMPLE x $SUPERSAMPLE rays a pixel, $SECONDS_LONG s, seeds $SEEDS"
+  "street, $SIZE, $FPS Hz, tau $TAU s, noise $NOISE counts, $SUPERSAMPLE x $SUPERSAMPLE rays a pixel, pixel lag $LAG${SUBSTEPS:+, $SUBSTEPS sub-steps}, $SECONDS_LONG s, seeds $SEEDS"
 echo "dso-side-by-side: wrote $out_md from $(wc -l < "$index") runs"

@@ -350,6 +350,11 @@ TEST_CASE("catalogue: simulate option values", "[cli][refusal][catalogue]") {
   CHECK(contains(refused({"simulate", out, "--substeps", "65"}), "--substeps"));
   CHECK(contains(refused({"simulate", out, "--fps", "30", "--exposure", "0.02", "--readout", "0.02"}),
             "--exposure + --readout: 0.04 s do not fit one frame period"));
+  CHECK(contains(refused({"simulate", out, "--lag", "smooth"}), "--lag: expected exposure-readout or continuous, got 'smooth'"));
+  CHECK(contains(refused({"simulate", out, "--lag", "continuous", "--exposure", "0.01"}),
+            "--exposure, --readout: not with --lag continuous"));
+  CHECK(contains(refused({"simulate", out, "--lag", "continuous", "--tau-h", "0.01", "--tau-c", "0.02"}),
+            "--lag continuous has one time constant"));
   CHECK(contains(refused({"simulate", out, "--trajectory", "drive"}), "--trajectory drive: "));
   CHECK(contains(refused({"simulate"}), "no output folder: give OUT or --out"));
   CHECK(contains(refused({"simulate", out, "--out", out + "2"}), "OUT " + out + " and --out " + out + "2: give one"));

@@ -52,6 +52,53 @@ TEST_CASE("simulate writes a ghosted recording that correct restores", "[cli][si
   CHECK(worst_fixed <= 3.0);  // quantisation of raw counts, amplified by g and a*g
 }
 
+TEST_CASE("simulate --lag continuous: frames.csv says exposure = readout = the period, correct restores it, poses at t_s",
+          "[cli][simulate]") {
+  TempDir tmp;
+  const auto sim_dir = tmp / "lag", fixed_dir = tmp / "lag-fixed";
+  // One sub-step: the input is constant within each period, so the lag is the two-frame model
+  // with t_e = t_r = the period, and the corrector given frames.csv's timing undoes it.
+  auto r = run_bolo({"simulate", sim_dir.string(), "--frames", "12", "--size", "40x30", "--fps", "60", "--noise", "0",
+                     "--bits", "16", "--substeps", "1", "--tau", "0.010", "--lag", "continuous"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  rec::Recording sim(sim_dir);
+  for (std::uint64_t i = 0; i < 12; ++i) {
+    CHECK(*sim.rows()[i].exposure_s == Approx(1.0 / 60).epsilon(1e-12));
+    CHECK(*sim.rows()[i].readout_s == Approx(1.0 / 60).epsilon(1e-12));
+    CHECK(*sim.rows()[i].t_s == Approx((i + 1) / 60.0).epsilon(1e-12));  // read at the period's end
+  }
+  r = run_bolo({"correct", sim_dir.string(), fixed_dir.string(), "--tau-h", "0.010", "--tau-c", "0.010"});
+  REQUIRE(r.code == 0);
+  rec::Recording fixed(fixed_dir);
+  std::vector<float> scene(40 * 30);
+  double worst_raw = 0, worst_fixed = 0;
+  for (std::uint64_t i = 1; i < 12; ++i) {
+    sim.read_scene(i, scene);
+    const auto raw = read_u16_frame(sim, i);
+    const auto out = read_u16_frame(fixed, i);
+    for (std::size_t p = 0; p < scene.size(); ++p) {
+      worst_raw = std::max(worst_raw, std::abs(raw[p] - double{scene[p]}));
+      worst_fixed = std::max(worst_fixed, std::abs(out[p] - double{scene[p]}));
+    }
+  }
+  INFO("worst |raw - scene| " << worst_raw << ", worst |corrected - scene| " << worst_fixed);
+  CHECK(worst_raw > 500);     // the lag did ghost the moving disc
+  CHECK(worst_fixed <= 2.0);  // quantisation of raw counts, amplified by the correction
+  // A 3D scene's truth pose is at the frame's t_s, the instant it is read.
+  const auto street = tmp / "street";
+  REQUIRE(run_bolo({"simulate", street.string(), "--scene", "street", "--size", "32x24", "--frames", "3", "--fps", "60",
+                    "--tau", "0.010", "--lag", "continuous"}).code == 0);
+  rec::Recording street_rec(street);
+  std::istringstream poses(read_text(street / "poses.tum"));
+  double t = 0;
+  for (std::uint64_t i = 0; i < 3; ++i) {
+    REQUIRE(poses >> t);
+    CHECK(t == Approx(*street_rec.rows()[i].t_s).margin(1e-8));
+    poses.ignore(1000, '\n');
+  }
+}
+
 TEST_CASE("simulate with an alternating exposure: frames.csv follows it and correct restores the scene", "[cli][simulate]") {
   TempDir tmp;
   const auto sim_dir = tmp / "sim";

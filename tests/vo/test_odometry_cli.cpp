@@ -2,6 +2,7 @@
 // sequence (160x120, 60 Hz, tau 12 ms, noise 3) through every photometric mode, the outputs'
 // formats, an ATE bound for the no-carry-over case, and the refusals of docs/errors.md section 12.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -16,6 +17,7 @@
 
 #include "../cli/cli_test_support.hpp"
 #include "../hal/flirone_frames.hpp"
+#include "bolo/odometry/run_odometry.hpp"
 #include "bolo/odometry/tum.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/vo/config.hpp"
@@ -153,6 +155,39 @@ TEST_CASE("odometry poses the frames its initialisation took once it completes",
   // The added poses hold the trajectory's accuracy.
   CHECK(all["ate_relative"].get<double>() < 0.01);
   CHECK(all["ate_relative"].get<double>() < 1.5 * online["ate_relative"].get<double>());
+}
+
+TEST_CASE("odometry --poses-at-read carries each ir pose forward over its corrected image's delay", "[vo][cli]") {
+  // The heating weights' centroid: half a short exposure, 6.1 ms before the read of a whole 60 Hz
+  // period at tau 10 ms (docs/odometry-study.md, "A continuous lag").
+  CHECK(odo::corrected_image_delay_s(1e-6, 0.010) == Approx(0.5e-6).epsilon(1e-3));
+  CHECK(odo::corrected_image_delay_s(1.0 / 60, 0.010) == Approx(0.0061191).epsilon(1e-4));
+  const fs::path& seq = sequence("drive", "0.010");
+  TempDir out;
+  odometry(seq, out / "plain", {"--photometric", "ir"});
+  odometry(seq, out / "read", {"--photometric", "ir", "--poses-at-read"});
+  const auto plain = odo::read_tum(out / "plain" / "trajectory.tum");
+  const auto read = odo::read_tum(out / "read" / "trajectory.tum");
+  REQUIRE(plain.size() == read.size());
+  REQUIRE(plain.size() >= 20);
+  // Each pose but the map's first moves along the camera's last step by delay / period of it
+  // (exposure half the period, tau near 10 ms: about 3.6 / 16.7 = 0.2).
+  CHECK((read[0].T_wc.t - plain[0].T_wc.t).norm() == 0.0);
+  std::vector<double> shares;
+  for (std::size_t k = 1; k < plain.size(); ++k) {
+    const vo::Vec3 step = plain[k].T_wc.t - plain[k - 1].T_wc.t, moved = read[k].T_wc.t - plain[k].T_wc.t;
+    if (plain[k].t - plain[k - 1].t > 0.02 || step.norm() == 0) continue;
+    CHECK(moved.dot(step) > 0.98 * moved.norm() * step.norm());
+    shares.push_back(moved.norm() / step.norm());
+  }
+  REQUIRE(shares.size() >= 15);
+  std::sort(shares.begin(), shares.end());
+  CHECK(shares[shares.size() / 2] > 0.15);
+  CHECK(shares[shares.size() / 2] < 0.30);
+  const CliResult r = run_bolo({"odometry", seq.string(), "--out", (out / "bad").string(), "--photometric", "none",
+                                "--poses-at-read"});
+  CHECK(r.code == 2);
+  CHECK(contains(r.err, "--poses-at-read: the ir modes only"));
 }
 
 TEST_CASE("odometry takes the recording as file:REC; a spec no backend knows is refused by name", "[vo][cli]") {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <deque>
 #include <optional>
 #include <span>
 #include <sstream>
@@ -129,6 +130,17 @@ const char* to_string(TauSource source) {
     case TauSource::motion: return "motion";
   }
   return "none";
+}
+
+namespace {
+// --poses-at-read: the frames the camera's velocity is taken over. One: a mean over three lags
+// the look-arounds' turns (lag walks: 0.062 deg rms rotation error over 0.1 s against 0.035).
+constexpr std::size_t kPoseVelocityFrames = 1;
+}  // namespace
+
+double corrected_image_delay_s(double exposure_s, double tau_h_s) {
+  const double x = exposure_s / tau_h_s;
+  return x < 1e-6 ? 0.5 * exposure_s : tau_h_s - exposure_s * std::exp(-x) / -std::expm1(-x);
 }
 
 namespace {
@@ -259,6 +271,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   summary.focal_scale = remap.focal_scale();
   double vo_seconds = 0;
   bool held_before = false;
+  std::deque<std::pair<double, vo::Se3>> recent_poses;  // --poses-at-read: the last frames' tracked poses
   // The frame fed i-th, and the time the VO gets for it (mirrored when reversed, so it increases).
   const auto frame_of = [&](std::uint64_t i) { return options.reverse ? frames - 1 - i : i; };
   const auto vo_time = [&](std::uint64_t j) {
@@ -319,18 +332,38 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     vo_seconds += ms / 1e3;
     for (const vo::WorldPoint& p : odometry.retired_points()) points.push_back(p);
+    // A pose into the trajectory; --poses-at-read carries it from its image's instant to t_s at the
+    // camera's motion over the last kPoseVelocityFrames frames posed in a row in the same map.
+    const auto write_pose = [&](std::uint64_t fed, const vo::Se3& T_wc) {
+      const std::uint64_t row_index = frame_of(fed);
+      const double t = *rows[row_index].t_s;
+      vo::Se3 pose = T_wc;
+      if (options.poses_at_read && recent_poses.size() == kPoseVelocityFrames) {
+        const auto& [t0, from] = recent_poses.front();
+        const double dt = t - t0;
+        if (dt > 0 && dt < (kPoseVelocityFrames + 0.5) * period) {
+          const double delay = corrected_image_delay_s(timing[row_index].exposure_s, odometry.tau().h);
+          pose = (pose * vo::Se3::exp((from.inverse() * pose).log() * (delay / dt))).orthonormalised();
+        }
+      }
+      recent_poses.emplace_back(t, T_wc);
+      if (recent_poses.size() > kPoseVelocityFrames) recent_poses.pop_front();
+      trajectory.push_back({t, pose}), pose_frame.push_back(fed), ++summary.posed;
+    };
+    if (r.reinitialised) recent_poses.clear();
     // The frames the initialisation that completed here took, posed now (before this frame's pose,
     // so that the trajectory stays in the order fed).
     for (const vo::TimedPose& p : options.online_poses_only ? std::span<const vo::TimedPose>() : odometry.initialisation_poses()) {
       const auto fed = std::find(fed_t.rbegin(), fed_t.rend(), p.t_s);
       if (fed == fed_t.rend() || !is_sane(p.T_wc)) continue;
-      const auto k = static_cast<std::uint64_t>(fed_t.rend() - fed - 1);
-      trajectory.push_back({*rows[frame_of(k)].t_s, p.T_wc}), pose_frame.push_back(k);
-      ++summary.posed, ++summary.posed_at_initialisation;
+      write_pose(static_cast<std::uint64_t>(fed_t.rend() - fed - 1), p.T_wc);
+      ++summary.posed_at_initialisation;
     }
     // A pose the VO reports but that has run away (scale blow-up) is not written as one.
-    const bool sane = r.has_pose && is_sane(r.T_wc);
-    if (sane) trajectory.push_back({*row.t_s, r.T_wc}), pose_frame.push_back(i), ++summary.posed;
+    if (r.has_pose && is_sane(r.T_wc))
+      write_pose(i, r.T_wc);
+    else
+      recent_poses.clear();
     states.emplace_back(vo::to_string(r.state));
     summary.lost += r.state == vo::TrackingState::lost;
     summary.duplicates += r.state == vo::TrackingState::duplicate;
@@ -389,6 +422,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   for (const auto& [from, to] : summary.scale_bridges) bridges_json.push_back({{"from_t_s", from}, {"to_t_s", to}});
   nlohmann::json j = {{"photometric", vo::to_string(config.photometric)},
                       {"reverse", options.reverse},
+                      {"poses_at_read", options.poses_at_read},
                       {"frames", summary.frames},
                       {"posed", summary.posed},
                       {"posed_at_initialisation", summary.posed_at_initialisation},

@@ -41,8 +41,17 @@ Simulator::Simulator(SimulatorConfig config, InputSampler input)
   require(i.fps > 0 && std::isfinite(i.fps), "fps: must be > 0");
   require(i.tau_h_s > 0 && i.tau_c_s > 0, "tau: must be > 0");
   require(i.exposure_s > 0 && i.readout_s >= 0, "exposure must be > 0 and readout >= 0");
-  require(i.exposure_s + i.readout_s <= 1.0 / i.fps * (1 + 1e-9),
-          "exposure + readout must fit in one frame period (1/fps)");
+  if (config_.lag == PixelLag::continuous) {
+    const double period = 1.0 / i.fps;
+    require(std::fabs(i.exposure_s - period) <= 1e-9 * period && std::fabs(i.readout_s - period) <= 1e-9 * period,
+            "continuous lag: exposure and readout must both be the frame period (1/fps)");
+    require(i.tau_h_s == i.tau_c_s, "continuous lag: one time constant (tau_h = tau_c)");
+    require(config_.exposure_schedule.every_frames == 0 && config_.timing_jitter == 0,
+            "continuous lag: no exposure schedule or timing jitter (the period is the exposure)");
+  } else {
+    require(i.exposure_s + i.readout_s <= 1.0 / i.fps * (1 + 1e-9),
+            "exposure + readout must fit in one frame period (1/fps)");
+  }
   require(i.bits >= 8 && i.bits <= 16, "bits: 8..16");
   require(config_.substeps >= 1 && config_.substeps <= 64, "substeps: 1..64");
   require(config_.noise_counts >= 0 && config_.noise_1f_counts >= 0, "noise: must be >= 0");
@@ -192,7 +201,11 @@ void Simulator::next(SimulatedFrame& out) {
 
   out.row = rec::FrameRow{};
   out.row.index = index_;
-  out.row.t_s = f.t_s;
+  // A continuous lag is read at the end of the period it relaxed over; that instant is the frame's
+  // time and its pose's. The exposure_readout pose is the middle of the exposure.
+  const bool lag = config_.lag == PixelLag::continuous;
+  out.row.t_s = lag ? f.t_s + timing_now.exposure_s : f.t_s;
+  out.pose_t_s = lag ? *out.row.t_s : f.t_s + 0.5 * timing_now.exposure_s;
   out.row.exposure_s = timing_now.exposure_s;
   out.row.readout_s = timing_now.readout_s;
   out.row.ffc = f.shutter_event && f.shutter_flagged;
@@ -204,7 +217,11 @@ nlohmann::json Simulator::truth() const {
   const SimulationInfo& i = config_.info;
   nlohmann::json effects = nlohmann::json::object();
   for (const auto& e : effects_) effects[e->id()] = e->parameters();
-  nlohmann::json baseline = {{"model", "continuous-time bolometer (two-frame model for frame-constant input)"},
+  const bool lag = config_.lag == PixelLag::continuous;
+  nlohmann::json baseline = {{"model", lag ? "continuous first-order lag through the frame period, read at its end "
+                                             "(two-frame model with exposure = readout = the period)"
+                                           : "continuous-time bolometer (two-frame model for frame-constant input)"},
+                             {"lag", lag ? "continuous" : "exposure-readout"},
                              {"tau_h_s", i.tau_h_s}, {"tau_c_s", i.tau_c_s}, {"exposure_s", i.exposure_s},
                              {"readout_s", i.readout_s}, {"substeps", config_.substeps}, {"bits", i.bits},
                              {"reference_level", i.reference_level}, {"seed", i.seed}};

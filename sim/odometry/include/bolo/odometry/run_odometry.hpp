@@ -41,10 +41,20 @@ struct OdometryOptions {
   // the frames an initialisation took are also posed once it completes (vo::Odometry's
   // initialisation_poses).
   bool online_poses_only = false;
+  // ir modes: frames.csv's t_s is the instant each frame is read, the end of its exposure (as
+  // `bolo simulate --lag continuous` writes it). A tracked pose stands for its corrected image's
+  // instant, corrected_image_delay_s before that; each is carried to t_s along the camera's motion
+  // since the frame before (docs/odometry-study.md, "A continuous lag").
+  bool poses_at_read = false;
   bool overwrite = false;
   std::optional<std::uint64_t> max_frames;
   std::function<void(std::uint64_t done, std::uint64_t total)> progress;
 };
+
+// How long before the end of an exposure t_e the two-frame model's corrected image stands: the
+// centroid of its heating weights exp(-(t_e - s) / tau_h) over the exposure (t_e / 2 for a short
+// one).
+double corrected_image_delay_s(double exposure_s, double tau_h_s);
 
 // Where a run's tau comes from, and so how far to trust it: shutter_events and exposure_changes
 // measure it at first order; motion only through how the points' image velocities change, which

@@ -8,7 +8,9 @@
 //   readout (length t_r): s_{i+1} = y_i e^{-t_r / tau_c}.
 // With a constant input this is exactly the paper's two-frame model
 //   y_i = y_{i-1} e^{-t_r,i-1 / tau_c} + u_i (1 - e^{-t_e,i / tau_h}),
-// which makes it the baseline the effect modules of the simulator extend. Time constants may be
+// which makes it the baseline the effect modules of the simulator extend. With t_e = t_r = T and
+// tau_h = tau_c it is a first-order lag through the whole period T, read at its end (heating from
+// zero and the decay of the previous reading, superposed): the simulator's PixelLag::continuous. Time constants may be
 // given per pixel (for effects such as tau_spread).
 
 #include <cstdint>

@@ -27,8 +27,23 @@ struct ExposureSchedule {
   std::uint32_t every_frames = 0;
 };
 
+// How a pixel forms its reading over the frame period T.
+enum class PixelLag {
+  // Heats during the exposure t_e (the sub-steps spread over it) on top of what is left of the
+  // previous reading, then only cools over the readout t_r. frames.csv's t_s is the exposure's
+  // start; the truth pose is the exposure's middle.
+  exposure_readout,
+  // A first-order lag through the whole period: the pixel relaxes towards its moving input with
+  // one tau (tau_h = tau_c), the sub-steps spread over the period, and is read at its end, which
+  // is frames.csv's t_s and the truth pose's time. The same arithmetic as exposure_readout with
+  // t_e = t_r = T (heating from zero and the decay of the previous reading, superposed), which is
+  // what frames.csv records: the two-frame model's coefficients are then the lag's exactly.
+  continuous,
+};
+
 struct SimulatorConfig {
   SimulationInfo info;           // size, bits, fps, exposure/readout, tau, 300 K level, seed
+  PixelLag lag = PixelLag::exposure_readout;  // continuous: info's exposure and readout are 1/fps
   ExposureSchedule exposure_schedule;
   // Each frame's exposure and readout scaled by independent factors 1 + timing_jitter * z,
   // z ~ N(0, 1) cut at +-3 (a camera whose timing wanders), written exactly to frames.csv; the
@@ -47,6 +62,7 @@ struct SimulatedFrame {
   std::vector<std::uint16_t> counts;  // frames.npy
   std::vector<float> scene;           // scene.npy: the input averaged over the exposure
   rec::FrameRow row;                  // frames.csv
+  double pose_t_s = 0.0;              // the instant the frame's truth pose stands for (PixelLag)
 };
 
 class Simulator {
