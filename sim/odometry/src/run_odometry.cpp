@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
-#include <deque>
 #include <optional>
 #include <span>
 #include <sstream>
@@ -131,12 +130,6 @@ const char* to_string(TauSource source) {
   }
   return "none";
 }
-
-namespace {
-// --poses-at-read: the frames the camera's velocity is taken over. One: a mean over three lags
-// the look-arounds' turns (lag walks: 0.062 deg rms rotation error over 0.1 s against 0.035).
-constexpr std::size_t kPoseVelocityFrames = 1;
-}  // namespace
 
 double corrected_image_delay_s(double exposure_s, double tau_h_s) {
   const double x = exposure_s / tau_h_s;
@@ -271,7 +264,10 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   summary.focal_scale = remap.focal_scale();
   double vo_seconds = 0;
   bool held_before = false;
-  std::deque<std::pair<double, vo::Se3>> recent_poses;  // --poses-at-read: the last frames' tracked poses
+  // --poses-at-read: the pose written last, at its frame's t_s, while frames are posed in a row in one
+  // map. The camera's velocity is taken over that one step: a mean over more steps lags a
+  // look-around's turn (docs/odometry-study.md, "A continuous lag").
+  std::optional<std::pair<double, vo::Se3>> previous_pose;
   // The frame fed i-th, and the time the VO gets for it (mirrored when reversed, so it increases).
   const auto frame_of = [&](std::uint64_t i) { return options.reverse ? frames - 1 - i : i; };
   const auto vo_time = [&](std::uint64_t j) {
@@ -333,24 +329,23 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     vo_seconds += ms / 1e3;
     for (const vo::WorldPoint& p : odometry.retired_points()) points.push_back(p);
     // A pose into the trajectory; --poses-at-read carries it from its image's instant to t_s at the
-    // camera's motion over the last kPoseVelocityFrames frames posed in a row in the same map.
+    // camera's motion over the step from the pose before (posed in a row, in the same map).
     const auto write_pose = [&](std::uint64_t fed, const vo::Se3& T_wc) {
       const std::uint64_t row_index = frame_of(fed);
       const double t = *rows[row_index].t_s;
       vo::Se3 pose = T_wc;
-      if (options.poses_at_read && recent_poses.size() == kPoseVelocityFrames) {
-        const auto& [t0, from] = recent_poses.front();
+      if (options.poses_at_read && previous_pose) {
+        const auto& [t0, from] = *previous_pose;
         const double dt = t - t0;
-        if (dt > 0 && dt < (kPoseVelocityFrames + 0.5) * period) {
+        if (dt > 0 && dt < 1.5 * period) {
           const double delay = corrected_image_delay_s(timing[row_index].exposure_s, odometry.tau().h);
           pose = (pose * vo::Se3::exp((from.inverse() * pose).log() * (delay / dt))).orthonormalised();
         }
       }
-      recent_poses.emplace_back(t, T_wc);
-      if (recent_poses.size() > kPoseVelocityFrames) recent_poses.pop_front();
+      previous_pose.emplace(t, T_wc);
       trajectory.push_back({t, pose}), pose_frame.push_back(fed), ++summary.posed;
     };
-    if (r.reinitialised) recent_poses.clear();
+    if (r.reinitialised) previous_pose.reset();
     // The frames the initialisation that completed here took, posed now (before this frame's pose,
     // so that the trajectory stays in the order fed).
     for (const vo::TimedPose& p : options.online_poses_only ? std::span<const vo::TimedPose>() : odometry.initialisation_poses()) {
@@ -363,7 +358,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     if (r.has_pose && is_sane(r.T_wc))
       write_pose(i, r.T_wc);
     else
-      recent_poses.clear();
+      previous_pose.reset();
     states.emplace_back(vo::to_string(r.state));
     summary.lost += r.state == vo::TrackingState::lost;
     summary.duplicates += r.state == vo::TrackingState::duplicate;
