@@ -81,5 +81,15 @@ fi
 stage host-suite ctest --test-dir build --output-on-failure -j "$(nproc)"
 
 echo "test.sh: stage times: $(IFS=,; echo "${timings[*]}" | sed 's/,/, /g'); ${SECONDS} s in all"
-[ ${#failed[@]} -eq 0 ] || { echo "test.sh: failed: ${failed[*]} (see above)" >&2; exit 1; }
+if [ ${#failed[@]} -gt 0 ]; then
+  # A stage run beside the VM printed its log far above; its end is repeated here, where a
+  # truncated CI log still shows it.
+  for name in "${failed[@]}"; do
+    [ -f "$logs/$name.log" ] || continue
+    echo "== the end of $name's log (exit $(cat "$logs/$name.status" 2>/dev/null))"
+    tail -n 40 "$logs/$name.log"
+  done
+  echo "test.sh: failed: ${failed[*]} (see above)" >&2
+  exit 1
+fi
 echo "test.sh: every stage passed"
