@@ -1,6 +1,6 @@
 // Study harness (not a test): the tau estimate with true geometry on
 // frames whose exposure integrates K scene samples; every option from the environment:
-//   TAU, START (s); K sub-steps; WEIGHT exp|box; MODE both|camera|scene|between|constblur;
+//   TAU, START (s); K sub-steps; TE_FRAC, TR_FRAC; WEIGHT exp|box; MODE both|camera|scene|between|constblur;
 //   BLUR_SCALE (camera path within the exposure scaled about its middle); POSE_DT (s added to the
 //   frame time for the truth pose and depth, "eff" = the exposure's weighted mean time);
 //   NOISE (counts); TRAJ drive|handheld|side|forward|yaw (SPEED m/s, RATE rad/s for the synthetic
@@ -182,7 +182,9 @@ int main() {
     return 1;
   }
 
-  const double fps = 60, te = 0.5 / fps, tr = 0.5 / fps;
+  // TE_FRAC, TR_FRAC: exposure and readout as fractions of the period; TE_FRAC=1 TR_FRAC=1 is the
+  // continuous lag (bolo simulate --lag continuous), read at the period's end (POSE_DT=0.016667).
+  const double fps = 60, te = env_num("TE_FRAC", 0.5) / fps, tr = env_num("TR_FRAC", 0.5) / fps;
   const double alpha = std::exp(-tr / tau), beta = 1 - std::exp(-te / tau);
   const std::size_t n = std::size_t{seq.width} * seq.height;
   const std::uint32_t w = seq.width;
