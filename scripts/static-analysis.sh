@@ -14,7 +14,8 @@
 #              here if needed (configure only, unity build: nothing is compiled).
 #   JOBS=N     parallel clang-tidy / cppcheck processes (default 2: the machine is shared).
 #   CLANG_TIDY=path, CPPCHECK=path to pick the tools (default clang-tidy-14 or clang-tidy, cppcheck).
-# Exit code: 0 clean, 1 findings, 2 a tool or the build is missing. Prints the run time.
+# Exit code: 0 clean, 1 findings, 2 a tool or the build is missing, or clang-tidy killed twice on a
+# unit. Prints the run time.
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
@@ -64,11 +65,30 @@ status=0
 
 echo "== clang-tidy ($("$tidy" --version | grep -o 'version [0-9.]*'), $files files in ${#sources[@]} translation units, $jobs jobs)"
 # A unity unit is a list of #include "x.cpp" lines by design: that one check is off for it.
-printf '%s\n' "${sources[@]}" | xargs -P "$jobs" -I{} sh -c '
-  log="$3/$(printf %s "$2" | tr / _).log"
-  case "$2" in */Unity/unity_*.cxx) unity=--checks=-bugprone-suspicious-include ;; *) unity= ;; esac
-  "$0" -p "$1" --quiet $unity "$2" >"$log" 2>&1 || printf "%s\n" "$2" >>"$3/failed"
-' "$tidy" "$build" {} "$tmp"
+# A unit whose clang-tidy was killed (a signal: out of memory beside the VM) is run once more on
+# its own after the others; a second kill is reported as a tool failure, not as findings.
+tidy_unit() {  # tidy build unit tmp: appends the unit to tmp/failed (findings) or tmp/killed
+  sh -c '
+    log="$3/$(printf %s "$2" | tr / _).log"
+    case "$2" in */Unity/unity_*.cxx) unity=--checks=-bugprone-suspicious-include ;; *) unity= ;; esac
+    "$0" -p "$1" --quiet $unity "$2" >"$log" 2>&1
+    code=$?
+    if [ "$code" -gt 128 ]; then printf "%s\n" "$2" >>"$3/killed"; elif [ "$code" -ne 0 ]; then printf "%s\n" "$2" >>"$3/failed"; fi
+  ' "$@"
+}
+export -f tidy_unit
+printf '%s\n' "${sources[@]}" | xargs -P "$jobs" -I{} bash -c 'tidy_unit "$@"' _ "$tidy" "$build" {} "$tmp"
+if [ -s "$tmp/killed" ]; then
+  mv "$tmp/killed" "$tmp/killed-once"
+  while read -r file; do
+    echo "clang-tidy was killed on $file (signal); running it again alone"
+    tidy_unit "$tidy" "$build" "$file" "$tmp"
+  done <"$tmp/killed-once"
+fi
+if [ -s "$tmp/killed" ]; then
+  status=2
+  echo "static-analysis: clang-tidy was killed twice on: $(tr '\n' ' ' <"$tmp/killed")(a tool failure, not findings)" >&2
+fi
 if [ -s "$tmp/failed" ]; then
   status=1
   while read -r file; do
