@@ -24,29 +24,33 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
   vo::VoConfig& config = options.vo;
   if (!vo::parse_photometric(o.photometric_name.c_str(), config.photometric))
     fail("--photometric: unknown model '", o.photometric_name, "' (none, affine, ir, ir-loop)");
-  // The VO holds these settings as floats: against float bounds, a bound itself (0.05) is in range.
-  if (!(config.tau_init_s >= 0.001f && config.tau_init_s <= 0.05f))
-    fail("--tau-init: must be within 0.001..0.05 s, got ", config.tau_init_s);
+  // The ranges are the VO's (vo::invalid_reason); the VO holds these settings as floats, so a bound
+  // itself (0.05) is in range.
+  if (!vo::kTauInitRange.contains(config.tau_init_s))
+    fail("--tau-init: must be within ", vo::kTauInitRange.min, "..", vo::kTauInitRange.max, " s, got ", config.tau_init_s);
   if (o.hfov_deg && !(*o.hfov_deg > 1.0 && *o.hfov_deg < 179.0))
     fail("--hfov: must be within 1..179 degrees, got ", *o.hfov_deg);
   if (o.exposure_s && !(*o.exposure_s > 0.0 && *o.exposure_s < 1.0))
     fail("--exposure: must be within 0..1 s (exclusive), got ", *o.exposure_s);
   if (o.readout_s && !(*o.readout_s >= 0.0 && *o.readout_s < 1.0))
     fail("--readout: must be within 0..1 s, got ", *o.readout_s);
-  if (!(config.intensity_scale >= 0.0f && config.intensity_scale <= 1e4f))
-    fail("--intensity-scale: must be within 0..10000 (0: measured), got ", config.intensity_scale);
-  if (!(config.carry_coring >= 0.0f && config.carry_coring <= 100.0f))
-    fail("--carry-coring: must be within 0..100 (0: the full correction), got ", config.carry_coring);
-  if (config.smoothing > bolo::vo::kMaxSmoothingPasses)
-    fail("--smoothing: must be within 0..", bolo::vo::kMaxSmoothingPasses, " passes, got ", config.smoothing);
+  if (!vo::kIntensityScaleRange.contains(config.intensity_scale))
+    fail("--intensity-scale: must be within ", vo::kIntensityScaleRange.min, "..", vo::kIntensityScaleRange.max,
+         " (0: measured), got ", config.intensity_scale);
+  if (!vo::kCarryCoringRange.contains(config.carry_coring))
+    fail("--carry-coring: must be within ", vo::kCarryCoringRange.min, "..", vo::kCarryCoringRange.max,
+         " (0: the full correction), got ", config.carry_coring);
+  if (!vo::kSmoothingRange.contains(config.smoothing))
+    fail("--smoothing: must be within ", vo::kSmoothingRange.min, "..", vo::kSmoothingRange.max, " passes, got ",
+         config.smoothing);
   if (!vo::parse_retirement(o.retirement_name.c_str(), config.retirement))
     fail("--retirement: must be oldest or spread, got ", o.retirement_name);
-  if (config.points_per_keyframe != 0 &&
-      (config.points_per_keyframe < vo::kMinPointsPerKeyframe || config.points_per_keyframe > vo::kMaxPointsPerKeyframe))
+  if (config.points_per_keyframe != 0 && !vo::kPointsPerKeyframeRange.contains(config.points_per_keyframe))
     fail("--points-per-keyframe: must be 0 (one per 40 pixels, at most ", vo::kMaxDefaultPointsPerKeyframe, ") or within ",
-         vo::kMinPointsPerKeyframe, "..", vo::kMaxPointsPerKeyframe, ", got ", config.points_per_keyframe);
-  if (config.max_keyframes < 2 || config.max_keyframes > vo::kMaxKeyframes)
-    fail("--max-keyframes: must be within 2..", vo::kMaxKeyframes, ", got ", config.max_keyframes);
+         vo::kPointsPerKeyframeRange.min, "..", vo::kPointsPerKeyframeRange.max, ", got ", config.points_per_keyframe);
+  if (!vo::kKeyframesRange.contains(config.max_keyframes))
+    fail("--max-keyframes: must be within ", vo::kKeyframesRange.min, "..", vo::kKeyframesRange.max, ", got ",
+         config.max_keyframes);
   if (o.reverse && (config.photometric == vo::Photometric::ir || config.photometric == vo::Photometric::ir_loop))
     fail("--reverse: the ir modes' carry-over runs forward in time (use none or affine)");
   if (o.poses_at_read && config.photometric != vo::Photometric::ir && config.photometric != vo::Photometric::ir_loop)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -177,6 +178,22 @@ TEST_CASE("configurations the VO cannot run with are refused", "[vo][board]") {
   vo::VoConfig rough = c;
   rough.smoothing = vo::kMaxSmoothingPasses + 1;
   CHECK(vo::invalid_reason(rough) != nullptr);
+  // Each tunable's range, both ends in, a step beyond either out (the CLI refuses the same values).
+  const auto refused_tau = [&](float tau) {
+    vo::VoConfig t = c;
+    t.tau_init_s = tau;
+    return vo::invalid_reason(t) != nullptr;
+  };
+  CHECK_FALSE(refused_tau(vo::kTauInitRange.min));
+  CHECK_FALSE(refused_tau(vo::kTauInitRange.max));
+  CHECK(refused_tau(0.0009f));
+  CHECK(refused_tau(0.051f));
+  CHECK(refused_tau(std::numeric_limits<float>::quiet_NaN()));
+  vo::VoConfig keyframes = c;
+  keyframes.max_keyframes = vo::kKeyframesRange.max + 1;
+  CHECK(vo::invalid_reason(keyframes) != nullptr);
+  keyframes.max_keyframes = vo::kKeyframesRange.min;
+  CHECK(vo::invalid_reason(keyframes) == nullptr);
   vo::Photometric m;
   CHECK(vo::parse_photometric("ir-loop", m));
   CHECK(m == vo::Photometric::ir_loop);

@@ -60,14 +60,13 @@ const char* invalid_reason(const VoConfig& config) {
   if (!(c.camera.fx > 0) || !(c.camera.fy > 0) || !std::isfinite(c.camera.cx) || !std::isfinite(c.camera.cy))
     return "camera intrinsics must be positive and finite";
   if (c.levels > kMaxLevels) return "too many pyramid levels";
-  if (c.max_keyframes < 2 || c.max_keyframes > kMaxKeyframes) return "max_keyframes must be 2..8";
-  if (!(c.tau_init_s > 0.0005f && c.tau_init_s < 0.1f)) return "tau_init_s must be within 0.5..100 ms";
+  if (!kKeyframesRange.contains(c.max_keyframes)) return "max_keyframes outside kKeyframesRange";
+  if (!kTauInitRange.contains(c.tau_init_s)) return "tau_init_s outside kTauInitRange";
   if (!(c.huber_counts > 0) || !(c.gradient_c > 0)) return "huber_counts and gradient_c must be positive";
-  if (!(c.intensity_scale >= 0) || !(c.intensity_scale <= 1e4f)) return "intensity_scale must be within 0..10000";
-  if (!(c.carry_coring >= 0) || !(c.carry_coring <= 100)) return "carry_coring must be within 0..100";
-  if (c.smoothing > kMaxSmoothingPasses) return "smoothing must be within 0..3 passes";
-  if (c.points_per_keyframe < kMinPointsPerKeyframe || c.points_per_keyframe > kMaxPointsPerKeyframe)
-    return "points_per_keyframe must be within 50..8000";
+  if (!kIntensityScaleRange.contains(c.intensity_scale)) return "intensity_scale outside kIntensityScaleRange";
+  if (!kCarryCoringRange.contains(c.carry_coring)) return "carry_coring outside kCarryCoringRange";
+  if (!kSmoothingRange.contains(c.smoothing)) return "smoothing outside kSmoothingRange";
+  if (!kPointsPerKeyframeRange.contains(c.points_per_keyframe)) return "points_per_keyframe outside kPointsPerKeyframeRange";
   return nullptr;
 }
 

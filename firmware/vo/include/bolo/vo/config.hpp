@@ -92,4 +92,19 @@ inline constexpr std::uint32_t kMaxDefaultPointsPerKeyframe = 500;  // the cap o
 inline constexpr std::uint32_t kMinPointsPerKeyframe = 50;  // below, a keyframe cannot hold the tracker's least inliers
 inline constexpr std::uint32_t kMaxPointsPerKeyframe = 8000;
 
+// A tunable's accepted values, both ends included; NaN is outside every range.
+template <class T>
+struct Range {
+  T min, max;
+  constexpr bool contains(T v) const { return v >= min && v <= max; }
+};
+// The tunables' ranges: invalid_reason refuses a configuration outside them and `bolo odometry`
+// names its flag with the same bounds.
+inline constexpr Range<float> kTauInitRange{0.001f, 0.05f};  // seconds
+inline constexpr Range<std::uint32_t> kKeyframesRange{2, kMaxKeyframes};
+inline constexpr Range<std::uint32_t> kPointsPerKeyframeRange{kMinPointsPerKeyframe, kMaxPointsPerKeyframe};  // or 0
+inline constexpr Range<float> kIntensityScaleRange{0.0f, 1e4f};  // 0: measured
+inline constexpr Range<float> kCarryCoringRange{0.0f, 100.0f};   // 0: the full correction
+inline constexpr Range<std::uint32_t> kSmoothingRange{0, kMaxSmoothingPasses};
+
 }  // namespace bolo::vo
