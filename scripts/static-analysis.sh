@@ -97,6 +97,8 @@ if [ -s "$tmp/failed" ]; then
       "$tmp/$(printf %s "$file" | tr / _).log" || true
   done <"$tmp/failed"
   echo "clang-tidy: findings in $(wc -l <"$tmp/failed") of ${#sources[@]} translation units"
+elif [ -s "$tmp/killed" ]; then
+  echo "clang-tidy: no findings in the units it finished"
 else
   echo "clang-tidy: clean"
 fi
