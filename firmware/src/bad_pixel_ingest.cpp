@@ -10,15 +10,8 @@
 
 #include "bolo/firmware/detail/kernels.hpp"
 #include "bolo/firmware/nuc_stage.hpp"
-#include "multiversion.hpp"
+#include "simd_intrinsics.hpp"
 
-#if BOLO_X86_KERNELS
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#include <immintrin.h>
-#pragma GCC diagnostic pop
-#endif
 #if BOLO_NEON_KERNELS
 #include "neon_nuc.hpp"
 #endif
