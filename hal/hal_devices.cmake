@@ -1,16 +1,13 @@
 # bolo_hal_devices: the I/O layers under the protocol parsers. libusb-1.0 and libgpiod are
 # optional: a cross build finds no target packages (pkg-config would hand it the host's), so
 # they are only looked for natively or when the caller points PKG_CONFIG_LIBDIR at a sysroot.
-add_library(bolo_hal_devices STATIC
+bolo_add_library(hal_devices HEADERS NONE NO_INSTALL SOURCES
   src/captured_transfers.cpp
   src/v4l2_source.cpp
   src/uvc_controls.cpp
   src/gpio_lines.cpp
   src/device_spec.cpp)
-add_library(bolo::hal_devices ALIAS bolo_hal_devices)
-set_target_properties(bolo_hal_devices PROPERTIES EXPORT_NAME hal_devices POSITION_INDEPENDENT_CODE ON)
 target_link_libraries(bolo_hal_devices PUBLIC bolo_hal_protocols)
-target_compile_options(bolo_hal_devices PRIVATE -Wall -Wextra)
 
 option(BOLO_WITH_LIBUSB "USB backends (FLIR ONE, Seek) through libusb-1.0 when found" ON)
 option(BOLO_WITH_LIBGPIOD "GPIO backend through libgpiod when found" ON)

@@ -1,0 +1,35 @@
+# bolo_add_library(NAME [BOARD] [NO_INSTALL] [HEADERS dir...] SOURCES file...)
+#   The static library bolo_NAME with its alias bolo::NAME and export name NAME, position-
+#   independent, C++20. HEADERS: its public header folders, relative to the calling folder
+#   (default include; none for a library whose headers another target carries, HEADERS NONE).
+#   BOARD: board code, built with the firmware flags (bolo_firmware_target); otherwise host code
+#   with -Wall -Wextra. Unless NO_INSTALL the library and its headers are installed and exported
+#   in boloTargets. Links, definitions and further include folders stay with the caller.
+function(bolo_add_library name)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "BOARD;NO_INSTALL" "" "HEADERS;SOURCES")
+  set(target bolo_${name})
+  add_library(${target} STATIC ${arg_SOURCES})
+  add_library(bolo::${name} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} POSITION_INDEPENDENT_CODE ON)
+  target_compile_features(${target} PUBLIC cxx_std_20)
+  if(NOT arg_HEADERS)
+    set(arg_HEADERS include)
+  endif()
+  if(NOT arg_HEADERS STREQUAL "NONE")
+    foreach(dir IN LISTS arg_HEADERS)
+      target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/${dir}>)
+      if(NOT arg_NO_INSTALL)
+        install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+      endif()
+    endforeach()
+    target_include_directories(${target} PUBLIC $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  endif()
+  if(arg_BOARD)
+    bolo_firmware_target(${target})
+  else()
+    target_compile_options(${target} PRIVATE -Wall -Wextra)
+  endif()
+  if(NOT arg_NO_INSTALL)
+    install(TARGETS ${target} EXPORT boloTargets)
+  endif()
+endfunction()
