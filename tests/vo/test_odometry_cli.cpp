@@ -315,13 +315,21 @@ TEST_CASE("odometry says where its tau comes from", "[vo][cli][tau]") {
     REQUIRE(r.code == 0);
     return std::make_pair(summary_of(out / name)["tau_source"].get<std::string>(), r.out);
   };
+  // tau's standard error: the carry-over fits' frame-to-frame scatter where tau is estimated,
+  // null where it is not.
+  const auto standard_error = [&](const char* name) { return summary_of(out / name)["tau_c_standard_error_s"]; };
   const auto [motion, motion_out] = run("ir", {"--photometric", "ir"});
   CHECK(motion == "motion");
   CHECK(motion_out.find("tau from camera motion alone") != std::string::npos);
+  REQUIRE(standard_error("ir").is_number());
+  CHECK(standard_error("ir").get<double>() > 0);
+  CHECK(standard_error("ir").get<double>() < 0.1 * summary_of(out / "ir")["tau_c_s"].get<double>());
   const auto [fixed, fixed_out] = run("fixed", {"--photometric", "ir-loop", "--fixed-tau", "--tau-init", "0.012"});
   CHECK(fixed == "fixed");
   CHECK(fixed_out.find("tau from camera motion alone") == std::string::npos);
+  CHECK(standard_error("fixed").is_null());
   CHECK(run("affine", {"--photometric", "affine"}).first == "none");
+  CHECK(standard_error("affine").is_null());
 }
 
 TEST_CASE("the ir modes track a ghosting drive and estimate tau", "[vo][cli][tau][long]") {
@@ -447,6 +455,11 @@ TEST_CASE("shutter events give tau from their step response and reset the offset
     CHECK(summary["tau_source"] == "shutter_events");
     REQUIRE(summary["tau_from_shutter_events"].size() == 2);
     for (const auto& event : summary["tau_from_shutter_events"]) CHECK(event["tau_s"].get<double>() == Approx(0.010).epsilon(0.02));
+    // Two events: the standard error from their spread (a third of its square under the mean's
+    // weights), within the 2 % they agree to.
+    REQUIRE(summary["tau_c_standard_error_s"].is_number());
+    CHECK(summary["tau_c_standard_error_s"].get<double>() > 0);
+    CHECK(summary["tau_c_standard_error_s"].get<double>() < 0.0002);
     CHECK(e["ate_relative"].get<double>() < 0.003);
     CHECK(e["lost"].get<int>() == 0);
     REQUIRE(e["tau_c_error_2s"].is_number());

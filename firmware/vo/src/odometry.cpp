@@ -321,6 +321,10 @@ Odometry::Odometry(const VoConfig& config, std::span<std::byte> arena) {
 }
 
 Tau Odometry::tau() const { return state_ ? state_->tau_est.tau : Tau{}; }
+double Odometry::tau_standard_error() const {
+  if (state_ == nullptr || !state_->cfg.estimate_tau || !uses_carry_model(state_->cfg)) return 0.0;
+  return vo::tau_standard_error(state_->tau_est);
+}
 std::uint32_t Odometry::keyframes_created() const { return state_ ? state_->kf_created : 0; }
 float Odometry::intensity_scale() const { return state_ ? state_->intensity : 1.0f; }
 

@@ -204,7 +204,13 @@ bool take_shutter_measurement(TauEstimator& t, double tau_s) {
   if (!(tau_s > 0 && tau_s < kShutterTauRange * t.tau.c && tau_s * kShutterTauRange > t.tau.c)) return false;
   // The latest event weighs as much as all before it: tau drifts with the focal plane's
   // temperature, and the events are seconds to minutes apart.
-  t.shutter_tau = t.shutter_measurements == 0 ? tau_s : 0.5 * (t.shutter_tau + tau_s);
+  if (t.shutter_measurements == 0) {
+    t.shutter_tau = tau_s;
+  } else {
+    const double change = tau_s - t.shutter_tau;
+    t.shutter_tau += 0.5 * change;
+    t.shutter_tau_var = 0.5 * (t.shutter_tau_var + 0.5 * change * change);
+  }
   ++t.shutter_measurements;
   t.tau.c = t.tau.h = t.shutter_tau;
   return true;
@@ -385,6 +391,9 @@ void refine_tau(TauEstimator& est, const MapCore& map, const CurrentFrame& f, co
   est.sbb = kForget * est.sbb + sbb;
   est.sbb_total = kForget * est.sbb_total + sbb + noise_bb;
   est.sbbr = kForget * est.sbbr + sbb * readout;
+  est.scatter_aa = kForget * kForget * est.scatter_aa + sab * sab;
+  est.scatter_ab = kForget * kForget * est.scatter_ab + sab * sbb;
+  est.scatter_bb = kForget * kForget * est.scatter_bb + sbb * sbb;
   // B^2 sums grow with the square of the frames' intensity scale.
   const double counts2 = double{map.intensity} * map.intensity;
   if (est.sbb < kMinInformation * counts2 || est.sbb < kMinSignalShare * est.sbb_total) return;
@@ -398,6 +407,22 @@ void refine_tau(TauEstimator& est, const MapCore& map, const CurrentFrame& f, co
   const double tau = -readout_mean / std::log(a);
   if (!std::isfinite(tau)) return;
   est.tau.c = est.tau.h = tau;
+}
+
+double tau_standard_error(const TauEstimator& est) {
+  // The events' mean weighs the latest as much as all before: for independent measurements its
+  // variance is a third of theirs.
+  if (est.shutter_measurements > 0) return est.shutter_measurements >= 2 ? std::sqrt(est.shutter_tau_var / 3) : 0.0;
+  if (!(est.sbb > 0) || !(est.sbbr > 0)) return 0.0;
+  // alpha = sab / sbb over frames f: var(alpha) = sum_f (sab_f - alpha sbb_f)^2 / sbb^2, each
+  // frame's terms forgotten as in the sums; then through tau = -t_r / ln(alpha).
+  const double alpha = est.sab / est.sbb;
+  const double scatter = est.scatter_aa - 2 * alpha * est.scatter_ab + alpha * alpha * est.scatter_bb;
+  if (!(alpha > 0 && alpha < 1) || !(scatter > 0)) return 0.0;
+  const double alpha_se = std::sqrt(scatter) / est.sbb;
+  const double log_alpha = std::log(alpha);
+  const double readout_mean = est.sbbr / est.sbb;
+  return alpha_se * readout_mean / (alpha * log_alpha * log_alpha);
 }
 
 }  // namespace bolo::vo

@@ -388,6 +388,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   summary.frames = frames;
   summary.points = points.size();
   summary.tau_h_s = odometry.tau().h, summary.tau_c_s = odometry.tau().c;
+  summary.tau_c_standard_error_s = odometry.tau_standard_error();
   summary.intensity_scale = odometry.intensity_scale();
   summary.seconds = vo_seconds;
 
@@ -450,6 +451,9 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
                                                                   : nlohmann::json(nullptr)},
                       {"tau_h_s", summary.tau_h_s},
                       {"tau_c_s", summary.tau_c_s},
+                      {"tau_c_standard_error_s", summary.tau_c_standard_error_s > 0
+                                                     ? nlohmann::json(summary.tau_c_standard_error_s)
+                                                     : nlohmann::json(nullptr)},
                       {"shutter_events", summary.shutter_events},
                       {"carry_over_breaks", summary.carry_over_breaks},
                       {"tau_from_shutter_events", shutter_json},

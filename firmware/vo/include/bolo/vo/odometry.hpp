@@ -76,6 +76,9 @@ class Odometry {
 
   FrameResult process(const FrameInput& in);
   Tau tau() const;
+  // tau_c's standard error, seconds (ir modes, tau estimated; 0 while unknown): see
+  // tau_standard_error in tau_estimator.hpp.
+  double tau_standard_error() const;
   // The intensity scale the thresholds use (VoConfig::intensity_scale; measured after the
   // first frames when configured 0).
   float intensity_scale() const;

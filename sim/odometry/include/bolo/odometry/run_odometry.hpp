@@ -82,6 +82,7 @@ struct OdometrySummary {
   // sensor's linear counts (AGC breaks it).
   bool ir_on_tone_mapped = false;
   double tau_h_s = 0, tau_c_s = 0;
+  double tau_c_standard_error_s = 0;  // 0: unknown (vo::Odometry::tau_standard_error)
   // Flagged shutter events (frames.csv ffc = 1 after the first frame), and for the ir modes the
   // tau each one's step response gave (time of the frame after the event, tau).
   std::uint64_t shutter_events = 0;
