@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -92,6 +93,27 @@ inline const nlohmann::json* finding(const nlohmann::json& d, const std::string&
   for (const auto& f : d["findings"])
     if (f["effect"] == id) return &f;
   return nullptr;
+}
+
+// $BOLO_NUMPY_PYTHON, python3 or /usr/bin/python3: the first that imports numpy ("" if none).
+inline std::string numpy_python() {
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("BOLO_NUMPY_PYTHON")) candidates.push_back(env);
+  candidates.push_back("python3");
+  candidates.push_back("/usr/bin/python3");
+  for (const auto& py : candidates)
+    if (std::system(("\"" + py + "\" -c 'import numpy' > /dev/null 2>&1").c_str()) == 0) return py;
+  return "";
+}
+
+// Writes `rec` with the study's second, independent generator (scripts/study/
+// independent_generator.py, run by `python`) for `case_and_options` ("effect:shading --seed 1
+// ..."); whether it succeeded.
+inline bool second_generator(const std::string& python, const fs::path& rec, const std::string& case_and_options) {
+  const std::string generator = std::string(BOLO_TESTS_DIR) + "/../scripts/study/independent_generator.py";
+  const std::string command =
+      "\"" + python + "\" \"" + generator + "\" \"" + rec.string() + "\" --case " + case_and_options + " > /dev/null";
+  return std::system(command.c_str()) == 0;
 }
 
 // Rewrites `from`'s frames.csv into `to`: each data row's cells (padded to the 7 columns of the

@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "../test_skip.hpp"
 #include "diagnose_test_support.hpp"
 
 using namespace bolo;
@@ -133,6 +134,20 @@ TEST_CASE("gain and offset patterns together are both named", "[diagnose][concea
   REQUIRE(finding(d, "gain_fpn"));
   // Found after gain_fpn here, whose share of each pixel took part of the offset: within 50 %.
   CHECK((*finding(d, "offset_fpn"))["params"]["sigma"].get<double>() == Approx(2.0).epsilon(0.5));
+}
+
+TEST_CASE("a shading of another shape than the simulator's is named shading, not stripes", "[diagnose][concealed]") {
+  // The second generator's shading (seed 1, 1 noise sigma) is not the radial field bolo's shading
+  // fits: what that field leaves is smooth across columns and rows, which the column and row
+  // medians used to read as stripes (column_fpn and row_fpn, without shading, at this size).
+  const std::string py = numpy_python();
+  if (py.empty()) return skip("no Python with NumPy for scripts/study/independent_generator.py (set BOLO_NUMPY_PYTHON)");
+  TempDir tmp;
+  const fs::path rec = tmp / "gen2-shading";
+  REQUIRE(second_generator(py, rec, "effect:shading --amplitude 1 --seed 1 --size 96x72 --frames 120"));
+  const nlohmann::json d = diagnose(rec, tmp / "gen2-shading.d");
+  INFO(d["findings"].dump(1));
+  CHECK(found(d) == std::vector<std::string>{"shading"});
 }
 
 TEST_CASE("concealed column FPN under a 4x larger offset FPN", "[diagnose][concealed]") {

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Dense>
+
 #include "bolo/effects/stats.hpp"
 
 namespace bolo::diag {
@@ -156,6 +158,29 @@ double rms(const std::vector<double>& v) {
 }
 
 
+namespace {
+
+// v less its least-squares quadratic in x in [-1, 1].
+std::vector<double> without_quadratic(std::vector<double> v) {
+  const std::size_t n = v.size();
+  if (n < 4) return v;
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  const auto basis = [n](std::size_t i) {
+    const double x = 2.0 * double(i) / double(n - 1) - 1.0;
+    return Eigen::Vector3d(1.0, x, x * x);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    normal += basis(i) * basis(i).transpose();
+    rhs += basis(i) * v[i];
+  }
+  const Eigen::Vector3d c = normal.ldlt().solve(rhs);
+  for (std::size_t i = 0; i < n; ++i) v[i] -= c.dot(basis(i));
+  return v;
+}
+
+}  // namespace
+
 TimeAveraged time_averaged(const DiagnoseData& d, const PixelSums& s) {
   const int H = d.shape.height, W = d.shape.width;
   const std::size_t P = d.shape.pixels();
@@ -193,8 +218,8 @@ TimeAveraged time_averaged(const DiagnoseData& d, const PixelSums& s) {
     pixel_spread += v * v;
   }
   pixel_spread = std::sqrt(pixel_spread / double(P));
-  a.stripes_in_columns = rms(a.col) >= 2.0 * pixel_spread / std::sqrt(double(H));
-  a.stripes_in_rows = rms(a.row) >= 2.0 * pixel_spread / std::sqrt(double(W));
+  a.stripes_in_columns = rms(without_quadratic(a.col)) >= 2.0 * pixel_spread / std::sqrt(double(H));
+  a.stripes_in_rows = rms(without_quadratic(a.row)) >= 2.0 * pixel_spread / std::sqrt(double(W));
   return a;
 }
 

@@ -56,7 +56,10 @@ LevelSplit split_by_level(const std::vector<double>& r, const std::vector<double
 double rms(const std::vector<double>& v);
 
 // The time-averaged residual (training frames) and its column and row medians, centred, with
-// whether they stand out as stripes.
+// whether they stand out as stripes. Stripes are column (row) FPN, independent from one column to
+// the next: whether a profile holds them is judged on it less its smooth trend (a quadratic
+// across the frame, which a shading left over or a scene's ghost also makes); a profile that
+// does is taken whole.
 struct TimeAveraged {
   int width = 0;
   std::vector<double> mean, noise, col, row;
