@@ -407,13 +407,14 @@ void refine_tau(TauEstimator& est, const MapCore& map, const CurrentFrame& f, co
   const double tau = -readout_mean / std::log(a);
   if (!std::isfinite(tau)) return;
   est.tau.c = est.tau.h = tau;
+  est.solved = true;
 }
 
 double tau_standard_error(const TauEstimator& est) {
   // The events' mean weighs the latest as much as all before: for independent measurements its
   // variance is a third of theirs.
   if (est.shutter_measurements > 0) return est.shutter_measurements >= 2 ? std::sqrt(est.shutter_tau_var / 3) : 0.0;
-  if (!(est.sbb > 0) || !(est.sbbr > 0)) return 0.0;
+  if (!est.solved || !(est.sbb > 0) || !(est.sbbr > 0)) return 0.0;
   // alpha = sab / sbb over frames f: var(alpha) = sum_f (sab_f - alpha sbb_f)^2 / sbb^2, each
   // frame's terms forgotten as in the sums; then through tau = -t_r / ln(alpha).
   const double alpha = est.sab / est.sbb;

@@ -20,6 +20,7 @@ struct TauEstimator {
   // Each frame's (sab, sbb) contribution's second moments, forgotten at the square of sab's
   // rate: the frame-to-frame scatter the estimate's standard error is read from.
   double scatter_aa = 0, scatter_ab = 0, scatter_bb = 0;
+  bool solved = false;  // the estimate has come from the sums (not only the starting tau)
   std::uint32_t shutter_measurements = 0;  // shutter events whose step response gave tau
   double shutter_tau = 0;                  // their running mean (seconds)
   double shutter_tau_var = 0;              // their spread about it, weighted alike (seconds^2)
@@ -38,9 +39,9 @@ void refine_tau(TauEstimator& est, const MapCore& map, const CurrentFrame& f, co
 bool take_shutter_measurement(TauEstimator& t, double tau_s);
 // tau_c's standard error (seconds) in the estimate as it stands: from the spread of the shutter
 // events' measurements once two were taken, otherwise from the frame-to-frame scatter of the
-// carry-over fits (a ratio estimator's delta-method variance), or 0 while neither has data. A
-// statistical error: the bias of the pairs on smooth images (docs/odometry-study.md, "τ") is not
-// in it.
+// carry-over fits (a ratio estimator's delta-method variance), or 0 while neither has moved the
+// estimate from its start. A statistical error: the bias of the pairs on smooth images
+// (docs/odometry-study.md, "τ") is not in it.
 double tau_standard_error(const TauEstimator& est);
 // Per pixel, the consecutive checks (every other frame) at which its raw value stayed exactly the
 // same as the frame before: refine_tau leaves out samples near stuck pixels. Called for every
