@@ -41,9 +41,6 @@ bool exposure_varies(const DiagnoseData& d) { return varies(d.exposure_s); }
 // median readout into the frame's own exposure:
 //   s_n = restart_n L + weight_n u_n,  restart_n = carry_typ  (L: the first frame's input, or the
 // shutter's level). With `nominal_timing`, every frame has the median exposure and readout.
-struct FrameSteps {
-  std::vector<double> carry, weight, restart;  // restart: only at the first frame and flagged shutter frames
-};
 FrameSteps frame_steps(const DiagnoseData& d, double tau_c, double tau_h, bool nominal_timing) {
   const double exposure_median = median_of(d.exposure_s), readout_median = median_of(d.readout_s);
   auto exposure = [&](int n) { return nominal_timing ? exposure_median : d.exposure_s[n]; };
@@ -60,6 +57,20 @@ FrameSteps frame_steps(const DiagnoseData& d, double tau_c, double tau_h, bool n
     f.weight[n] = scale * k.heat;
     if (n == 0 || d.flagged_event[n]) f.restart[n] = restart;
     else f.carry[n] = k.carry;
+  }
+  return f;
+}
+
+// d(frame_steps)/d(ln tau) with both time constants scaled together (central differences).
+FrameSteps frame_steps_per_ln_tau(const DiagnoseData& d, double tau_c, double tau_h) {
+  constexpr double h = 1e-4;
+  const double up = std::exp(h), down = std::exp(-h);
+  const FrameSteps a = frame_steps(d, tau_c * up, tau_h * up, false), b = frame_steps(d, tau_c * down, tau_h * down, false);
+  FrameSteps f = a;
+  for (std::size_t n = 0; n < f.carry.size(); ++n) {
+    f.carry[n] = (a.carry[n] - b.carry[n]) / (2 * h);
+    f.weight[n] = (a.weight[n] - b.weight[n]) / (2 * h);
+    f.restart[n] = (a.restart[n] - b.restart[n]) / (2 * h);
   }
   return f;
 }
@@ -396,6 +407,15 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
     d.baseline[i] = float(fit.gain * (sim[i] + fit.timing_frames * rate[i] +
                                       (with_motion ? fit.exposure_motion * sim_motion[i] : 0.0)) +
                           fit.offset + fit.exposure_offset * exposure_change[i / P]);
+  const double tau_h_used = fit_tau_h ? tau_h : tau_c;
+  d.steps = frame_steps(d, tau_c, tau_h_used, false);
+  d.steps_per_ln_tau = frame_steps_per_ln_tau(d, tau_c, tau_h_used);
+  d.within_exposure.clear();
+  if (fit.timing_frames != 0 || with_motion) {
+    d.within_exposure.resize(d.shape.size());
+    for (std::size_t i = 0; i < sim.size(); ++i)
+      d.within_exposure[i] = float(fit.gain * (fit.timing_frames * rate[i] + (with_motion ? fit.exposure_motion * sim_motion[i] : 0.0)));
+  }
   d.baseline_nominal.clear();
   if (varies(d.exposure_s) || varies(d.readout_s)) {
     two_frame(d, tau_c, fit_tau_h ? tau_h : tau_c, sim, true);
@@ -467,6 +487,8 @@ BaselineFit fit_static_background(DiagnoseData& d) {
     std::copy(background.begin(), background.end(), d.frame(d.baseline, n));
   }
   d.baseline_nominal.clear();
+  d.steps = d.steps_per_ln_tau = FrameSteps{};
+  d.within_exposure.clear();
   BaselineFit fit;
   fit.model = "static-background";
   fit.assumption =
