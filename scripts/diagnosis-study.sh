@@ -5,7 +5,8 @@
 # diagnoses them and the shared real recordings (../shared/data/real, when present) with
 # `bolo diagnose`, and scores the findings against truth/ (scripts/diagnosis_study.py). About 330
 # runs: 1-1.5 h on one core. `--quick` runs a small version (a few minutes); `--independent-only`
-# runs only the second generator (~40 min; `--resume` keeps the runs already made);
+# runs only the second generator (~40 min; `--resume` keeps the runs already made; `--jobs 2`
+# runs two of its recordings at a time);
 # `--no-independent` leaves it out. Work files go to out/diagnosis-study.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"

@@ -5,7 +5,7 @@ with `bolo simulate`, cases made by a second generator that shares no code with 
 interpreter), all diagnosed with `bolo diagnose` and scored against truth/effects.json (which only
 this script reads), and the real recordings. The study itself uses the standard library only.
 
-usage: scripts/diagnosis_study.py BOLO WORKDIR DOCS [--quick] [--independent-only [--resume]] [--no-independent]
+usage: scripts/diagnosis_study.py BOLO WORKDIR DOCS [--quick] [--independent-only [--resume] [--jobs N]] [--no-independent]
 """
 import json, math, os, subprocess, sys, time
 
@@ -337,7 +337,8 @@ def method_text():
 import diagnosis_study_independent as independent  # noqa: E402 (beside this script)
 
 def run_independent(previous):
-    return independent.run(BOLO, WORK, QUICK, previous, "--resume" in sys.argv)
+    jobs = int(sys.argv[sys.argv.index("--jobs") + 1]) if "--jobs" in sys.argv else 1
+    return independent.run(BOLO, WORK, QUICK, previous, "--resume" in sys.argv, jobs)
 
 independent_block = independent.block
 

@@ -3,7 +3,7 @@ scripts/study/independent_generator.py, which shares no code with bolo, checked 
 diagnosed with `bolo diagnose` and scored against their truth/effects.json. Used by
 scripts/diagnosis_study.py; standard library only (the generator runs under BOLO_NUMPY_PYTHON).
 """
-import json, os, subprocess, sys, time
+import concurrent.futures, json, os, subprocess, sys, threading, time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 GENERATOR = os.path.join(HERE, "study", "independent_generator.py")
@@ -101,20 +101,28 @@ def run_one(bolo, work, quick, c):
                 size=st["size"], frames=st["frames"], gen_seconds=gen_s, diag_seconds=diag_s, info_first_line=info.stdout.splitlines()[0] if info.stdout else "")
 
 
-def run(bolo, work, quick, previous, resume):
-    """Runs every planned case (serially); with `resume`, cases already in `previous` are kept."""
+def run(bolo, work, quick, previous, resume, jobs=1):
+    """Runs every planned case, `jobs` at a time; with `resume`, cases already in `previous` are kept."""
     done = {r["name"]: r for r in (previous or [])} if resume else {}
     partial = os.path.join(work, "independent-partial.json")
     if resume and os.path.exists(partial):
         with open(partial) as f: done.update({r["name"]: r for r in json.load(f)})
-    results = []
-    for c in plan(quick):
+    cases = plan(quick)
+    results = {}
+    lock = threading.Lock()
+
+    def one(c):
         r = done.get(c["name"]) or run_one(bolo, work, quick, c)
-        results.append(r)
-        with open(partial, "w") as f: json.dump(results, f, indent=1)
-        print(f"{c['name']}: found {r['found']}, {len(r['unexplained'])} unexplained, "
-              f"{r['diag_seconds']:.1f} s", flush=True)
-    return results
+        with lock:
+            results[c["name"]] = r
+            with open(partial, "w") as f: json.dump([results[x["name"]] for x in cases if x["name"] in results], f, indent=1)
+            print(f"{c['name']}: found {r['found']}, {len(r['unexplained'])} unexplained, "
+                  f"{r['diag_seconds']:.1f} s", flush=True)
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        for future in [pool.submit(one, c) for c in cases]:
+            future.result()
+    return [results[c["name"]] for c in cases]
 
 
 # Entries the null recordings get too (motion within the exposure, the global level left by the
@@ -162,7 +170,7 @@ def block(results, note=None):
              "after a global gain and offset (the AGC: in its own output noise). Dead pixels: 4 (2 at 0.5); "
              "repeats: every 20th frame (40th). Each recording is checked with `bolo info`; its truth is "
              "`truth/effects.json`. Regenerate this section alone: `scripts/diagnosis-study.sh --independent-only` "
-             "(~1 h on one core of a loaded machine; `--resume` keeps finished runs; `--quick`: 96x72, one seed).\n")
+             "(~1 h on one core of a loaded machine, `--jobs 2` runs two recordings at a time; `--resume` keeps finished runs; `--quick`: 96x72, one seed).\n")
     L.append("| effect | found, a=1 | found, a=0.5 | other findings (runs) | median param. error | "
              "held-out RMS before -> after (noise floor) |")
     L.append("|---|---|---|---|---|---|")
