@@ -65,7 +65,7 @@ void PooledLinear::prepare(const DiagnoseData& data, const std::vector<float>& r
   const int A = alternatives();
   const std::size_t P = data.shape.pixels();
   tau_nuisance_.clear();
-  if (refits_tau() && data.has_scene && data.tau_c_s > 0) tau_derivative(data, tau_nuisance_);
+  if (refits_tau() && data.has_scene && data.tau_c_s > 0) transient_tau_derivative(data, data.tau_c_s, tau_nuisance_);
   const int k = regressor_count() + (tau_nuisance_.empty() ? 0 : 1);
   stats_.assign(A, {});
   usable_.assign(A, 0);

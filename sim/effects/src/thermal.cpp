@@ -153,9 +153,10 @@ class TauTemperatureCandidate final : public PooledLinear {
   // with it here too, this candidate took nonlinearity's recordings).
   bool regressors(int, Regressors& X) const override {
     const DiagnoseData& d = *data_;
-    if (!d.has_scene || !(d.tau_c_s > 0) || d.steps.carry.empty()) return false;
+    if (!d.has_scene || !(d.tau_c_s > 0)) return false;
     X.assign(1, {});
-    level_tau_derivative(d, d.level_mid, X[0]);
+    const double tau_h = d.tau_h_s > 0 ? d.tau_h_s : d.tau_c_s;  // the baseline's own assumption
+    level_tau_derivative(d, d.tau_c_s, tau_h, d.level_mid, X[0]);
     return true;
   }
   nlohmann::json params_of(int, const Eigen::VectorXd& beta) const override {

@@ -1,7 +1,13 @@
 #pragma once
-// How the baseline moves when its time constants change: d(output)/d(parameter) along the baseline's
-// own frame steps, for the effects that act on tau (tau_spread per pixel, tau_temperature by level)
-// and for the baseline's own tau as a nuisance regressor (pooled.cpp).
+// How the baseline moves when its time constants change, for the effects that act on tau and for
+// the baseline's own tau as a nuisance regressor (pooled.cpp). Two readings of d/d(ln tau):
+//  * on the transients as observed (transient_tau_derivative, level_tau_derivative): the input
+//    recovered from the baseline frame by frame, so a jittered timing's level steps count as input
+//    changes; a uniform tau and a level-dependent one's part at the reference level are then the
+//    same shape, which the candidates that refit tau rely on;
+//  * along the baseline's own frame steps (frame_step_tau_derivative): each frame's carry, heating
+//    weight and calibration at the median timing, which a jittered exposure or readout moves per
+//    frame, so a pixel's own tau moves its level with every frame's timing (tau_spread's map).
 
 #include <cmath>
 #include <cstddef>
@@ -11,6 +17,53 @@
 #include "bolo/effects/stats.hpp"
 
 namespace bolo::diag {
+
+// d(baseline)/d(ln tau_c) through the two-frame recursion, s_n = c s_{n-1} + (1 - c) u_n, with u_n
+// recovered from the baseline (units of the recording).
+inline void transient_tau_derivative(const DiagnoseData& d, double tau_c, std::vector<float>& out) {
+  const std::size_t P = d.shape.pixels();
+  out.assign(d.shape.size(), 0.0f);
+  std::vector<double> ds(P, 0.0);
+  for (int n = 1; n < d.shape.n; ++n) {
+    const double c = std::exp(-d.readout_s[n - 1] / tau_c);
+    const double dc_dlntau = c * d.readout_s[n - 1] / tau_c;
+    const float* b = d.frame(d.baseline, n);
+    const float* bp = d.frame(d.baseline, n - 1);
+    float* o = out.data() + std::size_t(n) * P;
+    for (std::size_t p = 0; p < P; ++p) {
+      const double u = (b[p] - c * bp[p]) / (1 - c);
+      ds[p] = dc_dlntau * (bp[p] - u) + c * ds[p];
+      o[p] = static_cast<float>(ds[p]);
+    }
+  }
+}
+
+// d(output)/d(gamma) when both time constants follow the pixel's previous level,
+// tau = tau0 (1 + gamma q_{n-1}) with q = level - `reference`, in a camera calibrated to read its
+// input in steady state at every level (only the transient depends on gamma):
+//   E_n = c_n E_{n-1} + (q_{n-1} - q_n) (c'_n / (1 - c_n) q_{n-1} + kappa'_n q_n),
+// c' = dc/d(ln tau_c), kappa' = d ln(h / (1 - c)) / d(ln tau) (h the exposure's heating share).
+// Another reference adds a multiple of d(baseline)/d(ln tau).
+inline void level_tau_derivative(const DiagnoseData& d, double tau_c, double tau_h, double reference,
+                                 std::vector<float>& out) {
+  const std::size_t P = d.shape.pixels();
+  out.assign(d.shape.size(), 0.0f);
+  std::vector<double> e(P, 0.0);
+  for (int n = 1; n < d.shape.n; ++n) {
+    const double c = std::exp(-d.readout_s[n - 1] / tau_c), x_h = d.exposure_s[n] / tau_h;
+    const double h = -std::expm1(-x_h);
+    const double dc_share = c * d.readout_s[n - 1] / tau_c / (1 - c);
+    const double kappa_slope_n = -x_h * std::exp(-x_h) / h + dc_share;
+    const float* b = d.frame(d.baseline, n);
+    const float* bp = d.frame(d.baseline, n - 1);
+    float* o = out.data() + std::size_t(n) * P;
+    for (std::size_t p = 0; p < P; ++p) {
+      const double q = b[p] - reference, qp = bp[p] - reference;
+      e[p] = c * e[p] + (qp - q) * (dc_share * qp + kappa_slope_n * q);
+      o[p] = static_cast<float>(e[p]);
+    }
+  }
+}
 
 // How much later than its even average an exposure weighed by the pixel's response,
 // exp(-(t_e - t)/tau_h), reads the input: t_e (1/(1 - e^-x) - 1/x - 1/2), x = t_e/tau_h (seconds).
@@ -26,19 +79,20 @@ inline double lateness_per_ln_tau_h(double exposure_s, double tau_h) {
   return up > 0 && down > 0 ? (std::log(up) - std::log(down)) / (2 * h) : 0.0;
 }
 
-// The baseline's recursion in input units, s_n = c_n s_{n-1} + w_n u_n (a restart from a level at
-// the first frame and flagged shutter frames), with a derivative beside it,
-// ds_n = c_n ds_{n-1} + source(n, p, s_{n-1}, u_n) (restart_source(n, p, level, u_n) on a restart);
-// write(i, s_n, ds_n) for every pixel-frame i. False when the baseline has no steps (no scene).
-template <typename Source, typename RestartSource, typename Write>
-bool along_baseline_steps(const DiagnoseData& d, Source source, RestartSource restart_source, Write write) {
+// d(baseline)/d(ln tau), both time constants together, along the baseline's frame steps
+// (d.steps, d.steps_per_ln_tau; input units, times the gain), plus the slope of its term for motion
+// within the exposure (the lateness per ln tau_h times d.within_exposure). Left empty without steps.
+inline void frame_step_tau_derivative(const DiagnoseData& d, std::vector<float>& out) {
   const std::size_t P = d.shape.pixels();
   const int N = d.shape.n;
-  const FrameSteps& f = d.steps;
-  if (int(f.carry.size()) != N || int(d.steps_per_ln_tau.carry.size()) != N || d.input.size() != d.shape.size()) return false;
+  const FrameSteps &f = d.steps, &df = d.steps_per_ln_tau;
+  out.clear();
+  if (int(f.carry.size()) != N || int(df.carry.size()) != N || d.input.size() != d.shape.size()) return;
+  out.assign(d.shape.size(), 0.0f);
   std::vector<double> s(P), ds(P);
   for (int n = 0; n < N; ++n) {
     const float* u = d.frame(d.input, n);
+    float* o = out.data() + std::size_t(n) * P;
     const bool restart = n == 0 || d.flagged_event[n];
     double level = 0;  // a shutter frame restarts from the scene's mean level, the first frame from its own input
     if (restart && n > 0) {
@@ -48,68 +102,18 @@ bool along_baseline_steps(const DiagnoseData& d, Source source, RestartSource re
     for (std::size_t p = 0; p < P; ++p) {
       if (restart) {
         const double from = n == 0 ? u[p] : level;
-        ds[p] = restart_source(n, p, from, double(u[p]));
+        ds[p] = df.restart[n] * from + df.weight[n] * u[p];
         s[p] = f.restart[n] * from + f.weight[n] * u[p];
       } else {
-        ds[p] = f.carry[n] * ds[p] + source(n, p, s[p], double(u[p]));
+        ds[p] = df.carry[n] * s[p] + f.carry[n] * ds[p] + df.weight[n] * u[p];
         s[p] = f.carry[n] * s[p] + f.weight[n] * u[p];
       }
-      write(std::size_t(n) * P + p, s[p], ds[p]);
+      o[p] = static_cast<float>(d.gain * ds[p]);
     }
   }
-  return true;
-}
-
-// The slope of the baseline's term for motion within the exposure per ln tau_h at every pixel-frame
-// is this factor times the term (lateness_per_ln_tau_h at the median exposure).
-inline double within_exposure_per_ln_tau(const DiagnoseData& d) {
-  if (d.within_exposure.size() != d.shape.size()) return 0.0;
-  return lateness_per_ln_tau_h(median_of(d.exposure_s), d.tau_h_s > 0 ? d.tau_h_s : d.tau_c_s);
-}
-
-// d(output)/d(gamma) when both time constants follow the pixel's previous level,
-// tau = tau0 (1 + gamma q_{n-1}) with q = level - `reference` (the baseline's), in a camera
-// calibrated to read its input in steady state at every level (only the transient depends on gamma):
-//   ds_n = c_n ds_{n-1} + q_{n-1} (c'_n s_{n-1} + (w'_n + w_n kappa') u_n),  out_n = gain (ds_n - kappa' q_n s_n),
-// c', w' the steps' slopes per ln tau and kappa' = d ln(h / (1 - c)) / d(ln tau) at the median timing
-// (the calibration's), plus q_{n-1} times the slope of the motion within the exposure.
-inline void level_tau_derivative(const DiagnoseData& d, double reference, std::vector<float>& out) {
-  out.assign(d.shape.size(), 0.0f);
-  const double tau_c = d.tau_c_s, tau_h = d.tau_h_s > 0 ? d.tau_h_s : d.tau_c_s;
-  const double x_h = median_of(d.exposure_s) / tau_h, x_c = median_of(d.readout_s) / tau_c;
-  const double kappa_slope = -x_h / std::expm1(x_h) + x_c / std::expm1(x_c);
-  const std::size_t P = d.shape.pixels();
-  const FrameSteps &f = d.steps, &df = d.steps_per_ln_tau;
-  auto previous_q = [&](int n, std::size_t p) { return d.baseline[std::size_t(n - 1) * P + p] - reference; };
-  const bool ok = along_baseline_steps(
-      d,
-      [&](int n, std::size_t p, double s_prev, double u) {
-        return previous_q(n, p) * (df.carry[n] * s_prev + (df.weight[n] + f.weight[n] * kappa_slope) * u);
-      },
-      [](int, std::size_t, double, double) { return 0.0; },
-      [&](std::size_t i, double s, double ds) {
-        out[i] = static_cast<float>(d.gain * (ds - kappa_slope * (d.baseline[i] - reference) * s));
-      });
-  if (!ok) return;
-  const double k = within_exposure_per_ln_tau(d);
-  if (k == 0) return;
-  for (std::size_t i = P; i < out.size(); ++i) out[i] += static_cast<float>(k * (d.baseline[i - P] - reference) * d.within_exposure[i]);
-}
-
-// d(baseline)/d(ln tau), both time constants together: the baseline's own recursion differentiated
-// frame by frame (the carry, the heating weight and the calibration at the median timing, which a
-// jittered exposure or readout moves from frame to frame), plus its term for motion within the
-// exposure, whose lateness a longer tau_h shortens.
-inline void tau_derivative(const DiagnoseData& d, std::vector<float>& out) {
-  out.assign(d.shape.size(), 0.0f);
-  const FrameSteps& df = d.steps_per_ln_tau;
-  const bool ok = along_baseline_steps(
-      d, [&](int n, std::size_t, double s_prev, double u) { return df.carry[n] * s_prev + df.weight[n] * u; },
-      [&](int n, std::size_t, double from, double u) { return df.restart[n] * from + df.weight[n] * u; },
-      [&](std::size_t i, double, double ds) { out[i] = static_cast<float>(d.gain * ds); });
-  if (!ok) return;
-  const double k = within_exposure_per_ln_tau(d);
-  for (std::size_t i = 0; k != 0 && i < out.size(); ++i) out[i] += static_cast<float>(k * d.within_exposure[i]);
+  if (d.within_exposure.size() != out.size()) return;
+  const double k = lateness_per_ln_tau_h(median_of(d.exposure_s), d.tau_h_s > 0 ? d.tau_h_s : d.tau_c_s);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] += static_cast<float>(k * d.within_exposure[i]);
 }
 
 }  // namespace bolo::diag
