@@ -151,6 +151,11 @@ def main():
     run_concealed(rows, seeds, times)
     if "--no-independent" not in sys.argv:
         rows["independent"] = run_independent(rows.get("independent"))
+    elif os.path.exists(os.path.join(WORK, "study.json")):
+        # The second generator's rows and note as last measured, so the page keeps its section.
+        with open(os.path.join(WORK, "study.json")) as f: stored = json.load(f)
+        for key in ("independent", "independent_note"):
+            if key in stored: rows[key] = stored[key]
     run_curves_and_real(rows, seeds, times)
 
 def run_concealed(rows, seeds, times):
