@@ -180,6 +180,19 @@ TEST_CASE("dead pixels and repeated frames are found", "[diagnose][concealed]") 
   CHECK((*finding(d, "frame_duplication"))["params"]["every"] == 10);
 }
 
+TEST_CASE("stuck pixels under offset FPN are dead_pixels, not an in-core filter", "[diagnose][concealed]") {
+  // Three stuck pixels are off the model by hundreds of counts in every frame, and their residual
+  // holds from frame to frame: read among the quiet pixel-frames they set temporal_filter's pole
+  // (this seed then named temporal_filter and gain_fpn). A filter acts on every pixel alike.
+  TempDir tmp;
+  const fs::path rec = simulate(tmp, "stuck", {"dead_pixels:count=3", "offset_fpn:sigma=3"}, 3,
+                                {"--size", "96x72", "--frames", "200"});
+  const nlohmann::json d = diagnose(rec, tmp / "stuck.d");
+  INFO(d["findings"].dump(1));
+  CHECK(finding(d, "dead_pixels") != nullptr);
+  CHECK(finding(d, "temporal_filter") == nullptr);
+}
+
 TEST_CASE("two repeated frames in a recording are found wherever the held-out blocks fall", "[diagnose][concealed][long]") {
   // every=50 over 120 frames: frames 49 and 99 repeat. A training set holding one or none of them
   // cannot show a period; the bit-identity rule still marks the held-out repeat.

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "bolo/diagnose/baseline.hpp"
+#include "bolo/diagnose/far_off_pixels.hpp"
 #include "bolo/sim/two_frame_sensor.hpp"
 #include <Eigen/Dense>
 
@@ -310,20 +311,9 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
   {
     cost(std::log(0.012));
     const LinearFit first = fit_gain_offset(d, sim, use);
-    // Over the pixel's valid readings only: a clipped reading is off the model by design.
-    std::vector<double> ms(P, 0.0), count(P, 0.0);
-    for (int n = 0; n < d.shape.n; ++n)
-      for (std::size_t p = 0; p < P; ++p) {
-        const std::size_t i = std::size_t(n) * P + p;
-        if (!d.valid[i]) continue;
-        const double e = d.recorded[i] - first.gain * sim[i] - first.offset;
-        ms[p] += e * e;
-        count[p] += 1;
-      }
-    for (std::size_t p = 0; p < P; ++p) ms[p] = count[p] > 0 ? ms[p] / count[p] : 0.0;
-    std::vector<double> tmp = ms;
-    const double typical = median_in_place(tmp);
-    for (std::size_t p = 0; p < P; ++p) use[p] = ms[p] <= 100 * typical + 1e-12;
+    const std::vector<std::uint8_t> far = far_off_pixels(
+        d, [&](std::size_t i) { return d.recorded[i] - first.gain * sim[i] - first.offset; });
+    for (std::size_t p = 0; p < P; ++p) use[p] = !far[p];
   }
   // Frames repeated bit for bit are copies, not readings of their own time: not for the fit.
   std::vector<int> repeats;

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "bolo/effects/stats.hpp"
+#include "bolo/diagnose/far_off_pixels.hpp"
 #include "entries.hpp"
 #include "map_statistics.hpp"
 #include "params.hpp"
@@ -171,13 +172,16 @@ class TemporalFilterCandidate final : public PooledLinear {
     auto quiet = [&](int n, std::size_t p) {
       return std::fabs(d.frame(still, n)[p] - d.frame(still, n - 1)[p]) <= quiet_step;
     };
+    // A filter acts on every pixel alike: pixels far off the model (stuck ones) would set its pole.
+    const std::vector<std::uint8_t> far = far_off_pixels(d, [&](std::size_t i) { return r[i]; });
+    auto quiet_pixel = [&](int n, std::size_t p) { return !far[p] && quiet(n, p); };
     std::vector<float> mean(N, 0.0f);
     for (int n = 0; n < N; ++n) {
       const float* f = d.frame(r, n);
       const std::uint8_t* v = d.valid_frame(n);
       double s = 0, c = 0;
       for (std::size_t p = 0; p < P; ++p)
-        if (v[p]) { s += f[p]; c += 1; }
+        if (v[p] && !far[p]) { s += f[p]; c += 1; }
       mean[n] = c > 0 ? float(s / c) : 0.0f;
     }
     // A filter's pole is per frame: the residual's autocorrelation falls as alpha^k. Memory that
@@ -189,7 +193,7 @@ class TemporalFilterCandidate final : public PooledLinear {
         const float *f = d.frame(r, n), *f1 = d.frame(r, n - 1), *f2 = d.frame(r, n - 2);
         const std::uint8_t *v = d.valid_frame(n), *v1 = d.valid_frame(n - 1), *v2 = d.valid_frame(n - 2);
         for (std::size_t p = 0; p < P; ++p) {
-          if (!(v[p] && v1[p] && v2[p]) || !quiet(n, p) || !quiet(n - 1, p)) continue;
+          if (!(v[p] && v1[p] && v2[p]) || !quiet_pixel(n, p) || !quiet(n - 1, p)) continue;
           const double a = f[p] - mean[n], b = f1[p] - mean[n - 1], c = f2[p] - mean[n - 2];
           r0 += a * a; r1 += a * b; r2 += a * c; count += 1;
         }
@@ -218,7 +222,7 @@ class TemporalFilterCandidate final : public PooledLinear {
       float* x = X[0].data() + std::size_t(n) * P;
       float* xt = X[1].data() + std::size_t(n) * P;
       for (std::size_t p = 0; p < P; ++p) {
-        if (!(vp[p] && quiet(n, p))) continue;
+        if (!(vp[p] && quiet_pixel(n, p))) continue;
         x[p] = rp[p] - mean[n - 1];
         if (timing_varies) xt[p] = (bp[p] - b[p]) - (sp[p] - s[p]);
       }
