@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../cli/cli_test_support.hpp"
+#include "../test_skip.hpp"
 #include "bolo/diagnose/diagnose.hpp"
 #include "bolo/recording/recording.hpp"
 
@@ -106,14 +107,21 @@ inline std::string numpy_python() {
   return "";
 }
 
-// Writes `rec` with the study's second, independent generator (scripts/study/
-// independent_generator.py, run by `python`) for `case_and_options` ("effect:shading --seed 1
-// ..."); whether it succeeded.
-inline bool second_generator(const std::string& python, const fs::path& rec, const std::string& case_and_options) {
+// Writes tmp / name with the study's second, independent generator (scripts/study/
+// independent_generator.py) for `case_and_options` ("effect:shading --seed 1 ..."); the empty path
+// when no Python imports NumPy, after marking the test skipped (the caller returns).
+inline fs::path second_generator(const TempDir& tmp, const std::string& name, const std::string& case_and_options) {
+  const std::string python = numpy_python();
+  if (python.empty()) {
+    skip("no Python with NumPy for scripts/study/independent_generator.py (set BOLO_NUMPY_PYTHON)");
+    return {};
+  }
+  const fs::path rec = tmp / name;
   const std::string generator = std::string(BOLO_TESTS_DIR) + "/../scripts/study/independent_generator.py";
   const std::string command =
       "\"" + python + "\" \"" + generator + "\" \"" + rec.string() + "\" --case " + case_and_options + " > /dev/null";
-  return std::system(command.c_str()) == 0;
+  REQUIRE(std::system(command.c_str()) == 0);
+  return rec;
 }
 
 // Rewrites `from`'s frames.csv into `to`: each data row's cells (padded to the 7 columns of the
