@@ -32,12 +32,6 @@ bool varies(const std::vector<double>& values) {
 }
 bool exposure_varies(const DiagnoseData& d) { return varies(d.exposure_s); }
 
-// A frame's coefficients in the baseline's recursion s_n = carry_n s_{n-1} + weight_n u_n; the
-// first frame and flagged shutter frames start instead from a level L: restart_n L + weight_n u_n.
-struct FrameSteps {
-  std::vector<double> carry, weight, restart;
-};
-
 // Eq. 6 with each frame's own coefficients (frames.csv's exposure and readout):
 //   s_n = carry_n s_{n-1} + heat_n / heat_typ (1 - carry_typ) u_n,
 // scaled to unit DC gain at the recording's median timing (typ), so the fitted gain stays the
@@ -117,53 +111,6 @@ void two_frame(const DiagnoseData& d, const FrameSteps& f, std::vector<float>& s
 void two_frame(const DiagnoseData& d, double tau_c, double tau_h, std::vector<float>& sim, bool nominal_timing = false,
                const std::vector<float>* input = nullptr) {
   two_frame(d, frame_steps(d, tau_c, tau_h, nominal_timing), sim, input);
-}
-
-// How much later than its even average an exposure weighed by the pixel's response,
-// exp(-(t_e - t)/tau_h), reads the input: t_e (1/(1 - e^-x) - 1/x - 1/2), x = t_e/tau_h (seconds).
-double exposure_lateness_s(double exposure_s, double tau_h) {
-  const double x = exposure_s / tau_h;
-  return exposure_s * (x < 1e-6 ? x / 12 : 1 / -std::expm1(-x) - 1 / x - 0.5);
-}
-
-// d ln(lateness)/d ln tau_h.
-double lateness_per_ln_tau_h(double exposure_s, double tau_h) {
-  constexpr double h = 1e-4;
-  const double up = exposure_lateness_s(exposure_s, tau_h * std::exp(h)), down = exposure_lateness_s(exposure_s, tau_h * std::exp(-h));
-  return up > 0 && down > 0 ? (std::log(up) - std::log(down)) / (2 * h) : 0.0;
-}
-
-// d(baseline)/d(ln tau), both time constants together: two_frame's recursion differentiated along
-// the frame steps f (sim its response to the input under them), times the gain, plus the slope of
-// the term for motion within the exposure (`within`, recording units; empty: none), which scales
-// with the exposure's lateness.
-std::vector<float> baseline_per_ln_tau(const DiagnoseData& d, double tau_c, double tau_h, const std::vector<float>& sim,
-                                       double gain, const std::vector<float>& within) {
-  const FrameSteps f = frame_steps(d, tau_c, tau_h, false), df = frame_steps_per_ln_tau(d, tau_c, tau_h);
-  const std::size_t P = d.shape.pixels();
-  std::vector<float> out(d.shape.size());
-  std::vector<double> ds(P, 0.0);
-  for (int n = 0; n < d.shape.n; ++n) {
-    const float* u = d.frame(d.input, n);
-    float* o = d.frame(out, n);
-    if (n == 0) {
-      for (std::size_t p = 0; p < P; ++p) ds[p] = (df.restart[0] + df.weight[0]) * u[p];
-    } else if (d.flagged_event[n]) {
-      double mean = 0;
-      for (std::size_t p = 0; p < P; ++p) mean += u[p];
-      const double shutter = mean / double(P) * df.restart[n];
-      for (std::size_t p = 0; p < P; ++p) ds[p] = shutter + df.weight[n] * u[p];
-    } else {
-      const float* prev = d.frame(sim, n - 1);
-      for (std::size_t p = 0; p < P; ++p) ds[p] = df.carry[n] * prev[p] + f.carry[n] * ds[p] + df.weight[n] * u[p];
-    }
-    for (std::size_t p = 0; p < P; ++p) o[p] = static_cast<float>(gain * ds[p]);
-  }
-  if (!within.empty()) {
-    const double k = lateness_per_ln_tau_h(median_of(d.exposure_s), tau_h);
-    for (std::size_t i = 0; i < out.size(); ++i) out[i] += static_cast<float>(k * within[i]);
-  }
-  return out;
 }
 
 // The timing term's regressor, how the reading changes per frame as the scene changes:
@@ -450,13 +397,15 @@ BaselineFit fit_two_frame(DiagnoseData& d, const std::vector<std::uint8_t>* moti
     d.baseline[i] = float(fit.gain * (sim[i] + fit.timing_frames * rate[i] +
                                       (with_motion ? fit.exposure_motion * sim_motion[i] : 0.0)) +
                           fit.offset + fit.exposure_offset * exposure_change[i / P]);
+  const double tau_h_used = fit_tau_h ? tau_h : tau_c;
+  d.steps = frame_steps(d, tau_c, tau_h_used, false);
+  d.steps_per_ln_tau = frame_steps_per_ln_tau(d, tau_c, tau_h_used);
   d.within_exposure.clear();
   if (fit.timing_frames != 0 || with_motion) {
     d.within_exposure.resize(d.shape.size());
     for (std::size_t i = 0; i < sim.size(); ++i)
       d.within_exposure[i] = float(fit.gain * (fit.timing_frames * rate[i] + (with_motion ? fit.exposure_motion * sim_motion[i] : 0.0)));
   }
-  d.baseline_per_ln_tau = baseline_per_ln_tau(d, tau_c, fit_tau_h ? tau_h : tau_c, sim, fit.gain, d.within_exposure);
   d.baseline_nominal.clear();
   if (varies(d.exposure_s) || varies(d.readout_s)) {
     two_frame(d, tau_c, fit_tau_h ? tau_h : tau_c, sim, true);
@@ -528,8 +477,8 @@ BaselineFit fit_static_background(DiagnoseData& d) {
     std::copy(background.begin(), background.end(), d.frame(d.baseline, n));
   }
   d.baseline_nominal.clear();
+  d.steps = d.steps_per_ln_tau = FrameSteps{};
   d.within_exposure.clear();
-  d.baseline_per_ln_tau.clear();
   BaselineFit fit;
   fit.model = "static-background";
   fit.assumption =

@@ -356,7 +356,8 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       for (std::size_t i = 0; i < r.size(); ++i) data.recorded[i] = r[i] + data.baseline[i];
       const std::vector<float> kept_baseline = data.baseline;
       const double kept_tau = data.tau_c_s, kept_gain = data.gain;
-      std::vector<float> kept_within_exposure = data.within_exposure, kept_per_ln_tau = data.baseline_per_ln_tau;
+      const FrameSteps kept_steps = data.steps, kept_steps_per_ln_tau = data.steps_per_ln_tau;
+      std::vector<float> kept_within_exposure = data.within_exposure;
       const BaselineFit refit = fit_baseline(data);
       data.tau_c_s = refit.tau_c_s;
       data.gain = refit.gain;
@@ -379,8 +380,9 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
         data.baseline = kept_baseline;
         data.tau_c_s = kept_tau;
         data.gain = kept_gain;
+        data.steps = kept_steps;
+        data.steps_per_ln_tau = kept_steps_per_ln_tau;
         data.within_exposure = std::move(kept_within_exposure);
-        data.baseline_per_ln_tau = std::move(kept_per_ln_tau);
         f.baseline_refit = nullptr;
         // Gain and offset alone, by least squares on the pixel-frames the residual is measured on,
         // can only lower it: a gain the finding's signature had pulled must not be left for the

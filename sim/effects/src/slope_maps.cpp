@@ -104,7 +104,7 @@ class SlopeMapCandidate final : public Candidate {
     {
       auto x = std::make_shared<std::vector<float>>();
       if (tau_) {
-        if (d.has_scene && d.tau_c_s > 0) *x = d.baseline_per_ln_tau;
+        if (d.has_scene && d.tau_c_s > 0) frame_step_tau_derivative(d, *x);
       } else {
         *x = d.baseline;
       }

@@ -17,6 +17,12 @@ struct Frames {
   std::size_t size() const { return std::size_t(n) * pixels(); }
 };
 
+// A frame's coefficients in the baseline's recursion s_n = carry_n s_{n-1} + weight_n u_n; the
+// first frame and flagged shutter frames start instead from a level L: restart_n L + weight_n u_n.
+struct FrameSteps {
+  std::vector<double> carry, weight, restart;
+};
+
 struct DiagnoseData {
   Frames shape;
   std::vector<float> recorded;  // frames.npy as float, N*P
@@ -43,13 +49,11 @@ struct DiagnoseData {
   // What the pixel's weighting of its exposure adds to scene.npy's exposure average where the
   // input moves (exposure_motion.hpp), N*P; empty without a scene or without motion.
   std::vector<float> exposure_motion;
-  // The standing baseline's term for motion within the exposure (its timing shift and flow term,
-  // part of `baseline`; recording units, N*P; empty without one).
+  // The standing baseline's frame steps, their derivatives with respect to ln tau (both time
+  // constants together), and its term for motion within the exposure (recording units, N*P;
+  // empty without one): what an effect acting on tau moves (two_frame_derivative.hpp).
+  FrameSteps steps, steps_per_ln_tau;
   std::vector<float> within_exposure;
-  // d(baseline)/d(ln tau) of the standing baseline, both time constants together, along its own
-  // frame steps and with the slope of within_exposure (recording units, N*P; empty without a
-  // scene): how a pixel's own tau moves its reading (tau_spread's map).
-  std::vector<float> baseline_per_ln_tau;
   double fps = 0;
   double tau_c_s = 0;    // the baseline's fitted cooling time constant (0: none)
   double tau_h_s = 0;    // the heating time constant fitted where the exposures differ (0: none yet)
