@@ -7,6 +7,7 @@
 
 #include "bolo/diagnose/baseline.hpp"
 #include "bolo/diagnose/far_off_pixels.hpp"
+#include "bolo/diagnose/frame_start.hpp"
 #include "bolo/sim/two_frame_sensor.hpp"
 #include <Eigen/Dense>
 
@@ -56,7 +57,7 @@ FrameSteps frame_steps(const DiagnoseData& d, double tau_c, double tau_h, bool n
   for (int n = 0; n < N; ++n) {
     const sim::FrameCoefficients k = sim::frame_coefficients(exposure(n), readout(std::max(0, n - 1)), tau_h, tau_c);
     f.weight[n] = scale * k.heat;
-    if (n == 0 || d.flagged_event[n]) f.restart[n] = restart;
+    if (restarts(d, n)) f.restart[n] = restart;
     else f.carry[n] = k.carry;
   }
   return f;
@@ -94,13 +95,12 @@ void two_frame(const DiagnoseData& d, const FrameSteps& f, std::vector<float>& s
     const float c = static_cast<float>(f.carry[n]), w = static_cast<float>(f.weight[n]);
     const float* u = d.frame(in, n);
     float* s = d.frame(sim, n);
-    if (n == 0) {
-      const float g = static_cast<float>(f.restart[0] + f.weight[0]);
+    const FrameStart start = frame_start(d, in, n);
+    if (start.kind == FrameStart::own_input) {
+      const float g = static_cast<float>(f.restart[n] + f.weight[n]);
       for (std::size_t p = 0; p < P; ++p) s[p] = g * u[p];
-    } else if (d.flagged_event[n]) {
-      double mean = 0;
-      for (std::size_t p = 0; p < P; ++p) mean += u[p];
-      const float shutter = static_cast<float>(mean / double(P) * f.restart[n]);
+    } else if (start.kind == FrameStart::shutter) {
+      const float shutter = static_cast<float>(start.level * f.restart[n]);
       for (std::size_t p = 0; p < P; ++p) s[p] = shutter + w * u[p];
     } else {
       const float* prev = d.frame(sim, n - 1);

@@ -2,6 +2,8 @@
 
 #include "bolo/effects/scene_flow.hpp"
 
+#include "bolo/diagnose/frame_start.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -267,7 +269,7 @@ bool delay_response(const DiagnoseData& d, double tau_c, std::vector<float>& out
     else std::fill(change.begin(), change.end(), 0.0f);
     // A shutter event leaves the pixels on the shutter: nothing of the change is carried over.
     const double c = n == 0 ? 0.0 : std::exp(-d.readout_s[n - 1] / tau_c);
-    const double keep = n == 0 || d.flagged_event[n] ? 0.0 : c;
+    const double keep = restarts(d, n) ? 0.0 : c;
     float* o = out.data() + std::size_t(n) * P;
     for (std::size_t p = 0; p < P; ++p) {
       carried[p] = keep * carried[p] + (1 - c) * double(change[p]) / te;

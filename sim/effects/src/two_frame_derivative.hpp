@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bolo/diagnose/data.hpp"
+#include "bolo/diagnose/frame_start.hpp"
 #include "bolo/effects/stats.hpp"
 
 namespace bolo::diag {
@@ -80,7 +81,8 @@ inline double lateness_per_ln_tau_h(double exposure_s, double tau_h) {
 }
 
 // d(baseline)/d(ln tau), both time constants together, along the baseline's frame steps
-// (d.steps, d.steps_per_ln_tau; input units, times the gain), plus the slope of its term for motion
+// (d.steps, d.steps_per_ln_tau; input units, times the gain; restarting where the baseline does,
+// frame_start), plus the slope of its term for motion
 // within the exposure (the lateness per ln tau_h times d.within_exposure). Left empty without steps.
 inline void frame_step_tau_derivative(const DiagnoseData& d, std::vector<float>& out) {
   const std::size_t P = d.shape.pixels();
@@ -93,15 +95,10 @@ inline void frame_step_tau_derivative(const DiagnoseData& d, std::vector<float>&
   for (int n = 0; n < N; ++n) {
     const float* u = d.frame(d.input, n);
     float* o = out.data() + std::size_t(n) * P;
-    const bool restart = n == 0 || d.flagged_event[n];
-    double level = 0;  // a shutter frame restarts from the scene's mean level, the first frame from its own input
-    if (restart && n > 0) {
-      for (std::size_t p = 0; p < P; ++p) level += u[p];
-      level /= double(P);
-    }
+    const FrameStart start = frame_start(d, d.input, n);
     for (std::size_t p = 0; p < P; ++p) {
-      if (restart) {
-        const double from = n == 0 ? u[p] : level;
+      if (start.kind != FrameStart::carried) {
+        const double from = start.kind == FrameStart::own_input ? double(u[p]) : start.level;
         ds[p] = df.restart[n] * from + df.weight[n] * u[p];
         s[p] = f.restart[n] * from + f.weight[n] * u[p];
       } else {
