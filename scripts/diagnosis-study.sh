@@ -7,7 +7,9 @@
 # runs: 1-1.5 h on one core. `--quick` runs a small version (a few minutes); `--independent-only`
 # runs only the second generator (~40 min; `--resume` keeps the runs already made; `--jobs 2`
 # runs two of its recordings at a time);
-# `--no-independent` leaves it out. Work files go to out/diagnosis-study.
+# `--no-independent` leaves it out. `--concealed-only`, `--curves-only` (injection-recovery) and
+# `--real-only` rerun that part and keep the rest of out/diagnosis-study/study.json. Work files go
+# to out/diagnosis-study.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${BUILD_DIR:-$here/build}"

@@ -6,6 +6,7 @@ interpreter), all diagnosed with `bolo diagnose` and scored against truth/effect
 this script reads), and the real recordings. The study itself uses the standard library only.
 
 usage: scripts/diagnosis_study.py BOLO WORKDIR DOCS [--quick] [--independent-only [--resume] [--jobs N]] [--no-independent]
+       scripts/diagnosis_study.py BOLO WORKDIR DOCS --concealed-only | --curves-only | --real-only | --docs-only
 """
 import json, math, os, subprocess, sys, time
 
@@ -173,6 +174,14 @@ def run_concealed(rows, seeds, times):
                                       "noise_floor": d["noise_floor_rms"]})
 
 def run_curves_and_real(rows, seeds, times):
+    run_curves(rows, seeds, times)
+    run_real(rows)
+    rows["median_seconds"] = sorted(times)[len(times) // 2] if times else 0
+    with open(os.path.join(WORK, "study.json"), "w") as f: json.dump(rows, f, indent=1)
+    write_docs(rows)
+
+def run_curves(rows, seeds, times):
+    rows["curve"] = []
     amps = [0.1, 0.3, 1.0] if QUICK else [0.1, 0.3, 1.0, 3.0]
     for eid in EFFECTS:
         for a in amps:
@@ -182,10 +191,6 @@ def run_curves_and_real(rows, seeds, times):
                 rows["curve"].append({"effect": eid, "a": a, "seed": s,
                                       "detected": any(f["effect"] == eid for f in d["findings"]),
                                       "found": [f["effect"] for f in d["findings"]]})
-    run_real(rows)
-    rows["median_seconds"] = sorted(times)[len(times) // 2] if times else 0
-    with open(os.path.join(WORK, "study.json"), "w") as f: json.dump(rows, f, indent=1)
-    write_docs(rows)
 
 def run_real(rows):
     real = os.path.join(os.path.dirname(os.path.abspath(BOLO)), "..", "..", "..", "shared", "data", "real")
@@ -360,14 +365,18 @@ if __name__ == "__main__" and "--independent-only" in sys.argv:
     independent.splice(os.path.join(DOCS, "diagnosis-study.md"), rows["independent"], method_text(),
                        rows.get("independent_note"))
 elif __name__ == "__main__":
-    # Partial reruns (the rest of study.json kept): --docs-only, --real-only, --concealed-only.
-    if any(a in sys.argv for a in ("--docs-only", "--real-only", "--concealed-only")):
+    # Partial reruns (the rest of study.json kept): --docs-only, --real-only, --concealed-only,
+    # --curves-only (the injection-recovery cases).
+    partial = ("--real-only", "--concealed-only", "--curves-only")
+    if any(a in sys.argv for a in ("--docs-only",) + partial):
         with open(os.path.join(WORK, "study.json")) as f: rows = json.load(f)
         if "--concealed-only" in sys.argv:
             run_concealed(rows, [1, 2, 3], [])
+        if "--curves-only" in sys.argv:
+            run_curves(rows, [1, 2, 3], [])
         if "--real-only" in sys.argv:
             run_real(rows)
-        if "--real-only" in sys.argv or "--concealed-only" in sys.argv:
+        if any(a in sys.argv for a in partial):
             with open(os.path.join(WORK, "study.json"), "w") as f: json.dump(rows, f, indent=1)
         write_docs(rows)
     else:
