@@ -82,8 +82,8 @@ inline double lateness_per_ln_tau_h(double exposure_s, double tau_h) {
 
 // d(baseline)/d(ln tau), both time constants together, along the baseline's frame steps
 // (d.steps, d.steps_per_ln_tau; input units, times the gain; restarting where the baseline does,
-// frame_start), plus the slope of its term for motion
-// within the exposure (the lateness per ln tau_h times d.within_exposure). Left empty without steps.
+// frame_start), plus the slope of its term for motion within the exposure (the lateness per
+// ln tau_h times d.within_exposure). Left empty without steps.
 inline void frame_step_tau_derivative(const DiagnoseData& d, std::vector<float>& out) {
   const std::size_t P = d.shape.pixels();
   const int N = d.shape.n;

@@ -1,7 +1,7 @@
 #pragma once
 // Where the baseline's recursion (FrameSteps, data.hpp) starts afresh and from what level: the
-// rule the baseline's response (baseline.cpp) and its derivative with respect to ln tau
-// (two_frame_derivative.hpp) both follow.
+// rule the baseline's response (baseline.cpp), its derivative with respect to ln tau
+// (two_frame_derivative.hpp) and the within-exposure delay response (scene_flow.cpp) follow.
 
 #include <cstddef>
 #include <vector>
