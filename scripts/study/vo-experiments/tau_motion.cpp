@@ -408,7 +408,8 @@ int main() {
       host_images[newest] = {y, y1, u};
       host_times[newest] = t + pose_dt;
     }
-    for (std::size_t i = 0; i < n; ++i) scene_est[i] = (s->current.raw[i] - alpha * s->current.raw_prev[i]) / beta;
+    if (smear_src == "y")
+      for (std::size_t i = 0; i < n; ++i) scene_est[i] = (s->current.raw[i] - alpha * s->current.raw_prev[i]) / beta;
     if (!have_keyframe) continue;
     {
       const double sab0 = s->tau_est.sab, sbb0 = s->tau_est.sbb;
