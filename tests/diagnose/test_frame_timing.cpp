@@ -214,6 +214,23 @@ TEST_CASE("an in-core filter under timing jitter is fitted with its own pole", "
   CHECK((*f)["params"]["alpha"].get<double>() == Approx(0.05).epsilon(0.15));
 }
 
+TEST_CASE("an in-core filter at 1 noise sigma (second generator) is found by its memory of the pixel noise",
+          "[diagnose][concealed][timing]") {
+  // alpha 0.009: what it explains, alpha^2 of the noise variance where the scene holds still, is
+  // far under the practical floor (0.03^2 of it); the one-frame memory of each pixel's own noise,
+  // which no imperfection of the scene model has, decides.
+  TempDir tmp;
+  const fs::path rec = second_generator(tmp, "gen2-filter", "effect:temporal_filter --amplitude 1 --seed 1 --size 160x120 --frames 200");
+  if (rec.empty()) return;
+  const nlohmann::json truth = nlohmann::json::parse(read_text(rec / "truth" / "effects.json"));
+  const nlohmann::json d = diagnose(rec, tmp / "gen2-filter.d");
+  INFO(d["findings"].dump(1));
+  REQUIRE(d["findings"].size() == 1);
+  CHECK(d["findings"][0]["effect"] == "temporal_filter");
+  const double alpha = truth["effects"]["temporal_filter"]["alpha"].get<double>();
+  CHECK(d["findings"][0]["params"]["alpha"].get<double>() == Approx(alpha).epsilon(0.25));
+}
+
 TEST_CASE("a time constant that follows the level, in a camera calibrated at every level, is fitted with its sign",
           "[diagnose][concealed]") {
   // Both time constants follow the previous reading, tau = tau0 (1 + gamma (y - y0)), and the

@@ -293,24 +293,33 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       Scored s = score(*candidates[i], data, r, candidates[i]->needs_distant_holdout() ? far_blocks : blocks, before,
                        after_r);
       CandidateScore cs{round + 1, candidates[i]->id(), s.evidence, false, s.fitted ? "" : "nothing to fit"};
+      const double signature_z = candidates[i]->noise_signature_z();
       candidates[i]->release();
       result.scores.push_back(cs);
       // Practical floor: what the effect explains must be a visible share of the noise, or a
-      // tiny imperfection of the baseline pooled over millions of samples would count.
+      // tiny imperfection of the baseline pooled over millions of samples would count. A
+      // candidate with a noise signature, which no such imperfection makes, is judged by its z.
       const double samples = std::max(1.0, s.evidence.count);
       const double explained = (s.evidence.sse_before - s.evidence.sse_after) / samples;
       const double floor = options.min_explained_share * result.noise_floor_rms;
       // Material: a fifth of what is there to explain (Options::min_mismatch_share).
       const double mismatch = s.evidence.sse_before / samples - noise_variance;
-      const bool visible = explained >= floor * floor;
-      const bool material = !data.has_scene || explained >= options.min_mismatch_share * mismatch;
+      const bool by_signature = std::isfinite(signature_z);
+      const bool visible = by_signature ? signature_z > options.min_signature_z : explained >= floor * floor;
+      const bool material = by_signature || !data.has_scene || explained >= options.min_mismatch_share * mismatch;
       // The numbers the two rules compared (held-out mean squares per pixel-frame).
       auto against = [&](double limit) {
         char text[96];
         std::snprintf(text, sizeof text, " (explained %.3g of %.3g)", explained, limit);
         return std::string(text);
       };
-      if (s.fitted && !visible) result.scores.back().note = "below the practical floor" + against(floor * floor);
+      if (s.fitted && by_signature) {
+        char text[112];
+        std::snprintf(text, sizeof text, visible ? "judged by its noise signature (z %.2f above %.3g)"
+                                                 : "its noise signature is not clear of sampling error (z %.2f of %.3g)",
+                      signature_z, options.min_signature_z);
+        result.scores.back().note = text;
+      } else if (s.fitted && !visible) result.scores.back().note = "below the practical floor" + against(floor * floor);
       else if (s.fitted && !material) result.scores.back().note = "a small share of the mismatch" + against(mismatch);
       const bool passes = s.fitted && visible && material && s.evidence.delta_bic > options.min_delta_bic &&
                           s.evidence.block_z > options.min_block_z && s.evidence.sse_after < s.evidence.sse_before;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "bolo/effects/stats.hpp"
@@ -144,12 +145,91 @@ double residual_scale(const DiagnoseData& d, const std::vector<float>& r) {
   return 1.4826 * median_in_place(sample);
 }
 
+// Frame n reads what frame n-1 read, bit for bit (a few stuck pixels aside): a sensor with noise
+// never does that.
+bool repeats_previous(const DiagnoseData& d, int n) {
+  const std::size_t P = d.shape.pixels();
+  const float *y = d.frame(d.recorded, n), *yp = d.frame(d.recorded, n - 1);
+  std::size_t same = 0;
+  for (std::size_t p = 0; p < P; ++p) same += y[p] == yp[p];
+  return same >= P - P / 1000;
+}
+
+// How far a one-frame memory of each pixel's own noise stands out of its sampling error: the
+// lag-1 less the lag-2 correlation of the residual's fine structure (each pixel less the mean of
+// its left and right neighbours) where the baseline changes by less than four noise scales from
+// frame to frame, z against the spread over blocks of 10 frames. A filter keeps alpha of the noise
+// for one frame and alpha^2 for two; what a scene model misses is smooth in the image (taken out
+// by the neighbours) and in time (lags 1 and 2 alike), and line offsets cancel along the row.
+// Frames next to a repeated one are left out: a repeat is a whole frame's memory (frame_duplication).
+// NaN where the recording is too short to measure it (under 8 blocks): judged as other candidates.
+double one_frame_memory_z(const DiagnoseData& d, const std::vector<float>& r, const std::vector<std::uint8_t>& far) {
+  const int N = d.shape.n, W = d.shape.width, H = d.shape.height;
+  const std::size_t P = d.shape.pixels();
+  const std::vector<float>& still = d.still_reference();
+  const float calm_step = 4.0f * static_cast<float>(residual_scale(d, r));
+  std::vector<std::uint8_t> usable(P), usable1(P), usable2(P);
+  auto mark = [&](int n, std::vector<std::uint8_t>& u) {
+    const float *s = d.frame(still, n), *s1 = d.frame(still, n - 1);
+    const std::uint8_t* v = d.valid_frame(n);
+    for (std::size_t p = 0; p < P; ++p) u[p] = v[p] && !far[p] && std::fabs(s[p] - s1[p]) <= calm_step;
+  };
+  auto fine = [&](const float* f, std::size_t p) { return double(f[p]) - 0.5 * (double(f[p - 1]) + f[p + 1]); };
+  constexpr int kBlock = 10;
+  std::vector<char> repeat(N, 0);
+  for (int n = 1; n < N; ++n) repeat[n] = repeats_previous(d, n);
+  std::vector<double> b0, b1, b2;
+  double count = 0;
+  for (int n = 3; n < N; ++n) {
+    if (n == 3) { mark(1, usable2); mark(2, usable1); }
+    mark(n, usable);
+    if ((n - 3) % kBlock == 0) { b0.push_back(0); b1.push_back(0); b2.push_back(0); }
+    if (repeat[n] || repeat[n - 1]) {
+      std::swap(usable2, usable1);
+      std::swap(usable1, usable);
+      continue;
+    }
+    const float *f = d.frame(r, n), *f1 = d.frame(r, n - 1), *f2 = d.frame(r, n - 2);
+    for (int y = 0; y < H; ++y)
+      for (int x = 1; x + 1 < W; ++x) {
+        const std::size_t p = std::size_t(y) * W + x;
+        bool ok = true;
+        for (std::size_t q = p - 1; q <= p + 1 && ok; ++q) ok = usable[q] && usable1[q] && usable2[q];
+        if (!ok) continue;
+        const double h = fine(f, p);
+        b0.back() += h * h;
+        b1.back() += h * fine(f1, p);
+        b2.back() += h * fine(f2, p);
+        count += 1;
+      }
+    std::swap(usable2, usable1);
+    std::swap(usable1, usable);
+  }
+  const std::size_t B = b0.size();
+  double s0 = 0, sd = 0;
+  for (std::size_t b = 0; b < B; ++b) { s0 += b0[b]; sd += b1[b] - b2[b]; }
+  if (B < 8 || count < 1000 || !(s0 > 0)) return std::numeric_limits<double>::quiet_NaN();
+  const double memory = sd / s0;
+  double spread = 0;  // the ratio's sampling variance from the blocks' departures from it
+  for (std::size_t b = 0; b < B; ++b) {
+    const double e = (b1[b] - b2[b]) - memory * b0[b];
+    spread += e * e;
+  }
+  const double se = std::sqrt(spread * double(B) / double(B - 1)) / s0;
+  return se > 0 ? memory / se : 0.0;
+}
+
 // y_n = alpha y_{n-1} + (1 - alpha) x_n: one step ahead, the residual moves towards the previous
 // recorded frame by alpha.
 class TemporalFilterCandidate final : public PooledLinear {
   using S = effects::TemporalFilterSchema;
 
  public:
+  void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
+    PooledLinear::prepare(d, r);
+    signature_z_ = one_frame_memory_z(d, r, far_off_pixels(d, [&](std::size_t i) { return r[i]; }));
+  }
+  double noise_signature_z() const override { return signature_z_; }
   bool refits_tau() const override { return true; }
   const char* id() const override { return S::id.data(); }
   int parameter_count() const override { return 1; }
@@ -235,6 +315,9 @@ class TemporalFilterCandidate final : public PooledLinear {
     return beta[0] > 0 && beta[0] < 1 ? effects::SpecText(S::id).set(S::alpha, number(beta[0])).str() : "";
   }
   std::string summary() const override { return "each frame keeps a fixed share of the previous recorded frame (lag-1 memory per frame)"; }
+
+ private:
+  double signature_z_ = 0.0;
 };
 
 // Stuck pixels: their reading does not follow the scene (no temporal variance while the
@@ -384,14 +467,8 @@ class FrameDuplicationCandidate final : public Candidate {
     data_ = &d;
     residual_ = &r;
     repeats_.clear();
-    const std::size_t P = d.shape.pixels();
-    for (int n = 1; n < d.shape.n; ++n) {
-      const float *y = d.frame(d.recorded, n), *yp = d.frame(d.recorded, n - 1);
-      std::size_t same = 0;
-      for (std::size_t p = 0; p < P; ++p) same += y[p] == yp[p];
-      // Bit-identical frames (a few stuck pixels aside) cannot come from a sensor with noise.
-      if (same >= P - P / 1000) repeats_.push_back(n);
-    }
+    for (int n = 1; n < d.shape.n; ++n)
+      if (repeats_previous(d, n)) repeats_.push_back(n);
   }
   std::unique_ptr<FittedEffect> fit(const std::vector<char>& train) const override {
     std::vector<int> seen;

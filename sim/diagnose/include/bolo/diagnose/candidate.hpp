@@ -4,6 +4,7 @@
 // training frames, and predicts its contribution to the residual on any frame. Selection
 // (select.cpp) scores it on held-out blocks; nothing in a candidate knows which frames are held out.
 
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -52,6 +53,11 @@ class Candidate {
   // held-out frames it acts on, not diluted by all the others (whose noise, correlated over a
   // moving scene, would shrink the effective sample size below what two exact repeats need).
   virtual bool scored_where_it_acts() const { return false; }
+  // An effect that shows in the pixel noise itself (an in-core filter keeps part of each pixel's
+  // own noise for one frame) can be measured far below any visible share of the noise: its
+  // statistic's z against its own sampling error (after prepare()), which selection takes in
+  // place of the practical floor and the mismatch share. NaN: judged by those rules.
+  virtual double noise_signature_z() const { return std::numeric_limits<double>::quiet_NaN(); }
   // Frees what prepare() built (fitted effects keep their own share alive).
   virtual void release() {}
 };

@@ -32,6 +32,8 @@ struct Options {
   // else the baseline misses (motion within the exposure, an effect outside the catalogue): that
   // structure is reported as unexplained, not named after the candidate.
   double min_mismatch_share = 0.2;
+  // A candidate with a noise signature (Candidate::noise_signature_z) needs this z instead.
+  double min_signature_z = 5.0;
 };
 
 // delta_bic and log_likelihood_ratio of an effect that leaves no held-out residual at all (a
