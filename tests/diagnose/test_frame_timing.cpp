@@ -215,7 +215,7 @@ TEST_CASE("an in-core filter under timing jitter is fitted with its own pole", "
 }
 
 TEST_CASE("an in-core filter at 1 noise sigma (second generator) is found by its memory of the pixel noise",
-          "[diagnose][concealed][timing]") {
+          "[diagnose][concealed][timing][long]") {
   // alpha 0.009: what it explains, alpha^2 of the noise variance where the scene holds still, is
   // far under the practical floor (0.03^2 of it); the one-frame memory of each pixel's own noise,
   // which no imperfection of the scene model has, decides.
