@@ -163,11 +163,12 @@ bool repeats_previous(const DiagnoseData& d, int n) {
 // by the neighbours) and in time (lags 1 and 2 alike), and line offsets cancel along the row.
 // Frames next to a repeated one are left out: a repeat is a whole frame's memory (frame_duplication).
 // NaN where the recording is too short to measure it (under 8 blocks): judged as other candidates.
-double one_frame_memory_z(const DiagnoseData& d, const std::vector<float>& r, const std::vector<std::uint8_t>& far) {
+double one_frame_memory_z(const DiagnoseData& d, const std::vector<float>& r, const std::vector<std::uint8_t>& far,
+                          double noise_scale) {
   const int N = d.shape.n, W = d.shape.width, H = d.shape.height;
   const std::size_t P = d.shape.pixels();
   const std::vector<float>& still = d.still_reference();
-  const float calm_step = 4.0f * static_cast<float>(residual_scale(d, r));
+  const float calm_step = 4.0f * static_cast<float>(noise_scale);
   std::vector<std::uint8_t> usable(P), usable1(P), usable2(P);
   auto mark = [&](int n, std::vector<std::uint8_t>& u) {
     const float *s = d.frame(still, n), *s1 = d.frame(still, n - 1);
@@ -184,13 +185,9 @@ double one_frame_memory_z(const DiagnoseData& d, const std::vector<float>& r, co
     if (n == 3) { mark(1, usable2); mark(2, usable1); }
     mark(n, usable);
     if ((n - 3) % kBlock == 0) { b0.push_back(0); b1.push_back(0); b2.push_back(0); }
-    if (repeat[n] || repeat[n - 1]) {
-      std::swap(usable2, usable1);
-      std::swap(usable1, usable);
-      continue;
-    }
     const float *f = d.frame(r, n), *f1 = d.frame(r, n - 1), *f2 = d.frame(r, n - 2);
-    for (int y = 0; y < H; ++y)
+    const bool beside_repeat = repeat[n] || repeat[n - 1];
+    for (int y = 0; y < H && !beside_repeat; ++y)
       for (int x = 1; x + 1 < W; ++x) {
         const std::size_t p = std::size_t(y) * W + x;
         bool ok = true;
@@ -226,8 +223,15 @@ class TemporalFilterCandidate final : public PooledLinear {
 
  public:
   void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
+    // A filter acts on every pixel alike: pixels far off the model (stuck ones) would set its pole.
+    far_ = far_off_pixels(d, [&](std::size_t i) { return r[i]; });
+    noise_scale_ = residual_scale(d, r);
     PooledLinear::prepare(d, r);
-    signature_z_ = one_frame_memory_z(d, r, far_off_pixels(d, [&](std::size_t i) { return r[i]; }));
+    signature_z_ = one_frame_memory_z(d, r, far_, noise_scale_);
+  }
+  void release() override {
+    PooledLinear::release();
+    far_ = {};
   }
   double noise_signature_z() const override { return signature_z_; }
   bool refits_tau() const override { return true; }
@@ -248,12 +252,11 @@ class TemporalFilterCandidate final : public PooledLinear {
     // filter. A recording without a still background (a pan) has such pixels in plenty; the
     // bitwise-still ones it lacks.
     const std::vector<float>& still = d.still_reference();
-    const float quiet_step = 0.5f * static_cast<float>(residual_scale(d, r));
+    const float quiet_step = 0.5f * static_cast<float>(noise_scale_);
     auto quiet = [&](int n, std::size_t p) {
       return std::fabs(d.frame(still, n)[p] - d.frame(still, n - 1)[p]) <= quiet_step;
     };
-    // A filter acts on every pixel alike: pixels far off the model (stuck ones) would set its pole.
-    const std::vector<std::uint8_t> far = far_off_pixels(d, [&](std::size_t i) { return r[i]; });
+    const std::vector<std::uint8_t>& far = far_;
     auto quiet_pixel = [&](int n, std::size_t p) { return !far[p] && quiet(n, p); };
     std::vector<float> mean(N, 0.0f);
     for (int n = 0; n < N; ++n) {
@@ -317,6 +320,8 @@ class TemporalFilterCandidate final : public PooledLinear {
   std::string summary() const override { return "each frame keeps a fixed share of the previous recorded frame (lag-1 memory per frame)"; }
 
  private:
+  std::vector<std::uint8_t> far_;  // pixels far off the model, for this round's residual
+  double noise_scale_ = 0.0;
   double signature_z_ = 0.0;
 };
 
