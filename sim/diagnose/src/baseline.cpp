@@ -22,9 +22,10 @@ namespace {
 // (exposure_motion) takes up the difference a sensor's own tau_h makes.
 constexpr double kTypicalTauH = 0.012;
 // The share of exposure_motion from which the baseline counts motion within the exposure as
-// modelled (it masks the edges otherwise): 0.2-0.95 on scenes moving throughout the exposure,
-// ~0.01 where the input is constant within it or the flow misses the motion.
-constexpr double kModelledShare = 0.1;
+// modelled (it masks the edges otherwise): 0.07-0.95 on scenes moving throughout the exposure
+// (the timing shift shares its first-order part), ~0.01 where the input is constant within it or
+// the flow misses the motion.
+constexpr double kModelledShare = 0.05;
 
 // Whether the frames' exposures differ: only then is tau_h more than a factor of the gain.
 bool varies(const std::vector<double>& values) {
@@ -592,7 +593,7 @@ BaselineFit fit_baseline(DiagnoseData& d) {
   BaselineFit fit = d.has_scene ? fit_two_frame(d) : fit_static_background(d);
   if (d.has_scene) {
     const double sigma = noise_floor(d, false);
-    // Unless the motion within the exposure along the flow takes a tenth of the reading or more
+    // Unless the motion within the exposure along the flow takes a twentieth of the reading or more
     // (none within the exposure, or the flow missed it: the first-order timing shift is then all
     // the model has), the edges' misses would also pull tau, gain and timing: mask, fit again
     // without them, and mask again with the refitted timing. Where it does, the edges are
@@ -641,7 +642,7 @@ BaselineFit fit_baseline(DiagnoseData& d) {
     }
     fit.assumption += std::string(d.exposure_motion.empty()
                           ? "; motion within the exposure is modelled to first order (timing shift; the term along "
-                            "the flow took under a tenth of it and is left out); pixel-frames "
+                            "the flow took under a twentieth of it and is left out); pixel-frames "
                             "where the rest (estimated as 5 x max(0, timing shift) x |scene step to or from the "
                             "frame|, carried on by the cooling carry) exceeds half a noise sigma are masked out of "
                             "every fit (moving_fraction); so are pixel-frames whose scene step falls in a range of "
