@@ -2,8 +2,8 @@
 """How close the candidates the practical floor refused came to it, on the second generator's
 recordings of the diagnosis study: for every candidate that passed the held-out dBIC and block
 tests but explained less than the floor, its explained share of the floor, and whether it was the
-recording's true effect. Then the candidates judged by a noise signature instead (temporal_filter):
-the largest z on every recording of the study (both generators), with and without the effect.
+recording's true effect. Then the candidates judged by a signature of their own instead (temporal_filter, rolling_readout):
+the largest z of each on every recording of the study (both generators), with and without the effect.
 
 usage: floor_margin.py [WORKDIR (default out/diagnosis-study)] [--top N]
 """
@@ -38,13 +38,13 @@ def main():
         name = os.path.basename(os.path.dirname(path))[:-2]
         with open(path) as f: d = json.load(f)
         for c in d["candidates"]:
-            m = re.search(r"noise signature.*\(z ([-0-9.e+]+)", c.get("note", ""))
+            m = re.search(r"signature.*\(z ([-0-9.e+]+)", c.get("note", ""))
             if m:
                 synthetic = name.split("-")[0] in ("gen2", "conc", "curve", "null")
                 signatures.append((float(m.group(1)), name, c["effect"], c["round"],
                                    ("yes" if c["effect"] in name else "no") if synthetic else "unknown (real)"))
     signatures.sort(reverse=True)
-    print("\n| noise signature z | recording | candidate | round | the effect is in the recording |\n|---|---|---|---|---|")
+    print("\n| signature z | recording | candidate | round | the effect is in the recording |\n|---|---|---|---|---|")
     shown = [s for s in signatures if s[4] == "yes"] + [s for s in signatures if s[4] != "yes"][:top]
     for z, name, effect, rnd, present in shown:
         print(f"| {z:.2f} | {name} | {effect} | {rnd} | {present} |")

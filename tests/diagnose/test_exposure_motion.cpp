@@ -53,6 +53,35 @@ TEST_CASE("a rolling readout on a scene whose motion term takes a small share (s
   CHECK(d["findings"][0]["params"]["line_time_s"].get<double>() == Approx(line_time).epsilon(0.25));
 }
 
+TEST_CASE("a rolling readout beside the motion term's own misses (second generator) is found by its shear",
+          "[diagnose][concealed][timing]") {
+  // What the readout explains is a small share of what the baseline misses at the moving edges
+  // here; its delay growing with the row within each half of the frame, which those misses lack,
+  // decides (Candidate::signature_z).
+  TempDir tmp;
+  const fs::path rec = second_generator(tmp, "gen2-rr-shear", "effect:rolling_readout --amplitude 1 --seed 2 --size 96x72 --frames 200");
+  if (rec.empty()) return;
+  const nlohmann::json truth = nlohmann::json::parse(read_text(rec / "truth" / "effects.json"));
+  const nlohmann::json d = diagnose(rec, tmp / "gen2-rr-shear.d");
+  INFO(d["findings"].dump(1));
+  REQUIRE(d["findings"].size() == 1);
+  CHECK(d["findings"][0]["effect"] == "rolling_readout");
+  const double line_time = truth["effects"]["rolling_readout"]["line_time_s"].get<double>();
+  CHECK(d["findings"][0]["params"]["line_time_s"].get<double>() == Approx(line_time).epsilon(0.25));
+}
+
+TEST_CASE("a time constant that follows the level is not read as a rolling readout's shear (second generator)",
+          "[diagnose][concealed][timing]") {
+  // Hot and cold objects at different heights give a delay that changes with the row across the
+  // frame; read with one common delay per block it passed for the readout's shear (z 9.9).
+  TempDir tmp;
+  const fs::path rec = second_generator(tmp, "gen2-tau-level", "effect:tau_temperature --amplitude 1 --seed 3 --size 96x72 --frames 200");
+  if (rec.empty()) return;
+  const nlohmann::json d = diagnose(rec, tmp / "gen2-tau-level.d");
+  INFO(d["findings"].dump(1));
+  for (const auto& f : d["findings"]) CHECK(f["effect"] != "rolling_readout");
+}
+
 TEST_CASE("motion within the exposure is read along the object's own flow at its trailing edge", "[diagnose][timing]") {
   // A soft disc crossing a textured background at 4 pixels a frame (the background panning at a
   // fifth of a pixel), exposed over half the period.

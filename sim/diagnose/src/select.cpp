@@ -293,12 +293,12 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       Scored s = score(*candidates[i], data, r, candidates[i]->needs_distant_holdout() ? far_blocks : blocks, before,
                        after_r);
       CandidateScore cs{round + 1, candidates[i]->id(), s.evidence, false, s.fitted ? "" : "nothing to fit"};
-      const double signature_z = candidates[i]->noise_signature_z();
+      const double signature_z = candidates[i]->signature_z();
       candidates[i]->release();
       result.scores.push_back(cs);
       // Practical floor: what the effect explains must be a visible share of the noise, or a
       // tiny imperfection of the baseline pooled over millions of samples would count. A
-      // candidate with a noise signature, which no such imperfection makes, is judged by its z.
+      // candidate with a signature of its own, which no such imperfection makes, is judged by its z.
       const double samples = std::max(1.0, s.evidence.count);
       const double explained = (s.evidence.sse_before - s.evidence.sse_after) / samples;
       const double floor = options.min_explained_share * result.noise_floor_rms;
@@ -315,8 +315,8 @@ Diagnosis diagnose(DiagnoseData& data, const Options& options, ResidualViews* vi
       };
       if (s.fitted && by_signature) {
         char text[112];
-        std::snprintf(text, sizeof text, visible ? "judged by its noise signature (z %.2f above %.3g)"
-                                                 : "its noise signature is not clear of sampling error (z %.2f of %.3g)",
+        std::snprintf(text, sizeof text, visible ? "judged by its signature (z %.2f above %.3g)"
+                                                 : "its signature is not clear of sampling error (z %.2f of %.3g)",
                       signature_z, options.min_signature_z);
         result.scores.back().note = text;
       } else if (s.fitted && !visible) result.scores.back().note = "below the practical floor" + against(floor * floor);

@@ -233,7 +233,7 @@ class TemporalFilterCandidate final : public PooledLinear {
     PooledLinear::release();
     far_ = {};
   }
-  double noise_signature_z() const override { return signature_z_; }
+  double signature_z() const override { return signature_z_; }
   bool refits_tau() const override { return true; }
   const char* id() const override { return S::id.data(); }
   int parameter_count() const override { return 1; }

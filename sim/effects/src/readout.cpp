@@ -5,7 +5,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
+#include <Eigen/Dense>
+
+#include "bolo/diagnose/far_off_pixels.hpp"
 #include "bolo/effects/scene_flow.hpp"
 #include "bolo/effects/stats.hpp"
 #include "entries.hpp"
@@ -130,10 +134,73 @@ namespace {
 // exposure-long average; rows counted from row 0). A frame difference spreads a fast sharp edge's
 // change over its whole frame-to-frame sweep; the exposure's share of the sweep sits where the
 // delay acts.
+// How far a delay that grows with the row stands out of its sampling error: the residual's
+// regression on the delay response (delay_response, the input's change over one exposure along
+// the flow) times the row, beside the response itself and the response times the pixel's level.
+// Each unit, the top or bottom half of the frame over a block of 10 frames, has its own common
+// delay and level delay; the row's coefficient is shared, z against the units' spread. A common
+// delay (a timing shift, a time constant misjudged on the moving edges) is the same on every row,
+// a time constant that follows the level (tau_temperature) delays the hot and cold objects
+// wherever they sit, and a miss of the motion term where an object enters or stands at one side
+// of the frame differs between the halves, not within them; the readout's shear grows within
+// each. NaN under 8 blocks or without a flow.
+double row_delay_slope_z(const DiagnoseData& d, const std::vector<float>& r, const std::vector<std::uint8_t>& far) {
+  std::vector<float> response;
+  if (!delay_response(d, d.tau_c_s, response)) return std::numeric_limits<double>::quiet_NaN();
+  const int N = d.shape.n, H = d.shape.height, W = d.shape.width;
+  constexpr int kBlock = 10, kBands = 2;
+  std::vector<double> num, den;  // per unit, the row coefficient's normal equation with the others solved out
+  for (int first = 0; first + kBlock <= N; first += kBlock)
+    for (int band = 0; band < kBands; ++band) {
+      const int y0 = band * H / kBands, y1 = (band + 1) * H / kBands;
+      Eigen::Matrix3d gram = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+      for (int n = first; n < first + kBlock; ++n) {
+        const float *f = d.frame(r, n), *x = d.frame(response, n), *level = d.frame(d.baseline, n);
+        const std::uint8_t* v = d.valid_frame(n);
+        for (int y = y0; y < y1; ++y)
+          for (int c = 0; c < W; ++c) {
+            const std::size_t p = std::size_t(y) * W + c;
+            if (!v[p] || far[p] || x[p] == 0.0f) continue;
+            const Eigen::Vector3d z(x[p], x[p] * (y - 0.5 * (y0 + y1 - 1)), x[p] * (double(level[p]) - d.level_mid));
+            gram.selfadjointView<Eigen::Lower>().rankUpdate(z);
+            rhs += z * double(f[p]);
+          }
+      }
+      gram = gram.selfadjointView<Eigen::Lower>();
+      // Solved out: the unit's own common delay (0) and level delay (2).
+      Eigen::Matrix2d others;
+      others << gram(0, 0), gram(0, 2), gram(2, 0), gram(2, 2);
+      const Eigen::Vector2d cross(gram(1, 0), gram(1, 2)), others_rhs(rhs[0], rhs[2]);
+      const Eigen::LDLT<Eigen::Matrix2d> solve(others);
+      if (solve.info() != Eigen::Success || !(others.determinant() > 0)) continue;
+      num.push_back(rhs[1] - cross.dot(solve.solve(others_rhs)));
+      den.push_back(gram(1, 1) - cross.dot(solve.solve(cross)));
+    }
+  const std::size_t B = num.size();
+  double sn = 0, sd = 0;
+  for (std::size_t b = 0; b < B; ++b) { sn += num[b]; sd += den[b]; }
+  if (B < 2 * 8 || !(sd > 0)) return std::numeric_limits<double>::quiet_NaN();
+  const double slope = sn / sd;
+  double spread = 0;
+  for (std::size_t b = 0; b < B; ++b) {
+    const double e = num[b] - slope * den[b];
+    spread += e * e;
+  }
+  const double se = std::sqrt(spread * double(B) / double(B - 1)) / sd;
+  return se > 0 ? slope / se : 0.0;
+}
+
 class RollingReadoutCandidate final : public PooledLinear {
   using S = effects::RollingReadoutSchema;
 
  public:
+  void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
+    PooledLinear::prepare(d, r);
+    signature_z_ = d.has_scene ? row_delay_slope_z(d, r, far_off_pixels(d, [&](std::size_t i) { return r[i]; }))
+                               : std::numeric_limits<double>::quiet_NaN();
+  }
+  double signature_z() const override { return signature_z_; }
   bool refits_tau() const override { return true; }
   const char* id() const override { return S::id.data(); }
   int parameter_count() const override { return 1; }
@@ -167,6 +234,7 @@ class RollingReadoutCandidate final : public PooledLinear {
   std::string summary() const override { return "residual proportional to row index x temporal derivative (moving edges sheared)"; }
 
  private:
+  double signature_z_ = std::numeric_limits<double>::quiet_NaN();
   double row_from_middle(std::size_t p) const {
     return double(p / std::size_t(data_->shape.width)) - 0.5 * (data_->shape.height - 1);
   }

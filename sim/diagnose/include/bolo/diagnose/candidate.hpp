@@ -53,11 +53,12 @@ class Candidate {
   // held-out frames it acts on, not diluted by all the others (whose noise, correlated over a
   // moving scene, would shrink the effective sample size below what two exact repeats need).
   virtual bool scored_where_it_acts() const { return false; }
-  // An effect that shows in the pixel noise itself (an in-core filter keeps part of each pixel's
-  // own noise for one frame) can be measured far below any visible share of the noise: its
+  // An effect with a signature that the baseline's imperfections do not make (an in-core filter
+  // keeps part of each pixel's own noise for one frame; a rolling readout's delay grows with the
+  // row) can be measured far below any visible share of the noise or of the mismatch: its
   // statistic's z against its own sampling error (after prepare()), which selection takes in
   // place of the practical floor and the mismatch share. NaN: judged by those rules.
-  virtual double noise_signature_z() const { return std::numeric_limits<double>::quiet_NaN(); }
+  virtual double signature_z() const { return std::numeric_limits<double>::quiet_NaN(); }
   // Frees what prepare() built (fitted effects keep their own share alive).
   virtual void release() {}
 };

@@ -32,7 +32,7 @@ struct Options {
   // else the baseline misses (motion within the exposure, an effect outside the catalogue): that
   // structure is reported as unexplained, not named after the candidate.
   double min_mismatch_share = 0.2;
-  // A candidate with a noise signature (Candidate::noise_signature_z) needs this z instead.
+  // A candidate with a signature of its own (Candidate::signature_z) needs this z instead.
   double min_signature_z = 5.0;
 };
 
