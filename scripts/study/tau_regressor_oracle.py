@@ -11,7 +11,9 @@ variance explained by:
     nominal timing, which the jittered exposure and readout move per frame, driven by the
     exposure's even average), and along the frame steps plus the within-exposure term's slope;
   * tau_temperature, its regressor fitted beside d(output)/d(ln tau) as the candidate refits the
-    baseline's tau: beside the transient reading of it, and beside the frame-step reading.
+    baseline's tau: beside the transient reading of it, and beside the frame-step reading; and
+    d(output)/d(ln tau) alone, the share a uniform tau (the baseline's own) takes before the
+    candidate is tried.
 
 usage: tau_regressor_oracle.py [--seed S] [--size WxH] [--frames N]
 """
@@ -101,9 +103,11 @@ def main():
             regs = [[per_pixel * transient], [per_pixel * steps_only], [per_pixel * (steps_only + k_within * within)]]
             print(f"| tau_spread (seed {a.seed}) | transients as observed | frame steps | frame steps + within |\n|---|---|---|---|")
         else:
-            regs = [[transient, nuisance_t], [transient, nuisance_s]]
-            print(f"\n| tau_temperature (seed {a.seed}) | beside the transient d/d(ln tau) | beside the frame-step one |\n|---|---|---|")
+            regs = [[transient, nuisance_t], [transient, nuisance_s], [nuisance_t]]
+            print(f"\n| tau_temperature (seed {a.seed}) | beside the transient d/d(ln tau) | beside the frame-step one "
+                  f"| the transient d/d(ln tau) alone (a uniform tau's share) |\n|---|---|---|---|")
         print(f"| explained | " + " | ".join(f"{explained(effect, r):.1%}" for r in regs) + " |")
+        print(f"\nthe effect's noise-free mean square: {np.mean(effect ** 2):.3g} counts^2 per pixel-frame")
 
 
 if __name__ == "__main__":
