@@ -124,6 +124,18 @@ inline fs::path second_generator(const TempDir& tmp, const std::string& name, co
   return rec;
 }
 
+// A second-generator recording's diagnosis `d` names exactly `effect`, with `param` within
+// `epsilon` (relative) of the generator's truth for it.
+inline void check_one_finding(const nlohmann::json& d, const fs::path& rec, const std::string& effect,
+                              const std::string& param, double epsilon) {
+  INFO(d["findings"].dump(1));
+  REQUIRE(d["findings"].size() == 1);
+  CHECK(d["findings"][0]["effect"] == effect);
+  const nlohmann::json truth = nlohmann::json::parse(read_text(rec / "truth" / "effects.json"));
+  const double expected = truth["effects"][effect][param].get<double>();
+  CHECK(d["findings"][0]["params"][param].get<double>() == Approx(expected).epsilon(epsilon));
+}
+
 // Rewrites `from`'s frames.csv into `to`: each data row's cells (padded to the 7 columns of the
 // shared format) pass through `edit` with the row's number; the header is kept.
 template <typename Edit>

@@ -42,15 +42,10 @@ TEST_CASE("a rolling readout on a scene whose motion term takes a small share (s
   TempDir tmp;
   const fs::path rec = second_generator(tmp, "gen2-rr", "effect:rolling_readout --amplitude 1 --seed 1 --size 160x120 --frames 300");
   if (rec.empty()) return;
-  const nlohmann::json truth = nlohmann::json::parse(read_text(rec / "truth" / "effects.json"));
   const nlohmann::json d = diagnose(rec, tmp / "gen2-rr.d");
   INFO(d["baseline"].dump(1));
-  INFO(d["findings"].dump(1));
   CHECK(d["baseline"]["params"]["moving_fraction"].get<double>() < 0.02);
-  REQUIRE(d["findings"].size() == 1);
-  CHECK(d["findings"][0]["effect"] == "rolling_readout");
-  const double line_time = truth["effects"]["rolling_readout"]["line_time_s"].get<double>();
-  CHECK(d["findings"][0]["params"]["line_time_s"].get<double>() == Approx(line_time).epsilon(0.25));
+  check_one_finding(d, rec, "rolling_readout", "line_time_s", 0.25);
 }
 
 TEST_CASE("a rolling readout beside the motion term's own misses (second generator) is found by its shear",
@@ -61,13 +56,7 @@ TEST_CASE("a rolling readout beside the motion term's own misses (second generat
   TempDir tmp;
   const fs::path rec = second_generator(tmp, "gen2-rr-shear", "effect:rolling_readout --amplitude 1 --seed 2 --size 96x72 --frames 200");
   if (rec.empty()) return;
-  const nlohmann::json truth = nlohmann::json::parse(read_text(rec / "truth" / "effects.json"));
-  const nlohmann::json d = diagnose(rec, tmp / "gen2-rr-shear.d");
-  INFO(d["findings"].dump(1));
-  REQUIRE(d["findings"].size() == 1);
-  CHECK(d["findings"][0]["effect"] == "rolling_readout");
-  const double line_time = truth["effects"]["rolling_readout"]["line_time_s"].get<double>();
-  CHECK(d["findings"][0]["params"]["line_time_s"].get<double>() == Approx(line_time).epsilon(0.25));
+  check_one_finding(diagnose(rec, tmp / "gen2-rr-shear.d"), rec, "rolling_readout", "line_time_s", 0.25);
 }
 
 TEST_CASE("a time constant that follows the level is not read as a rolling readout's shear (second generator)",

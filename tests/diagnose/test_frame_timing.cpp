@@ -222,13 +222,7 @@ TEST_CASE("an in-core filter at 1 noise sigma (second generator) is found by its
   TempDir tmp;
   const fs::path rec = second_generator(tmp, "gen2-filter", "effect:temporal_filter --amplitude 1 --seed 1 --size 160x120 --frames 200");
   if (rec.empty()) return;
-  const nlohmann::json truth = nlohmann::json::parse(read_text(rec / "truth" / "effects.json"));
-  const nlohmann::json d = diagnose(rec, tmp / "gen2-filter.d");
-  INFO(d["findings"].dump(1));
-  REQUIRE(d["findings"].size() == 1);
-  CHECK(d["findings"][0]["effect"] == "temporal_filter");
-  const double alpha = truth["effects"]["temporal_filter"]["alpha"].get<double>();
-  CHECK(d["findings"][0]["params"]["alpha"].get<double>() == Approx(alpha).epsilon(0.25));
+  check_one_finding(diagnose(rec, tmp / "gen2-filter.d"), rec, "temporal_filter", "alpha", 0.25);
 }
 
 TEST_CASE("a time constant that follows the level, in a camera calibrated at every level, is fitted with its sign",
@@ -296,11 +290,5 @@ TEST_CASE("a spread of tau under jittered timing (second generator) is named tau
   TempDir tmp;
   const fs::path rec = second_generator(tmp, "gen2-tau-spread", "effect:tau_spread --amplitude 1 --seed 2 --size 96x72 --frames 160");
   if (rec.empty()) return;
-  const nlohmann::json truth = nlohmann::json::parse(read_text(rec / "truth" / "effects.json"));
-  const nlohmann::json d = diagnose(rec, tmp / "gen2-tau-spread.d");
-  INFO(d["findings"].dump(1));
-  REQUIRE(d["findings"].size() == 1);
-  CHECK(d["findings"][0]["effect"] == "tau_spread");
-  const double sigma = truth["effects"]["tau_spread"]["sigma"].get<double>();
-  CHECK(d["findings"][0]["params"]["sigma"].get<double>() == Approx(sigma).epsilon(0.35));
+  check_one_finding(diagnose(rec, tmp / "gen2-tau-spread.d"), rec, "tau_spread", "sigma", 0.35);
 }
