@@ -71,6 +71,19 @@ TEST_CASE("a time constant that follows the level is not read as a rolling reado
   for (const auto& f : d["findings"]) CHECK(f["effect"] != "rolling_readout");
 }
 
+TEST_CASE("crosstalk at moving edges is not read as a rolling readout's shear", "[diagnose][concealed][timing]") {
+  // The blur of the moving disc and bars changes the residual along the delay response with the
+  // row inside each half of the frame; with the blur not among the shear's nuisances it read z 5.1-6.8.
+  TempDir tmp;
+  const fs::path rec = simulate(tmp, "crosstalk", {"crosstalk:epsilon=0.001"}, 1, {"--size", "96x72", "--frames", "200"});
+  const nlohmann::json d = diagnose(rec, tmp / "crosstalk.d");
+  INFO(d["candidates"].dump(1));
+  for (const auto& c : d["candidates"])
+    if (c["effect"] == "rolling_readout") CHECK(c["note"].get<std::string>().rfind("judged by its signature", 0) == std::string::npos);
+  REQUIRE_FALSE(d["findings"].empty());
+  CHECK(d["findings"][0]["effect"] == "crosstalk");
+}
+
 TEST_CASE("motion within the exposure is read along the object's own flow at its trailing edge", "[diagnose][timing]") {
   // A soft disc crossing a textured background at 4 pixels a frame (the background panning at a
   // fifth of a pixel), exposed over half the period.

@@ -136,14 +136,15 @@ namespace {
 // delay acts.
 // How far a delay that grows with the row stands out of its sampling error: the residual's
 // regression on the delay response (delay_response, the input's change over one exposure along
-// the flow) times the row, beside the response itself and the response times the pixel's level.
-// Each unit, the top or bottom half of the frame over a block of 10 frames, has its own common
-// delay and level delay; the row's coefficient is shared, z against the units' spread. A common
-// delay (a timing shift, a time constant misjudged on the moving edges) is the same on every row,
-// a time constant that follows the level (tau_temperature) delays the hot and cold objects
-// wherever they sit, and a miss of the motion term where an object enters or stands at one side
-// of the frame differs between the halves, not within them; the readout's shear grows within
-// each. NaN under 8 blocks or without a flow.
+// the flow) times the row, beside the response itself, the response times the pixel's level and
+// the baseline's four-neighbour blur. Each unit, the top or bottom half of the frame over a block
+// of 10 frames, has its own coefficients for those; the row's coefficient is shared, z against the
+// units' spread. A common delay (a timing shift, a time constant misjudged on the moving edges) is
+// the same on every row, a time constant that follows the level (tau_temperature) delays the hot
+// and cold objects wherever they sit, crosstalk blurs the edges whichever way they move, and the
+// motion term's misses where an object enters or stands at one side of the frame differ between
+// the halves, not within them; the readout's shear grows within each. NaN under 8 blocks or
+// without a flow.
 double row_delay_slope_z(const DiagnoseData& d, const std::vector<float>& r, const std::vector<std::uint8_t>& far) {
   std::vector<float> response;
   if (!delay_response(d, d.tau_c_s, response)) return std::numeric_limits<double>::quiet_NaN();
@@ -153,8 +154,8 @@ double row_delay_slope_z(const DiagnoseData& d, const std::vector<float>& r, con
   for (int first = 0; first + kBlock <= N; first += kBlock)
     for (int band = 0; band < kBands; ++band) {
       const int y0 = band * H / kBands, y1 = (band + 1) * H / kBands;
-      Eigen::Matrix3d gram = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+      Eigen::Matrix4d gram = Eigen::Matrix4d::Zero();
+      Eigen::Vector4d rhs = Eigen::Vector4d::Zero();
       for (int n = first; n < first + kBlock; ++n) {
         const float *f = d.frame(r, n), *x = d.frame(response, n), *level = d.frame(d.baseline, n);
         const std::uint8_t* v = d.valid_frame(n);
@@ -162,17 +163,18 @@ double row_delay_slope_z(const DiagnoseData& d, const std::vector<float>& r, con
           for (int c = 0; c < W; ++c) {
             const std::size_t p = std::size_t(y) * W + c;
             if (!v[p] || far[p] || x[p] == 0.0f) continue;
-            const Eigen::Vector3d z(x[p], x[p] * (y - 0.5 * (y0 + y1 - 1)), x[p] * (double(level[p]) - d.level_mid));
+            const double blur = effects::mean_of_four_neighbours(level, W, H, y, c) - level[p];
+            const Eigen::Vector4d z(x[p], x[p] * (y - 0.5 * (y0 + y1 - 1)), x[p] * (double(level[p]) - d.level_mid), blur);
             gram.selfadjointView<Eigen::Lower>().rankUpdate(z);
             rhs += z * double(f[p]);
           }
       }
       gram = gram.selfadjointView<Eigen::Lower>();
-      // Solved out: the unit's own common delay (0) and level delay (2).
-      Eigen::Matrix2d others;
-      others << gram(0, 0), gram(0, 2), gram(2, 0), gram(2, 2);
-      const Eigen::Vector2d cross(gram(1, 0), gram(1, 2)), others_rhs(rhs[0], rhs[2]);
-      const Eigen::LDLT<Eigen::Matrix2d> solve(others);
+      // Solved out: the unit's own common delay (0), level delay (2) and blur (3).
+      Eigen::Matrix3d others;
+      others << gram(0, 0), gram(0, 2), gram(0, 3), gram(2, 0), gram(2, 2), gram(2, 3), gram(3, 0), gram(3, 2), gram(3, 3);
+      const Eigen::Vector3d cross(gram(1, 0), gram(1, 2), gram(1, 3)), others_rhs(rhs[0], rhs[2], rhs[3]);
+      const Eigen::LDLT<Eigen::Matrix3d> solve(others);
       if (solve.info() != Eigen::Success || !(others.determinant() > 0)) continue;
       num.push_back(rhs[1] - cross.dot(solve.solve(others_rhs)));
       den.push_back(gram(1, 1) - cross.dot(solve.solve(cross)));
