@@ -125,15 +125,6 @@ class CrosstalkEffect final : public Effect {
 namespace bolo::diag {
 namespace {
 
-// Row k is read k * line_time later: it sees the input a little later, and the residual is that
-// delay times the input's rate of change, carried on through the two-frame response. Three
-// estimates of the rate, scored as alternatives: the baseline's central and forward frame
-// differences (right for motion that is slow against the edges' widths; rows counted from the
-// middle, as the rows' common delay is then the baseline's timing shift), and the input's change
-// over one exposure along the scene's own motion, divided by the exposure (d/d(delay) of an
-// exposure-long average; rows counted from row 0). A frame difference spreads a fast sharp edge's
-// change over its whole frame-to-frame sweep; the exposure's share of the sweep sits where the
-// delay acts.
 // How far a delay that grows with the row stands out of its sampling error: the residual's
 // regression on the delay response (delay_response, the input's change over one exposure along
 // the flow) times the row, beside the response itself, the response times the pixel's level and
@@ -193,6 +184,15 @@ double row_delay_slope_z(const DiagnoseData& d, const std::vector<float>& r, con
   return se > 0 ? slope / se : 0.0;
 }
 
+// Row k is read k * line_time later: it sees the input a little later, and the residual is that
+// delay times the input's rate of change, carried on through the two-frame response. Three
+// estimates of the rate, scored as alternatives: the baseline's central and forward frame
+// differences (right for motion that is slow against the edges' widths; rows counted from the
+// middle, as the rows' common delay is then the baseline's timing shift), and the input's change
+// over one exposure along the scene's own motion, divided by the exposure (d/d(delay) of an
+// exposure-long average; rows counted from row 0). A frame difference spreads a fast sharp edge's
+// change over its whole frame-to-frame sweep; the exposure's share of the sweep sits where the
+// delay acts.
 class RollingReadoutCandidate final : public PooledLinear {
   using S = effects::RollingReadoutSchema;
 
