@@ -192,7 +192,8 @@ double row_delay_slope_z(const DiagnoseData& d, const std::vector<float>& r, con
 // over one exposure along the scene's own motion, divided by the exposure (d/d(delay) of an
 // exposure-long average; rows counted from row 0). A frame difference spreads a fast sharp edge's
 // change over its whole frame-to-frame sweep; the exposure's share of the sweep sits where the
-// delay acts.
+// delay acts. Judged by its shear (row_delay_slope_z, signature_z) rather than by the share of
+// the mismatch it explains, which at moving edges is mostly the motion term's.
 class RollingReadoutCandidate final : public PooledLinear {
   using S = effects::RollingReadoutSchema;
 
