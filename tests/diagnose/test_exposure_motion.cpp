@@ -49,7 +49,7 @@ TEST_CASE("a rolling readout on a scene whose motion term takes a small share (s
 }
 
 TEST_CASE("a rolling readout beside the motion term's own misses (second generator) is found by its shear",
-          "[diagnose][concealed][timing]") {
+          "[diagnose][concealed][timing][long]") {
   // What the readout explains is a small share of what the baseline misses at the moving edges
   // here; its delay growing with the row within each half of the frame, which those misses lack,
   // decides (Candidate::signature_z).
@@ -60,7 +60,7 @@ TEST_CASE("a rolling readout beside the motion term's own misses (second generat
 }
 
 TEST_CASE("a time constant that follows the level is not read as a rolling readout's shear (second generator)",
-          "[diagnose][concealed][timing]") {
+          "[diagnose][concealed][timing][long]") {
   // Hot and cold objects at different heights give a delay that changes with the row across the
   // frame; read with one common delay per block it passed for the readout's shear (z 9.9).
   TempDir tmp;
