@@ -136,9 +136,9 @@ namespace {
 // motion term's misses where an object enters or stands at one side of the frame differ between
 // the halves, not within them; the readout's shear grows within each. NaN under 8 blocks or
 // without a flow.
-double row_delay_slope_z(const DiagnoseData& d, const std::vector<float>& r, const std::vector<std::uint8_t>& far) {
-  std::vector<float> response;
-  if (!delay_response(d, d.tau_c_s, response)) return std::numeric_limits<double>::quiet_NaN();
+double row_delay_slope_z(const DiagnoseData& d, const std::vector<float>& r, const std::vector<float>& response,
+                         const std::vector<std::uint8_t>& far) {
+  if (response.empty()) return std::numeric_limits<double>::quiet_NaN();
   const int N = d.shape.n, H = d.shape.height, W = d.shape.width;
   constexpr int kBlock = 10, kBands = 2;
   std::vector<double> num, den;  // per unit, the row coefficient's normal equation with the others solved out
@@ -199,9 +199,16 @@ class RollingReadoutCandidate final : public PooledLinear {
 
  public:
   void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
+    // The delay response is one of the regressors and the shear's too: found once per round.
+    response_.clear();
+    if (d.has_scene) delay_response(d, d.tau_c_s, response_);
     PooledLinear::prepare(d, r);
-    signature_z_ = d.has_scene ? row_delay_slope_z(d, r, far_off_pixels(d, [&](std::size_t i) { return r[i]; }))
+    signature_z_ = d.has_scene ? row_delay_slope_z(d, r, response_, far_off_pixels(d, [&](std::size_t i) { return r[i]; }))
                                : std::numeric_limits<double>::quiet_NaN();
+  }
+  void release() override {
+    PooledLinear::release();
+    response_ = {};
   }
   double signature_z() const override { return signature_z_; }
   bool refits_tau() const override { return true; }
@@ -238,6 +245,7 @@ class RollingReadoutCandidate final : public PooledLinear {
 
  private:
   double signature_z_ = std::numeric_limits<double>::quiet_NaN();
+  std::vector<float> response_;  // delay_response for this round (empty: none)
   double row_from_middle(std::size_t p) const {
     return double(p / std::size_t(data_->shape.width)) - 0.5 * (data_->shape.height - 1);
   }
@@ -258,8 +266,8 @@ class RollingReadoutCandidate final : public PooledLinear {
 
   bool exposure_rate_along_flow(std::vector<float>& x) const {
     const DiagnoseData& d = *data_;
-    std::vector<float> response;
-    if (!delay_response(d, d.tau_c_s, response)) return false;
+    const std::vector<float>& response = response_;
+    if (response.empty()) return false;
     const std::size_t P = d.shape.pixels();
     // Here the common delay is the effect's too: the baseline's timing shift, on frame differences,
     // cannot hold a delay of edges that cross pixels within an exposure.
