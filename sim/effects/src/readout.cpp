@@ -14,7 +14,9 @@
 #include "bolo/effects/stats.hpp"
 #include "entries.hpp"
 #include "params.hpp"
+#include "four_neighbours.hpp"
 #include "pooled.hpp"
+#include "shared_coefficient_z.hpp"
 
 namespace bolo::effects {
 namespace {
@@ -34,19 +36,6 @@ struct CrosstalkSchema {
   static constexpr std::string_view id = "crosstalk";
   static constexpr Param epsilon{"epsilon", "", 0.05, 0.0, 1.0};
 };
-
-// Crosstalk's neighbourhood: the mean of pixel (r, c)'s four neighbours in a w x h image, an
-// edge's missing neighbour clamped to the frame (the pixel itself). One definition for the
-// simulator's blur and diagnose's regressor.
-template <class T>
-T mean_of_four_neighbours(const T* image, std::int64_t w, std::int64_t h, std::int64_t r, std::int64_t c) {
-  const auto at = [&](std::int64_t row, std::int64_t col) {
-    row = std::clamp<std::int64_t>(row, 0, h - 1);
-    col = std::clamp<std::int64_t>(col, 0, w - 1);
-    return image[static_cast<std::size_t>(row * w + col)];
-  };
-  return T(0.25) * (at(r - 1, c) + at(r + 1, c) + at(r, c - 1) + at(r, c + 1));
-}
 
 }  // namespace
 }  // namespace bolo::effects
@@ -139,49 +128,14 @@ namespace {
 double row_delay_slope_z(const DiagnoseData& d, const std::vector<float>& r, const std::vector<float>& response,
                          const std::vector<std::uint8_t>& far) {
   if (response.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const int N = d.shape.n, H = d.shape.height, W = d.shape.width;
-  constexpr int kBlock = 10, kBands = 2;
-  std::vector<double> num, den;  // per unit, the row coefficient's normal equation with the others solved out
-  for (int first = 0; first + kBlock <= N; first += kBlock)
-    for (int band = 0; band < kBands; ++band) {
-      const int y0 = band * H / kBands, y1 = (band + 1) * H / kBands;
-      Eigen::Matrix4d gram = Eigen::Matrix4d::Zero();
-      Eigen::Vector4d rhs = Eigen::Vector4d::Zero();
-      for (int n = first; n < first + kBlock; ++n) {
-        const float *f = d.frame(r, n), *x = d.frame(response, n), *level = d.frame(d.baseline, n);
-        const std::uint8_t* v = d.valid_frame(n);
-        for (int y = y0; y < y1; ++y)
-          for (int c = 0; c < W; ++c) {
-            const std::size_t p = std::size_t(y) * W + c;
-            if (!v[p] || far[p] || x[p] == 0.0f) continue;
-            const double blur = effects::mean_of_four_neighbours(level, W, H, y, c) - level[p];
-            const Eigen::Vector4d z(x[p], x[p] * (y - 0.5 * (y0 + y1 - 1)), x[p] * (double(level[p]) - d.level_mid), blur);
-            gram.selfadjointView<Eigen::Lower>().rankUpdate(z);
-            rhs += z * double(f[p]);
-          }
-      }
-      gram = gram.selfadjointView<Eigen::Lower>();
-      // Solved out: the unit's own common delay (0), level delay (2) and blur (3).
-      Eigen::Matrix3d others;
-      others << gram(0, 0), gram(0, 2), gram(0, 3), gram(2, 0), gram(2, 2), gram(2, 3), gram(3, 0), gram(3, 2), gram(3, 3);
-      const Eigen::Vector3d cross(gram(1, 0), gram(1, 2), gram(1, 3)), others_rhs(rhs[0], rhs[2], rhs[3]);
-      const Eigen::LDLT<Eigen::Matrix3d> solve(others);
-      if (solve.info() != Eigen::Success || !(others.determinant() > 0)) continue;
-      num.push_back(rhs[1] - cross.dot(solve.solve(others_rhs)));
-      den.push_back(gram(1, 1) - cross.dot(solve.solve(cross)));
-    }
-  const std::size_t B = num.size();
-  double sn = 0, sd = 0;
-  for (std::size_t b = 0; b < B; ++b) { sn += num[b]; sd += den[b]; }
-  if (B < 2 * 8 || !(sd > 0)) return std::numeric_limits<double>::quiet_NaN();
-  const double slope = sn / sd;
-  double spread = 0;
-  for (std::size_t b = 0; b < B; ++b) {
-    const double e = num[b] - slope * den[b];
-    spread += e * e;
-  }
-  const double se = std::sqrt(spread * double(B) / double(B - 1)) / sd;
-  return se > 0 ? slope / se : 0.0;
+  const int W = d.shape.width, H = d.shape.height;
+  return shared_coefficient_z(unit_estimates<4>(d, r, far, [&](int n, int y, int c, std::size_t p, UnitRows rows, Eigen::Vector4d& z) {
+    const float *x = d.frame(response, n), *level = d.frame(d.baseline, n);
+    if (x[p] == 0.0f) return false;
+    const double blur = effects::mean_of_four_neighbours(level, W, H, y, c) - level[p];
+    z << x[p] * (y - 0.5 * (rows.first + rows.last - 1)), x[p], x[p] * (double(level[p]) - d.level_mid), blur;
+    return true;
+  }));
 }
 
 // Row k is read k * line_time later: it sees the input a little later, and the residual is that
