@@ -283,6 +283,32 @@ TEST_CASE("a time constant that follows the level, in a camera calibrated at eve
   CHECK((*f)["params"]["gamma"].get<double>() == Approx(gamma).epsilon(0.25));
 }
 
+TEST_CASE("a time constant that follows the level at 1 noise sigma (second generator) is found by the level's own delay",
+          "[diagnose][concealed][timing][long]") {
+  // A uniform tau takes nearly all of what this effect adds; what is left is far under the
+  // practical floor and a small share of the motion term's misses at the moving edges. The
+  // transient's delay growing with the level, beside a uniform tau, the motion term and readings
+  // that bend with the level (Candidate::signature_z), decides. Here gamma is negative.
+  TempDir tmp;
+  const fs::path rec = second_generator(tmp, "gen2-tau-level", "effect:tau_temperature --amplitude 1 --seed 2 --size 96x72 --frames 200");
+  if (rec.empty()) return;
+  check_one_finding(diagnose(rec, tmp / "gen2-tau-level.d"), rec, "tau_temperature", "gamma", 0.25);
+}
+
+TEST_CASE("crosstalk at moving edges (second generator) is not read as a time constant that follows the level",
+          "[diagnose][concealed][timing][long]") {
+  // The blur's residual at a moving edge changes with the level the pixel steps to; without the
+  // level and its square among the signature's nuisances it read z 14.9 here.
+  TempDir tmp;
+  const fs::path rec = second_generator(tmp, "gen2-crosstalk", "effect:crosstalk --amplitude 1 --seed 2 --size 160x120 --frames 300");
+  if (rec.empty()) return;
+  const nlohmann::json d = diagnose(rec, tmp / "gen2-crosstalk.d");
+  INFO(d["candidates"].dump(1));
+  for (const auto& c : d["candidates"])
+    if (c["effect"] == "tau_temperature") CHECK(c["note"].get<std::string>().rfind("judged by its signature", 0) == std::string::npos);
+  CHECK(found(d) == std::vector<std::string>{"crosstalk"});
+}
+
 TEST_CASE("a spread of tau under jittered timing (second generator) is named tau_spread", "[diagnose][timing][concealed]") {
   // Each pixel's own tau moves its level with every frame's exposure and readout (the jitter),
   // not only its transients: the regressor follows the baseline's own frame steps. Read through

@@ -3,11 +3,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
+#include "bolo/diagnose/far_off_pixels.hpp"
+#include "bolo/effects/scene_flow.hpp"
 #include "bolo/effects/stats.hpp"
 #include "entries.hpp"
+#include "four_neighbours.hpp"
 #include "params.hpp"
 #include "pooled.hpp"
+#include "shared_coefficient_z.hpp"
 #include "two_frame_derivative.hpp"
 
 namespace bolo::effects {
@@ -139,10 +144,84 @@ class ThermalMemoryCandidate final : public PooledLinear {
   std::string summary() const override { return "tails after changes of the input, beyond one frame"; }
 };
 
+// How far a time constant that follows the level stands out of its sampling error: the residual's
+// regression on d(output)/d(gamma) (level_tau_derivative) beside the terms each unit of
+// unit_estimates fits for itself: a uniform tau (transient_tau_derivative), a common delay and one
+// that grows with the row (the baseline's central frame difference and the delay response along
+// the flow, each also times the row), the four-neighbour blur, the level and its square, and the
+// motion term (within_exposure). A misjudged transient, motion term or readout scales with the
+// step whatever its level, and a reading that bends with the level (nonlinearity) changes as a
+// pixel steps from one level to another; the transient's delay growing with the level is what is
+// left. It must hold in the top and the bottom half of the frame alike, with one sign (either is
+// physical): the smaller of the halves' |z| times sqrt(2). NaN under 8 blocks.
+double level_tau_z(const DiagnoseData& d, const std::vector<float>& residual, const std::vector<float>& per_gamma,
+                   const std::vector<float>& per_ln_tau, const std::vector<float>& response,
+                   const std::vector<std::uint8_t>& far) {
+  const int W = d.shape.width, H = d.shape.height, N = d.shape.n;
+  const std::size_t P = d.shape.pixels();
+  // Each pixel's mean out of the residual and of the level terms: a standing offset (a fixed
+  // pattern the baseline lacks) makes no transient, and a reading that bends with the level
+  // changes at a pixel only as its level does.
+  const double scale = std::max(1.0, std::fabs(d.level_mid));
+  auto level_of = [&](std::size_t i) { return (double(d.baseline[i]) - d.level_mid) / scale; };
+  std::vector<double> count(P, 0.0), mean_r(P, 0.0), mean_q(P, 0.0), mean_q2(P, 0.0);
+  for (std::size_t i = 0; i < residual.size(); ++i)
+    if (d.valid[i]) {
+      const std::size_t p = i % P;
+      const double q = level_of(i);
+      count[p] += 1, mean_r[p] += residual[i], mean_q[p] += q, mean_q2[p] += q * q;
+    }
+  for (std::size_t p = 0; p < P; ++p)
+    if (count[p] > 0) mean_r[p] /= count[p], mean_q[p] /= count[p], mean_q2[p] /= count[p];
+  std::vector<float> r(residual.size());
+  for (std::size_t i = 0; i < r.size(); ++i) r[i] = residual[i] - float(mean_r[i % P]);
+  const bool motion = d.within_exposure.size() == d.shape.size(), flow = response.size() == d.shape.size();
+  using Terms = Eigen::Matrix<double, 10, 1>;
+  const UnitEstimates u = unit_estimates<10>(d, r, far, [&](int n, int y, int c, std::size_t p, UnitRows rows, Terms& z) {
+    const float* level = d.frame(d.baseline, n);
+    const float g = d.frame(per_gamma, n)[p];
+    if (g == 0.0f || n == 0 || n + 1 >= N) return false;
+    const std::size_t i = std::size_t(n) * P + p;
+    const double rate = 0.5 * (double(d.frame(d.baseline, n + 1)[p]) - d.frame(d.baseline, n - 1)[p]);
+    const double row = y - 0.5 * (rows.first + rows.last - 1), q = level_of(i);
+    const double along_flow = flow ? double(response[i]) : 0.0;
+    z << g, per_ln_tau[i], rate, rate * row, along_flow, along_flow * row,
+        effects::mean_of_four_neighbours(level, W, H, y, c) - level[p], q - mean_q[p], q * q - mean_q2[p],
+        motion ? double(d.within_exposure[i]) : 0.0;
+    return true;
+  });
+  const double top = shared_coefficient_z(u, 0), bottom = shared_coefficient_z(u, 1);
+  if (!std::isfinite(top) || !std::isfinite(bottom)) return std::numeric_limits<double>::quiet_NaN();
+  return top * bottom > 0 ? std::sqrt(2.0) * std::min(std::fabs(top), std::fabs(bottom)) : 0.0;
+}
+
+// Judged by its signature (level_tau_z) rather than by the share of the mismatch it explains: a
+// uniform tau takes most of what this effect adds, and the motion term's misses at moving edges
+// outweigh what is left.
 class TauTemperatureCandidate final : public PooledLinear {
   using S = effects::TauTemperatureSchema;
 
  public:
+  void prepare(const DiagnoseData& d, const std::vector<float>& r) override {
+    per_gamma_.clear();
+    signature_z_ = std::numeric_limits<double>::quiet_NaN();
+    if (d.has_scene && d.tau_c_s > 0) {
+      const double tau_h = d.tau_h_s > 0 ? d.tau_h_s : d.tau_c_s;  // the baseline's own assumption
+      level_tau_derivative(d, d.tau_c_s, tau_h, d.level_mid, per_gamma_);
+    }
+    PooledLinear::prepare(d, r);
+    if (!per_gamma_.empty()) {
+      std::vector<float> per_ln_tau, response;
+      transient_tau_derivative(d, d.tau_c_s, per_ln_tau);
+      delay_response(d, d.tau_c_s, response);
+      signature_z_ = level_tau_z(d, r, per_gamma_, per_ln_tau, response, far_off_pixels(d, [&](std::size_t i) { return r[i]; }));
+    }
+  }
+  void release() override {
+    PooledLinear::release();
+    per_gamma_ = {};
+  }
+  double signature_z() const override { return signature_z_; }
   bool refits_tau() const override { return true; }
   const char* id() const override { return S::id.data(); }
   int parameter_count() const override { return 1; }
@@ -152,11 +231,8 @@ class TauTemperatureCandidate final : public PooledLinear {
   // gamma. A steady state that bends with the level is nonlinearity's (one candidate per idea;
   // with it here too, this candidate took nonlinearity's recordings).
   bool regressors(int, Regressors& X) const override {
-    const DiagnoseData& d = *data_;
-    if (!d.has_scene || !(d.tau_c_s > 0)) return false;
-    X.assign(1, {});
-    const double tau_h = d.tau_h_s > 0 ? d.tau_h_s : d.tau_c_s;  // the baseline's own assumption
-    level_tau_derivative(d, d.tau_c_s, tau_h, d.level_mid, X[0]);
+    if (per_gamma_.empty()) return false;
+    X.assign(1, per_gamma_);
     return true;
   }
   nlohmann::json params_of(int, const Eigen::VectorXd& beta) const override {
@@ -171,6 +247,10 @@ class TauTemperatureCandidate final : public PooledLinear {
     return effects::SpecText(S::id).set(S::gamma, number(beta[0])).str();
   }
   std::string summary() const override { return "transients whose time constant grows with the pixel's level"; }
+
+ private:
+  double signature_z_ = std::numeric_limits<double>::quiet_NaN();
+  std::vector<float> per_gamma_;  // level_tau_derivative for this round (empty: none)
 };
 
 }  // namespace
