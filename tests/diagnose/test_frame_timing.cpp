@@ -297,15 +297,14 @@ TEST_CASE("a time constant that follows the level at 1 noise sigma (second gener
 
 TEST_CASE("crosstalk at moving edges (second generator) is not read as a time constant that follows the level",
           "[diagnose][concealed][timing][long]") {
-  // The blur's residual at a moving edge changes with the level the pixel steps to; without the
-  // level and its square among the signature's nuisances it read z 14.9 here.
+  // The blur's residual at a moving edge changes with the level the pixel steps to. Without the
+  // level and its square among the signature's nuisances, tau_temperature was found beside
+  // crosstalk here (z 14.4 before it, 5.8 after).
   TempDir tmp;
   const fs::path rec = second_generator(tmp, "gen2-crosstalk", "effect:crosstalk --amplitude 1 --seed 2 --size 160x120 --frames 300");
   if (rec.empty()) return;
   const nlohmann::json d = diagnose(rec, tmp / "gen2-crosstalk.d");
   INFO(d["candidates"].dump(1));
-  for (const auto& c : d["candidates"])
-    if (c["effect"] == "tau_temperature") CHECK(c["note"].get<std::string>().rfind("judged by its signature", 0) == std::string::npos);
   CHECK(found(d) == std::vector<std::string>{"crosstalk"});
 }
 
