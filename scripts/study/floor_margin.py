@@ -2,7 +2,7 @@
 """How close the candidates the practical floor refused came to it, on the second generator's
 recordings of the diagnosis study: for every candidate that passed the held-out dBIC and block
 tests but explained less than the floor, its explained share of the floor, and whether it was the
-recording's true effect. Then the candidates judged by a signature of their own instead (temporal_filter, rolling_readout):
+recording's true effect. Then the candidates judged by a signature of their own instead (temporal_filter, rolling_readout, tau_temperature):
 the largest z of each on every recording of the study (both generators), with and without the effect.
 
 usage: floor_margin.py [WORKDIR (default out/diagnosis-study)] [--top N]
