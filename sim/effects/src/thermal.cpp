@@ -195,9 +195,20 @@ double level_tau_z(const DiagnoseData& d, const std::vector<float>& residual, co
   return top * bottom > 0 ? std::sqrt(2.0) * std::min(std::fabs(top), std::fabs(bottom)) : 0.0;
 }
 
+// The level's signature needs the moving edges modelled: where the baseline masks them as its
+// misses (more than 1 % of the pixel-frames), the transients beside the masks carry the misses'
+// tails, which follow the moving objects' levels (bolo's demo nulls with 4 sub-steps read z 25-39).
+bool motion_modelled(const DiagnoseData& d) {
+  constexpr double kMaxMaskedShare = 0.01;
+  std::size_t masked = 0;
+  const bool clipping = d.unclipped.size() == d.valid.size();
+  for (std::size_t i = 0; i < d.valid.size(); ++i) masked += !d.valid[i] && (!clipping || d.unclipped[i]);
+  return double(masked) <= kMaxMaskedShare * double(std::max<std::size_t>(1, d.valid.size()));
+}
+
 // Judged by its signature (level_tau_z) rather than by the share of the mismatch it explains: a
 // uniform tau takes most of what this effect adds, and the motion term's misses at moving edges
-// outweigh what is left.
+// outweigh what is left. Where the edges are masked (motion_modelled), by the floor and the share.
 class TauTemperatureCandidate final : public PooledLinear {
   using S = effects::TauTemperatureSchema;
 
@@ -210,7 +221,7 @@ class TauTemperatureCandidate final : public PooledLinear {
       level_tau_derivative(d, d.tau_c_s, tau_h, d.level_mid, per_gamma_);
     }
     PooledLinear::prepare(d, r);
-    if (!per_gamma_.empty()) {
+    if (!per_gamma_.empty() && motion_modelled(d)) {
       std::vector<float> per_ln_tau, response;
       transient_tau_derivative(d, d.tau_c_s, per_ln_tau);
       delay_response(d, d.tau_c_s, response);
