@@ -41,6 +41,9 @@ class PooledLinear : public Candidate {
 
   const DiagnoseData* data_ = nullptr;
   const std::vector<float>* residual_ = nullptr;
+  // d(baseline)/d(ln tau) on the transients, found by prepare() for a candidate that refits tau
+  // (empty otherwise).
+  const std::vector<float>& tau_nuisance() const { return tau_nuisance_; }
 
  private:
   std::shared_ptr<const Regressors> regressors_for(int alt) const;

@@ -222,10 +222,9 @@ class TauTemperatureCandidate final : public PooledLinear {
     }
     PooledLinear::prepare(d, r);
     if (!per_gamma_.empty() && motion_modelled(d)) {
-      std::vector<float> per_ln_tau, response;
-      transient_tau_derivative(d, d.tau_c_s, per_ln_tau);
+      std::vector<float> response;
       delay_response(d, d.tau_c_s, response);
-      signature_z_ = level_tau_z(d, r, per_gamma_, per_ln_tau, response, far_off_pixels(d, [&](std::size_t i) { return r[i]; }));
+      signature_z_ = level_tau_z(d, r, per_gamma_, tau_nuisance(), response, far_off_pixels(d, [&](std::size_t i) { return r[i]; }));
     }
   }
   void release() override {
