@@ -1,4 +1,4 @@
-// bolo evaluate RUN [--truth poses.tum] [--json FILE]: a VO run against ground truth.
+// bolo evaluate RUN [--truth poses.tum] [--json FILE] [--refined]: a VO run against ground truth.
 
 #include <memory>
 
@@ -17,6 +17,7 @@ int run_evaluate(const EvaluateOptions& o, std::ostream& out) {
   options.run = o.run;
   options.truth = o.truth;
   options.rpe_delta_s = o.rpe_delta_s;
+  if (o.refined) options.trajectory = "trajectory-refined.tum";
   const odo::Evaluation e = odo::evaluate_run(options);
   out << "evaluate: " << o.run.string() << '\n' << odo::to_table(e);
   if (o.json) rec::write_file_atomically(*o.json, odo::to_json(e).dump(2) + "\n");
@@ -40,6 +41,9 @@ Command add_evaluate_command(CLI::App& parent) {
   app->add_option("--truth", o->truth, "Ground-truth TUM file (default: <recording>/poses.tum)");
   app->add_option("--json", o->json, "Write the metrics as JSON to this file");
   app->add_option("--rpe-delta", o->rpe_delta_s, "RPE interval, seconds (default 1)");
+  app->add_flag("--refined", o->refined,
+                "Score trajectory-refined.tum (every pose carried on its keyframe's last pose, as DSO's and "
+                "ORB-SLAM's end-of-run trajectories) instead of trajectory.tum (the poses as tracked)");
   return {app, [o](std::ostream& out) { return run_evaluate(*o, out); }};
 }
 

@@ -114,6 +114,7 @@ struct EvaluateOptions {
   std::optional<std::filesystem::path> truth;
   std::optional<std::filesystem::path> json;
   double rpe_delta_s = 1.0;
+  bool refined = false;
 };
 int run_evaluate(const EvaluateOptions& options, std::ostream& out);
 

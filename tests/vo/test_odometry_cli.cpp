@@ -136,6 +136,44 @@ TEST_CASE("odometry tracks a short drive and writes every output", "[vo][cli]") 
   CHECK(e["tracked_points_total"].get<int>() > 1000);
 }
 
+TEST_CASE("odometry writes the trajectory refined on the keyframes' last poses", "[vo][cli]") {
+  // trajectory-refined.tum: every pose of trajectory.tum carried on its keyframe's pose as the
+  // window BA last left it (keyframes.tum), as DSO's and ORB-SLAM's end-of-run trajectories are.
+  const fs::path& seq = sequence("drive", "0.0002");
+  TempDir out;
+  const fs::path run = out / "vo";
+  odometry(seq, run, {"--photometric", "none"});
+  const auto online = odo::read_tum(run / "trajectory.tum");
+  const auto refined = odo::read_tum(run / "trajectory-refined.tum");
+  const auto keyframes = odo::read_tum(run / "keyframes.tum");
+  const nlohmann::json summary = summary_of(run);
+  INFO(summary.dump(2));
+  REQUIRE(refined.size() == online.size());
+  CHECK(summary["refined_poses"].get<std::size_t>() == online.size());
+  CHECK(keyframes.size() == summary["keyframes"].get<std::size_t>() + 1);  // the map's first as well
+  // A keyframe's own frame lies on its last pose; the bundle adjustments after a frame was tracked
+  // moved its keyframe, so some refined pose differs from the tracked one.
+  std::size_t on_keyframe = 0;
+  double largest_move = 0;
+  for (std::size_t k = 0; k < online.size(); ++k) {
+    CHECK(refined[k].t == online[k].t);
+    largest_move = std::max(largest_move, (refined[k].T_wc.t - online[k].T_wc.t).norm());
+    for (const auto& kf : keyframes)
+      if (kf.t == refined[k].t) {
+        ++on_keyframe;
+        CHECK((kf.T_wc.t - refined[k].T_wc.t).norm() < 1e-6);
+      }
+  }
+  CHECK(on_keyframe == keyframes.size());
+  CHECK(largest_move > 1e-4);
+  // bolo evaluate --refined scores it.
+  const CliResult r = run_bolo({"evaluate", run.string(), "--refined", "--json", (run / "refined.json").string()});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  std::ifstream in(run / "refined.json");
+  CHECK(nlohmann::json::parse(in)["ate_relative"].get<double>() < 0.10);
+}
+
 TEST_CASE("odometry poses the frames its initialisation took once it completes", "[vo][cli]") {
   // The initialisation takes ~12 frames before it has the baseline; once it completes they are
   // posed (their rotations, the camera centre on the way to the completing frame's), unless only

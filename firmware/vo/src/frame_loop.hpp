@@ -36,10 +36,13 @@ struct KeyframeSelection {
   SelectorScratch scratch;
 };
 
-// The points that left the window with this frame (Odometry::retired_points).
+// The keyframes that left the window with this frame and their points (Odometry::retired_points,
+// retired_keyframes).
 struct RetiredPoints {
   std::span<WorldPoint> points;
   std::size_t count = 0;
+  KeyframePose keyframes[kMaxKeyframes];
+  std::uint32_t keyframe_count = 0;
 };
 
 // What making a keyframe reads besides the map (the current frame, the camera's pose, the frame's

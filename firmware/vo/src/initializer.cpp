@@ -422,13 +422,14 @@ void publish_initialisation_poses(InitialiserState& init, const Keyframe& host, 
   const SolvedFrame& last = init.solved[completing];
   const Vec3 final_centre = -(last.M.R.transpose() * last.M.t);
   const double span_s = last.t_s - host.t_s;
-  init.poses[0] = {host.t_s, host.T_cw.inverse()};
+  init.poses[0] = {host.t_s, host.T_cw.inverse(), tie_to(host, host.T_cw.inverse())};
   std::uint32_t n = 1;
   for (std::uint32_t i = init.agreed_since; i < completing && span_s > 0; ++i) {
     const SolvedFrame& frame = init.solved[i];
     const Vec3 centre = final_centre * ((frame.t_s - host.t_s) / span_s);
     const Se3 M{frame.M.R, -(frame.M.R * centre)};
-    init.poses[n++] = {frame.t_s, (M * host.T_cw).inverse()};
+    const Se3 T_wc = (M * host.T_cw).inverse();
+    init.poses[n++] = {frame.t_s, T_wc, tie_to(host, T_wc)};
   }
   init.pose_count = n;
   init.completed_now = true;

@@ -9,6 +9,7 @@
 
 #include "bolo/vo/config.hpp"
 #include "bolo/vo/image.hpp"
+#include "bolo/vo/odometry.hpp"
 #include "bolo/vo/se3.hpp"
 
 namespace bolo::vo {
@@ -40,6 +41,9 @@ struct Keyframe {
   std::uint32_t count = 0;  // points used in `points`
   bool settled = true;  // made kTimingSettleFrames or more after a change of timing (same_level)
 };
+
+// A camera-to-world pose as it stands in keyframe kf's frame (KeyframeTie).
+inline KeyframeTie tie_to(const Keyframe& kf, const Se3& T_wc) { return {kf.id, kf.T_cw * T_wc}; }
 
 // The ir modes: the tracking image is the scene estimate of the two-frame carry-over model.
 inline bool uses_carry_model(const VoConfig& c) {

@@ -148,7 +148,9 @@ std::uint32_t active_in_window(const State& s) {
 
 }  // namespace
 
-void retire_points(RetiredPoints& retired, const Keyframe& old, const Camera& camera) {
+// A keyframe leaving the window: its last pose, and its active points as map output.
+void retire_keyframe(RetiredPoints& retired, const Keyframe& old, const Camera& camera) {
+  if (retired.keyframe_count < kMaxKeyframes) retired.keyframes[retired.keyframe_count++] = {old.id, old.t_s, old.T_cw.inverse()};
   for (std::uint32_t i = 0; i < old.count && retired.count < retired.points.size(); ++i) {
     const Point& p = old.points[i];
     if (p.status != PointStatus::active || p.idepth <= 0) continue;
@@ -164,7 +166,7 @@ std::uint32_t new_keyframe_slot(MapCore& s, RetiredPoints& retired, BaSystem& ba
     if (builds_marginalisation_prior(s.cfg)) marginalise_oldest_keyframe(s, ba, prior);
     const std::uint32_t leaving = keyframe_to_retire(s);
     Keyframe& old = s.kf[s.order[leaving]];
-    retire_points(retired, old, s.cfg.camera);
+    retire_keyframe(retired, old, s.cfg.camera);
     old.used = false;
     for (std::uint32_t k = leaving + 1; k < s.kf_count; ++k) s.order[k - 1] = s.order[k];
     --s.kf_count;
@@ -338,6 +340,21 @@ std::span<const WorldPoint> Odometry::retired_points() const {
   return {state_->retired.points.data(), state_->retired.count};
 }
 
+std::span<const KeyframePose> Odometry::retired_keyframes() const {
+  if (!state_) return {};
+  return {state_->retired.keyframes, state_->retired.keyframe_count};
+}
+
+std::size_t Odometry::window_keyframes(std::span<KeyframePose> out) const {
+  std::size_t n = 0;
+  if (!state_) return 0;
+  for (std::uint32_t k = 0; k < state_->kf_count && n < out.size(); ++k) {
+    const Keyframe& kf = state_->kf[state_->order[k]];
+    out[n++] = {kf.id, kf.t_s, kf.T_cw.inverse()};
+  }
+  return n;
+}
+
 std::size_t Odometry::window_points(std::span<WorldPoint> out) const {
   std::size_t n = 0;
   if (!state_) return 0;
@@ -470,7 +487,7 @@ void write_tracking_image(State& s, const FrameInput& in) {
 // map has a scale of its own).
 void restart_map(State& s) {
   for (auto& kf : s.kf) {
-    if (kf.used) retire_points(s.retired, kf, s.cfg.camera);
+    if (kf.used) retire_keyframe(s.retired, kf, s.cfg.camera);
     kf.used = false, kf.count = 0;
   }
   s.kf_count = 0;
@@ -510,6 +527,7 @@ FrameResult initialise_phase(State& s, bool after_repeat, double frame_dt_s, Fra
   out.state = TrackingState::tracking;
   out.has_pose = true;
   out.T_wc = s.motion.T_cw.inverse();
+  out.tie = tie_to(s.kf[s.order[0]], out.T_wc);
   out.tracked_points = active_in_window(s);
   s.loop.frames_since_kf = 1;
   s.loop.since_kf_s = frame_dt_s;
@@ -795,6 +813,7 @@ void depth_phase(State& s) {
 void bookkeeping_phase(State& s, const TrackResult& best, FrameResult& out) {
   update_bridge(s.bridge, s.current.t_s, out.keyframe);
   out.T_wc = s.motion.T_cw.inverse();
+  out.tie = tie_to(s.kf[s.order[s.kf_count - 1]], out.T_wc);
   out.tau = s.tau_est.tau;
   s.loop.last_rms = best.rms;
 }
@@ -806,6 +825,7 @@ FrameResult Odometry::process(const FrameInput& in) {
   if (!state_) return out;
   State& s = *state_;
   s.retired.count = 0;
+  s.retired.keyframe_count = 0;
   s.init.completed_now = false;
   FrameArrival arrival;
   if (!load_phase(s, in, arrival, out)) return out;

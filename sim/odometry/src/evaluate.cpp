@@ -57,7 +57,7 @@ std::vector<StatsRow> read_stats(const fs::path& file) {
 
 // Each matched pose's segment, through the stats row of its time (nearest within half a period).
 std::vector<std::size_t> segment_of_matches(const std::vector<StampedPose>& est, const Association& a,
-                                            const std::vector<StatsRow>& stats, double period, const fs::path& run) {
+                                            const std::vector<StatsRow>& stats, double period, const fs::path& trajectory) {
   std::vector<std::string> states;
   for (const StatsRow& r : stats) states.push_back(r.state);
   const std::vector<std::size_t> row_segment = tracking_segments(states);
@@ -67,7 +67,7 @@ std::vector<std::size_t> segment_of_matches(const std::vector<StampedPose>& est,
     const double t = est[e].t;
     while (row + 1 < stats.size() && std::fabs(stats[row + 1].t - t) <= std::fabs(stats[row].t - t)) ++row;
     if (stats.empty() || std::fabs(stats[row].t - t) > 0.5 * period)
-      throw Error((run / "trajectory.tum").string() + ": pose at t = " + std::to_string(t) + " s has no row in stats.csv");
+      throw Error(trajectory.string() + ": pose at t = " + std::to_string(t) + " s has no row in stats.csv");
     out.push_back(row_segment[row]);
   }
   return out;
@@ -91,7 +91,9 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
   const fs::path truth_file = options.truth ? *options.truth : recording / "poses.tum";
   if (!fs::exists(truth_file)) throw Error(truth_file.string() + ": missing (ground truth; use --truth)");
   const std::vector<StampedPose> truth = read_tum(truth_file);
-  const std::vector<StampedPose> est = read_tum(options.run / "trajectory.tum");
+  const fs::path trajectory = options.run / options.trajectory;
+  if (!fs::exists(trajectory)) throw Error(trajectory.string() + ": missing (written by `bolo odometry`)");
+  const std::vector<StampedPose> est = read_tum(trajectory);
   const std::vector<StatsRow> stats = read_stats(options.run / "stats.csv");
   e.frames = stats.size();
   for (const StatsRow& r : stats) {
@@ -111,7 +113,7 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
   double period = 0.01;
   if (truth.size() > 1) period = (truth.back().t - truth.front().t) / static_cast<double>(truth.size() - 1);
   const Association a = associate(est, truth, 0.5 * period);
-  if (a.estimate.size() < 3) throw Error((options.run / "trajectory.tum").string() + ": fewer than 3 poses match the ground truth in time");
+  if (a.estimate.size() < 3) throw Error(trajectory.string() + ": fewer than 3 poses match the ground truth in time");
   std::vector<vo::Vec3> from, to;
   for (std::size_t k = 0; k < a.estimate.size(); ++k)
     from.push_back(est[a.estimate[k]].T_wc.t), to.push_back(truth[a.truth[k]].T_wc.t);
@@ -125,7 +127,7 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
 
   // The same per tracking segment, each with its own alignment (a run that never restarted is
   // one segment: the whole run's).
-  const std::vector<std::size_t> match_segment = segment_of_matches(est, a, stats, period, options.run);
+  const std::vector<std::size_t> match_segment = segment_of_matches(est, a, stats, period, trajectory);
   const bool one_segment = std::all_of(match_segment.begin(), match_segment.end(),
                                        [&](std::size_t m) { return m == match_segment.front(); });
   double segments_sq = 0, segments_path = 0;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <optional>
 #include <span>
 #include <sstream>
@@ -255,6 +256,10 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   std::vector<std::uint16_t> distorted(remap.identity() ? 0 : raw.size());
   std::vector<StampedPose> trajectory;
   std::vector<std::size_t> pose_frame;  // the frame of each trajectory pose
+  // Each trajectory pose's keyframe tie, and what --poses-at-read moved it by (the VO's pose times
+  // it is the pose written): with the keyframes' last poses, the refined trajectory.
+  std::vector<std::pair<vo::KeyframeTie, vo::Se3>> pose_tie;
+  std::map<std::uint32_t, vo::KeyframePose> keyframe_last;  // by id: as it left the window, or at the end
   std::vector<std::string> states;      // every frame's VO state
   std::vector<vo::WorldPoint> points;
   std::ostringstream stats;
@@ -285,6 +290,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     }
     return header;
   };
+  const auto vo_time_to_recording = [&](double t) { return options.reverse ? *rows[0].t_s + *rows[frames - 1].t_s - t : t; };
   std::vector<double> fed_t;  // the time the VO got with the frame fed i-th
   fed_t.reserve(frames);
   const auto is_sane = [](const vo::Se3& T_wc) { return T_wc.t.allFinite() && T_wc.R.allFinite() && T_wc.t.norm() < 1e6; };
@@ -330,7 +336,8 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     for (const vo::WorldPoint& p : odometry.retired_points()) points.push_back(p);
     // A pose into the trajectory; --poses-at-read carries it from its image's instant to t_s at the
     // camera's motion over the step from the pose before (posed in a row, in the same map).
-    const auto write_pose = [&](std::uint64_t fed, const vo::Se3& T_wc) {
+    for (const vo::KeyframePose& k : odometry.retired_keyframes()) keyframe_last[k.id] = k;
+    const auto write_pose = [&](std::uint64_t fed, const vo::Se3& T_wc, const vo::KeyframeTie& tie) {
       const std::uint64_t row_index = frame_of(fed);
       const double t = *rows[row_index].t_s;
       vo::Se3 pose = T_wc;
@@ -344,6 +351,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
       }
       previous_pose.emplace(t, T_wc);
       trajectory.push_back({t, pose}), pose_frame.push_back(fed), ++summary.posed;
+      pose_tie.push_back({tie, T_wc.inverse() * pose});
     };
     if (r.reinitialised) previous_pose.reset();
     // The frames the initialisation that completed here took, posed now (before this frame's pose,
@@ -351,12 +359,12 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     for (const vo::TimedPose& p : options.online_poses_only ? std::span<const vo::TimedPose>() : odometry.initialisation_poses()) {
       const auto fed = std::find(fed_t.rbegin(), fed_t.rend(), p.t_s);
       if (fed == fed_t.rend() || !is_sane(p.T_wc)) continue;
-      write_pose(static_cast<std::uint64_t>(fed_t.rend() - fed - 1), p.T_wc);
+      write_pose(static_cast<std::uint64_t>(fed_t.rend() - fed - 1), p.T_wc, p.tie);
       ++summary.posed_at_initialisation;
     }
     // A pose the VO reports but that has run away (scale blow-up) is not written as one.
     if (r.has_pose && is_sane(r.T_wc))
-      write_pose(i, r.T_wc);
+      write_pose(i, r.T_wc, r.tie);
     else
       previous_pose.reset();
     states.emplace_back(vo::to_string(r.state));
@@ -384,6 +392,9 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   std::vector<vo::WorldPoint> window(8 * 1200);
   window.resize(odometry.window_points(window));
   points.insert(points.end(), window.begin(), window.end());
+  std::vector<vo::KeyframePose> window_keyframes(vo::kMaxKeyframes);
+  window_keyframes.resize(odometry.window_keyframes(window_keyframes));
+  for (const vo::KeyframePose& k : window_keyframes) keyframe_last[k.id] = k;
 
   summary.frames = frames;
   summary.points = points.size();
@@ -394,10 +405,29 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
 
   std::string tum = "# bolo odometry: " + std::string(vo::to_string(config.photometric)) +
                     " (t tx ty tz qx qy qz qw, camera-to-world)\n";
-  std::vector<StampedPose> by_time = trajectory;  // a reversed run's poses come last to first
-  std::sort(by_time.begin(), by_time.end(), [](const StampedPose& a, const StampedPose& b) { return a.t < b.t; });
-  for (const StampedPose& p : by_time) tum += tum_line(p);
-  write_text(folder.path() / "trajectory.tum", tum);
+  const auto tum_text = [&](std::vector<StampedPose> poses) {
+    std::sort(poses.begin(), poses.end(), [](const StampedPose& a, const StampedPose& b) { return a.t < b.t; });  // a reversed run's come last to first
+    std::string text = tum;
+    for (const StampedPose& p : poses) text += tum_line(p);
+    return text;
+  };
+  write_text(folder.path() / "trajectory.tum", tum_text(trajectory));
+  // Every pose carried on its keyframe's last pose (a pose whose keyframe never had one, as written).
+  std::vector<StampedPose> refined = trajectory;
+  for (std::size_t k = 0; k < refined.size(); ++k) {
+    const auto& [tie, moved] = pose_tie[k];
+    const auto last = keyframe_last.find(tie.keyframe);
+    if (last == keyframe_last.end()) continue;
+    const vo::Se3 pose = last->second.T_wc * tie.T_kc * moved;
+    if (is_sane(pose)) refined[k].T_wc = pose, ++summary.refined_poses;
+  }
+  write_text(folder.path() / "trajectory-refined.tum", tum_text(refined));
+  // The keyframes of the maps the trajectory lies in (not those of initialisations that never completed).
+  std::vector<StampedPose> keyframes;
+  for (const auto& [id, k] : keyframe_last)
+    if (std::any_of(pose_tie.begin(), pose_tie.end(), [&](const auto& p) { return p.first.keyframe == id; }))
+      keyframes.push_back({vo_time_to_recording(k.t_s), k.T_wc});
+  write_text(folder.path() / "keyframes.tum", tum_text(keyframes));
   write_text(folder.path() / "stats.csv", stats.str());
   write_text(folder.path() / "points.ply", ply_text(points));
 
@@ -422,6 +452,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
                       {"frames", summary.frames},
                       {"posed", summary.posed},
                       {"posed_at_initialisation", summary.posed_at_initialisation},
+                      {"refined_poses", summary.refined_poses},
                       {"online_poses_only", options.online_poses_only},
                       {"lost", summary.lost},
                       {"duplicates", summary.duplicates},

@@ -38,6 +38,19 @@ struct FrameInput {
 enum class TrackingState : std::uint8_t { initialising, tracking, lost, duplicate };
 const char* to_string(TrackingState state);
 
+// No keyframe (a frame without a pose, a pose not tied to one).
+inline constexpr std::uint32_t kNoKeyframe = 0xffffffffu;
+
+// Where a pose stands in the map: its keyframe and the camera's pose in that keyframe's frame
+// (camera-to-keyframe, so the keyframe's pose times it is the camera-to-world pose). Carried on
+// the keyframe's later poses (Odometry::retired_keyframes, window_keyframes) it gives the pose as
+// the window refined the map after the frame came: the trajectory DSO and ORB-SLAM write at the
+// end of a run.
+struct KeyframeTie {
+  std::uint32_t keyframe = kNoKeyframe;
+  Se3 T_kc;
+};
+
 struct FrameResult {
   TrackingState state = TrackingState::initialising;
   bool has_pose = false;
@@ -52,10 +65,21 @@ struct FrameResult {
   // The camera centre was held on its velocity before a look-around (VoConfig::scale_bridge):
   // only the rotation was tracked.
   bool centre_held = false;
+  // With a pose: the keyframe it was tracked against (the newest; the frame's own when it became
+  // one, the map's first while initialising).
+  KeyframeTie tie;
 };
 
 // A pose given to a frame after it was processed (camera-to-world, at the frame's t_s).
 struct TimedPose {
+  double t_s = 0;
+  Se3 T_wc;
+  KeyframeTie tie;
+};
+
+// A keyframe's pose (camera-to-world) as the window last adjusted it.
+struct KeyframePose {
+  std::uint32_t id = 0;
   double t_s = 0;
   Se3 T_wc;
 };
@@ -85,6 +109,10 @@ class Odometry {
 
   // Active points of the keyframes retired by the last process() call, in world coordinates.
   std::span<const WorldPoint> retired_points() const;
+  // The keyframes that left the window in the last process() call, at their last poses.
+  std::span<const KeyframePose> retired_keyframes() const;
+  // The keyframes in the window at their current poses; returns how many were written.
+  std::size_t window_keyframes(std::span<KeyframePose> out) const;
   // Active points of the keyframes still in the window; returns how many were written.
   std::size_t window_points(std::span<WorldPoint> out) const;
   std::uint32_t keyframes_created() const;

@@ -13,6 +13,9 @@ namespace bolo::odo {
 
 struct EvaluateOptions {
   std::filesystem::path run;                  // output folder of `bolo odometry`
+  // The trajectory scored, in `run`: trajectory.tum (the poses as tracked) or
+  // trajectory-refined.tum (carried on the keyframes' last poses).
+  std::string trajectory = "trajectory.tum";
   std::optional<std::filesystem::path> truth;  // default: <recording>/poses.tum from summary.json
   double rpe_delta_s = 1.0;
   double road_band_m = 0.3;                   // |z| below this (aligned) counts as road plane

@@ -67,6 +67,7 @@ struct OdometrySummary {
   std::uint64_t frames = 0, posed = 0, lost = 0, keyframes = 0, reinitialisations = 0;
   // Of the posed frames, those an initialisation took, posed once it completed.
   std::uint64_t posed_at_initialisation = 0;
+  std::uint64_t refined_poses = 0;  // trajectory-refined.tum's poses carried on their keyframe's last pose
   std::uint64_t points = 0;  // in points.ply
   std::uint64_t duplicates = 0;  // frames repeating the previous one bit for bit (skipped by the VO)
   // ir modes: frames whose empty exposure_s / readout_s cell was filled from the options
