@@ -6,10 +6,10 @@ from collections import OrderedDict
 from pathlib import Path
 
 
-def evaluation(run):
-    """The run's evaluation.json, or None when it could not be evaluated."""
+def evaluation(run, name="evaluation.json"):
+    """The run's evaluation.json (or another of its evaluations), or None when it could not be evaluated."""
     try:
-        return json.loads(Path(run, "evaluation.json").read_text())
+        return json.loads(Path(run, name).read_text())
     except (OSError, ValueError):
         return None
 
