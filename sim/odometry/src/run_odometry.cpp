@@ -334,9 +334,9 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     vo_seconds += ms / 1e3;
     for (const vo::WorldPoint& p : odometry.retired_points()) points.push_back(p);
+    for (const vo::KeyframePose& k : odometry.retired_keyframes()) keyframe_last[k.id] = k;
     // A pose into the trajectory; --poses-at-read carries it from its image's instant to t_s at the
     // camera's motion over the step from the pose before (posed in a row, in the same map).
-    for (const vo::KeyframePose& k : odometry.retired_keyframes()) keyframe_last[k.id] = k;
     const auto write_pose = [&](std::uint64_t fed, const vo::Se3& T_wc, const vo::KeyframeTie& tie) {
       const std::uint64_t row_index = frame_of(fed);
       const double t = *rows[row_index].t_s;
