@@ -9,6 +9,7 @@
 #include <iterator>
 #include <map>
 #include <optional>
+#include <set>
 #include <span>
 #include <sstream>
 #include <stdexcept>
@@ -423,12 +424,11 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   }
   write_text(folder.path() / "trajectory-refined.tum", tum_text(refined));
   // The keyframes of the maps the trajectory lies in (not those of initialisations that never completed).
+  std::set<std::uint32_t> tied;
+  for (const auto& [tie, moved] : pose_tie) tied.insert(tie.keyframe);
   std::vector<StampedPose> keyframes;
-  for (const auto& [id, k] : keyframe_last) {
-    const std::uint32_t keyframe_id = id;  // a structured binding is not captured by lambdas before C++20
-    if (std::any_of(pose_tie.begin(), pose_tie.end(), [&](const auto& p) { return p.first.keyframe == keyframe_id; }))
-      keyframes.push_back({vo_time_to_recording(k.t_s), k.T_wc});
-  }
+  for (const auto& [id, k] : keyframe_last)
+    if (tied.count(id) != 0) keyframes.push_back({vo_time_to_recording(k.t_s), k.T_wc});
   write_text(folder.path() / "keyframes.tum", tum_text(keyframes));
   write_text(folder.path() / "stats.csv", stats.str());
   write_text(folder.path() / "points.ply", ply_text(points));
