@@ -172,6 +172,11 @@ TEST_CASE("odometry writes the trajectory refined on the keyframes' last poses",
   REQUIRE(r.code == 0);
   std::ifstream in(run / "refined.json");
   CHECK(nlohmann::json::parse(in)["ate_relative"].get<double>() < 0.10);
+  // Without the file, --refined is refused by its name.
+  fs::remove(run / "trajectory-refined.tum");
+  const CliResult missing = run_bolo({"evaluate", run.string(), "--refined"});
+  CHECK(missing.code != 0);
+  CHECK(missing.err.find("trajectory-refined.tum") != std::string::npos);
 }
 
 TEST_CASE("odometry poses the frames its initialisation took once it completes", "[vo][cli]") {
