@@ -45,6 +45,8 @@ int run_odometry(const OdometryOptions& o, std::ostream& out) {
          config.smoothing);
   if (!vo::parse_retirement(o.retirement_name.c_str(), config.retirement))
     fail("--retirement: must be oldest or spread, got ", o.retirement_name);
+  if (!vo::parse_keyframe_parallax(o.keyframe_parallax_name.c_str(), config.keyframe_parallax))
+    fail("--keyframe-parallax: must be rms or quantile, got ", o.keyframe_parallax_name);
   if (config.points_per_keyframe != 0 && !vo::kPointsPerKeyframeRange.contains(config.points_per_keyframe))
     fail("--points-per-keyframe: must be 0 (one per 40 pixels, at most ", vo::kMaxDefaultPointsPerKeyframe, ") or within ",
          vo::kPointsPerKeyframeRange.min, "..", vo::kPointsPerKeyframeRange.max, ", got ", config.points_per_keyframe);
@@ -192,6 +194,12 @@ Command add_odometry_command(CLI::App& parent) {
   app->add_option("--retirement", o->retirement_name,
                   "Which keyframe leaves a full window: spread (one much nearer its neighbours along the path than "
                   "the window's mean spacing, made for a turn; else the oldest) or oldest")
+      ->capture_default_str();
+  app->add_option("--keyframe-parallax", o->keyframe_parallax_name,
+                  "What translation flow makes a keyframe: rms (of the newest keyframe's points) or quantile (the "
+                  "flow three quarters of them stay below, or twice the threshold on the rms: for vehicles, where the "
+                  "road just ahead would make a keyframe every ~0.5 m; on the study's 10-36 s drives it lowers the "
+                  "ATE, on its look-around walks it raises it: docs/odometry-study.md)")
       ->capture_default_str();
   app->add_flag("--no-scale-bridge", [o](std::int64_t) { o->vo.scale_bridge = false; },
                 "Keep the scale a look-around leaves the map with (by default, after a fast turn that takes the map "

@@ -96,13 +96,15 @@ struct DiagnoseOptions {
 int run_diagnose(const DiagnoseOptions& options, std::ostream& out);
 
 // bolo odometry SOURCE --out DIR [--photometric none|affine|ir|ir-loop] [--tau-init S] [--fixed-tau] [--frames N]
-//               [--no-ba] [--marginalisation-prior] [--retirement spread|oldest] [--overwrite]
+//               [--no-ba] [--marginalisation-prior] [--retirement spread|oldest]
+//               [--keyframe-parallax rms|quantile] [--overwrite]
 // The run's options as run_odometry takes them (bound by the parser), and what only the command
 // line has: the source spec, the models' names, how a live source is read, the progress bar.
 struct OdometryOptions : odo::OdometryOptions {
   std::filesystem::path input;  // a recording folder, file:REC or a source spec
   std::string photometric_name = "none";
   std::string retirement_name = vo::to_string(vo::VoConfig{}.retirement);
+  std::string keyframe_parallax_name = vo::to_string(vo::VoConfig{}.keyframe_parallax);
   std::uint64_t max_faults = 50;
   bool progress_bar = true;
 };

@@ -179,6 +179,54 @@ TEST_CASE("odometry writes the trajectory refined on the keyframes' last poses",
   CHECK(missing.err.find("trajectory-refined.tum") != std::string::npos);
 }
 
+namespace {
+
+// The median number of frames between consecutive keyframes of a run (stats.csv's keyframe column).
+int median_keyframe_spacing(const fs::path& run) {
+  std::ifstream stats(run / "stats.csv");
+  std::string line;
+  std::getline(stats, line);
+  std::vector<int> keyframe_frames;
+  while (std::getline(stats, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    REQUIRE(cells.size() >= 5);
+    if (cells[4] == "1") keyframe_frames.push_back(std::stoi(cells[0]));
+  }
+  REQUIRE(keyframe_frames.size() >= 10);
+  std::vector<int> spacing;
+  for (std::size_t k = 1; k < keyframe_frames.size(); ++k) spacing.push_back(keyframe_frames[k] - keyframe_frames[k - 1]);
+  std::nth_element(spacing.begin(), spacing.begin() + spacing.size() / 2, spacing.end());
+  return spacing[spacing.size() / 2];
+}
+
+}  // namespace
+
+TEST_CASE("odometry: --keyframe-parallax quantile spaces keyframes by the parallax most points see", "[vo][cli]") {
+  // Ahead of a car at 60 Hz the road below the bumper sweeps tens of pixels in a few frames: the
+  // translation flow's rms makes a keyframe every ~6 frames on this 4-s drive, three quarters of
+  // the points' flow every ~10 (docs/odometry-study.md, "Where the accuracy goes").
+  const fs::path& seq = sequence("drive", "0.012", "240");
+  TempDir out;
+  odometry(seq, out / "rms", {"--photometric", "none"});
+  odometry(seq, out / "quantile", {"--photometric", "none", "--keyframe-parallax", "quantile"});
+  CHECK(summary_of(out / "rms")["keyframe_parallax"] == "rms");
+  CHECK(summary_of(out / "quantile")["keyframe_parallax"] == "quantile");
+  const int rms = median_keyframe_spacing(out / "rms"), quantile = median_keyframe_spacing(out / "quantile");
+  INFO("median keyframe spacing: rms " << rms << ", quantile " << quantile);
+  CHECK(quantile >= 8);
+  CHECK(quantile >= rms + 2);
+  const nlohmann::json e = evaluate(out / "quantile");
+  INFO(e.dump(2));
+  CHECK(e["ate_relative"].get<double>() < 0.005);
+  CHECK(e["coverage"].get<double>() > 0.9);
+  const CliResult bad = run_bolo({"odometry", seq.string(), "--out", (out / "bad").string(), "--keyframe-parallax", "p90"});
+  CHECK(bad.code == 2);
+  CHECK(bad.err.find("--keyframe-parallax") != std::string::npos);
+  CHECK(!fs::exists(out / "bad"));
+}
+
 TEST_CASE("odometry poses the frames its initialisation took once it completes", "[vo][cli]") {
   // The initialisation takes ~12 frames before it has the baseline; once it completes they are
   // posed (their rotations, the camera centre on the way to the completing frame's), unless only

@@ -37,6 +37,17 @@ bool parse_retirement(const char* name, Retirement& rule) {
   return false;
 }
 
+const char* to_string(KeyframeParallax rule) { return rule == KeyframeParallax::quantile ? "quantile" : "rms"; }
+
+bool parse_keyframe_parallax(const char* name, KeyframeParallax& rule) {
+  for (KeyframeParallax r : {KeyframeParallax::rms, KeyframeParallax::quantile})
+    if (std::strcmp(name, to_string(r)) == 0) {
+      rule = r;
+      return true;
+    }
+  return false;
+}
+
 VoConfig resolved(const VoConfig& config) {
   VoConfig c = config;
   if (c.levels == 0) {

@@ -27,6 +27,8 @@ namespace {
 
 constexpr std::uint32_t kLostFramesBeforeRestart = 8;
 constexpr double kMinKeyframeSpacingS = 3.0 / 30.0;
+// The translation's parallax that makes a keyframe, as a share of (width + height) in pixels.
+constexpr double kKeyframeTranslationFlow = 0.03;
 constexpr double kMaxStepFlow = 0.06;  // median translation flow per frame, share of width + height
 constexpr float kRetrackRatio = 1.5f;  // the constant-velocity guess stands if its rms is within this of the last frame's
 constexpr std::uint32_t kIntensityMeasureFrames = 30;  // the intensity scale stays 1 if unmeasured by then
@@ -90,13 +92,19 @@ Vec3 world_point(const Keyframe& kf, const Point& p, const Camera& cam) {
   return kf.T_cw.inverse() * (n / p.idepth);
 }
 
-// Pixel flow of the latest keyframe's points to the current frame: translation only and full.
-void keyframe_flow(const State& s, double& flow_t, double& flow_rt, std::uint32_t& points) {
+// Pixel flow of the latest keyframe's points to the current frame.
+struct KeyframeFlow {
+  double translation_rms = 0;  // of the translation alone
+  double translation_p75 = 0;  // the translation's flow three quarters of the points stay below
+  double full_rms = 0;         // of the whole motion
+};
+KeyframeFlow keyframe_flow(State& s) {
   const Keyframe& kf = s.kf[s.order[s.kf_count - 1]];
   const Se3 M = s.motion.T_cw * kf.T_cw.inverse();
   const Scaled k = camera_at(s.cfg.camera, 0);
+  float* squared = s.scratch.data();  // at least ten floats a keyframe point (lay_out)
   double st = 0, srt = 0;
-  points = 0;
+  std::uint32_t points = 0;
   for (std::uint32_t i = 0; i < kf.count; ++i) {
     const Point& p = kf.points[i];
     if (p.status == PointStatus::empty || p.idepth <= 0) continue;
@@ -105,10 +113,17 @@ void keyframe_flow(const State& s, double& flow_t, double& flow_rt, std::uint32_
     if (Xt.z() <= 1e-6 || Xrt.z() <= 1e-6) continue;
     const double dut = k.fx * (Xt.x() / Xt.z() - n.x()), dvt = k.fy * (Xt.y() / Xt.z() - n.y());
     const double dur = k.fx * (Xrt.x() / Xrt.z() - n.x()), dvr = k.fy * (Xrt.y() / Xrt.z() - n.y());
+    squared[points] = static_cast<float>(dut * dut + dvt * dvt);
     st += dut * dut + dvt * dvt, srt += dur * dur + dvr * dvr, ++points;
   }
-  flow_t = points ? std::sqrt(st / points) : 0;
-  flow_rt = points ? std::sqrt(srt / points) : 0;
+  KeyframeFlow flow;
+  if (points == 0) return flow;
+  flow.translation_rms = std::sqrt(st / points);
+  flow.full_rms = std::sqrt(srt / points);
+  float* const q75 = squared + points * 3 / 4;
+  std::nth_element(squared, q75, squared + points);
+  flow.translation_p75 = std::sqrt(double{*q75});
+  return flow;
 }
 
 // Median pixel flow that the translation of `step` (between two frames) causes on the window's
@@ -706,9 +721,7 @@ void adopt_brightness(State& s, const FrameInput& in, const TrackResult& best, c
 // row unless tracking is about to starve. Returns whether one was made (then bundle-adjusted).
 bool keyframe_if_due(State& s, const TrackResult& best, double frame_dt_s) {
   const VoConfig& c = s.cfg;
-  double flow_t = 0, flow_rt = 0;
-  std::uint32_t kf_points = 0;
-  keyframe_flow(s, flow_t, flow_rt, kf_points);
+  const KeyframeFlow flow = keyframe_flow(s);
   const double size = c.width + c.height;
   const Keyframe& latest = s.kf[s.order[s.kf_count - 1]];
   if (s.loop.frames_since_kf == 1) s.loop.inliers_after_kf = best.inliers;
@@ -716,7 +729,11 @@ bool keyframe_if_due(State& s, const TrackResult& best, double frame_dt_s) {
   s.loop.since_kf_s += frame_dt_s;
   const bool brightness = std::fabs(s.brightness.a - latest.a) > 0.5;
   const bool thinning = best.inliers * 4 < s.loop.inliers_after_kf;
-  const bool want = flow_t > 0.03 * size || flow_rt > 0.08 * size || thinning || brightness;
+  const double threshold = kKeyframeTranslationFlow * size;
+  const bool parallax = c.keyframe_parallax == KeyframeParallax::quantile
+                            ? flow.translation_p75 > threshold || flow.translation_rms > 2 * threshold
+                            : flow.translation_rms > threshold;
+  const bool want = parallax || flow.full_rms > 0.08 * size || thinning || brightness;
   const bool starving = best.inliers < 40;
   // Spaced by 3 frames, or by the time 3 frames take at 30 Hz: at 9 Hz 3 frames are a third of a
   // second, over which a car has driven 3 m and the tracked points have left the keyframe.

@@ -476,6 +476,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
                       {"window_ba", config.window_ba},
                       {"marginalisation_prior", vo::builds_marginalisation_prior(config)},
                       {"retirement", vo::to_string(config.retirement)},
+                      {"keyframe_parallax", vo::to_string(config.keyframe_parallax)},
                       {"scale_bridge", config.scale_bridge},
                       {"scale_bridges", bridges_json},
                       {"timing_from_options", summary.timing_from_options},

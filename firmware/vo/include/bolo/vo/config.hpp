@@ -31,6 +31,14 @@ const char* to_string(Retirement rule);
 // Returns false for an unknown name.
 bool parse_retirement(const char* name, Retirement& rule);
 
+// What translation flow makes a keyframe (VoConfig::keyframe_parallax): the rms over the newest
+// keyframe's points, or the flow three quarters of them stay below (with the rms at twice the
+// threshold still counting).
+enum class KeyframeParallax : std::uint8_t { rms, quantile };
+const char* to_string(KeyframeParallax rule);
+// Returns false for an unknown name.
+bool parse_keyframe_parallax(const char* name, KeyframeParallax& rule);
+
 struct VoConfig {
   std::uint32_t width = 0, height = 0;
   Camera camera;
@@ -57,6 +65,10 @@ struct VoConfig {
   // neighbours along the path than the window's mean spacing if there is one, so that the window
   // keeps its baseline through turns and look-arounds.
   Retirement retirement = Retirement::spread;
+  // quantile: ahead of a car the nearest road sweeps tens of pixels in a few frames, and the rms
+  // would make a keyframe every ~0.5 m, each a link the map's scale drifts along; it pays on the
+  // study's drives and costs on its look-around walks (docs/odometry-study.md).
+  KeyframeParallax keyframe_parallax = KeyframeParallax::rms;
   // ir modes: the carry-over correction (deghosted minus raw) is kept only where it stands out
   // of its own noise: its part within carry_coring times that noise's sigma is left out of the
   // tracking image (a soft threshold), because deghosting is an inverse filter that multiplies
