@@ -16,36 +16,35 @@ const char* to_string(Photometric mode) {
   return "?";
 }
 
-bool parse_photometric(const char* name, Photometric& mode) {
-  const Photometric all[] = {Photometric::none, Photometric::affine, Photometric::ir, Photometric::ir_loop};
-  for (Photometric m : all)
-    if (std::strcmp(name, to_string(m)) == 0) {
-      mode = m;
+namespace {
+
+// The value among `all` whose to_string() is `name`; false when none is.
+template <typename Enum>
+bool parse_by_name(const char* name, std::initializer_list<Enum> all, Enum& out) {
+  for (const Enum value : all)
+    if (std::strcmp(name, to_string(value)) == 0) {
+      out = value;
       return true;
     }
   return false;
+}
+
+}  // namespace
+
+bool parse_photometric(const char* name, Photometric& mode) {
+  return parse_by_name(name, {Photometric::none, Photometric::affine, Photometric::ir, Photometric::ir_loop}, mode);
 }
 
 const char* to_string(Retirement rule) { return rule == Retirement::oldest ? "oldest" : "spread"; }
 
 bool parse_retirement(const char* name, Retirement& rule) {
-  for (Retirement r : {Retirement::oldest, Retirement::spread})
-    if (std::strcmp(name, to_string(r)) == 0) {
-      rule = r;
-      return true;
-    }
-  return false;
+  return parse_by_name(name, {Retirement::oldest, Retirement::spread}, rule);
 }
 
 const char* to_string(KeyframeParallax rule) { return rule == KeyframeParallax::quantile ? "quantile" : "rms"; }
 
 bool parse_keyframe_parallax(const char* name, KeyframeParallax& rule) {
-  for (KeyframeParallax r : {KeyframeParallax::rms, KeyframeParallax::quantile})
-    if (std::strcmp(name, to_string(r)) == 0) {
-      rule = r;
-      return true;
-    }
-  return false;
+  return parse_by_name(name, {KeyframeParallax::rms, KeyframeParallax::quantile}, rule);
 }
 
 VoConfig resolved(const VoConfig& config) {
