@@ -16,10 +16,13 @@ def evaluation(run, name="evaluation.json"):
 
 def vo_ms_per_frame(run):
     """The mean of a bolo odometry run's per-frame processing time (stats.csv's time_ms: the VO
-    alone, without reading or writing), or None (no stats.csv, as for a DSO run)."""
+    alone, without reading or writing), or None for a run that is not bolo's (its summary.json has
+    no vo_seconds: a DSO run's stats.csv holds its whole process's wall time a frame)."""
     try:
+        if "vo_seconds" not in json.loads(Path(run, "summary.json").read_text()):
+            return None
         lines = Path(run, "stats.csv").read_text().splitlines()
-    except OSError:
+    except (OSError, ValueError):
         return None
     column = lines[0].split(",").index("time_ms")
     times = [float(line.split(",")[column]) for line in lines[1:] if line]
