@@ -70,7 +70,8 @@ def error_axes(run_tum, truth_tum, window_s, late_s=2.0):
             scales.append(sim3_align(est[inside], truth[inside])[0] / scale)
     rms = lambda v: float(np.sqrt(np.mean(np.square(v)))) if v else float("nan")
     spread = max(scales) - min(scales) if len(scales) > 1 else float("nan")
-    return rms(along), rms(across), rms(vertical), spread, ate(est, truth), ate(est[late], truth[late])
+    whole = float(np.sqrt(np.mean(np.sum(err ** 2, axis=1))))
+    return rms(along), rms(across), rms(vertical), spread, whole, ate(est[late], truth[late])
 
 
 def main():

@@ -1,6 +1,6 @@
 """Reading the runs of the study scripts: a run's evaluation.json, and index files whose lines end
 with a run folder, grouped by some of their fields (shared by pan_table.py, rates_table.py and
-coring_table.py), when a run counts as tracked (dso_table.py), and a VO run's time per frame."""
+coring_table.py), and when a run counts as tracked (dso_table.py)."""
 import json
 from collections import OrderedDict
 from pathlib import Path
@@ -12,21 +12,6 @@ def evaluation(run, name="evaluation.json"):
         return json.loads(Path(run, name).read_text())
     except (OSError, ValueError):
         return None
-
-
-def vo_ms_per_frame(run):
-    """The mean of a bolo odometry run's per-frame processing time (stats.csv's time_ms: the VO
-    alone, without reading or writing), or None for a run that is not bolo's (its summary.json has
-    no vo_seconds: a DSO run's stats.csv holds its whole process's wall time a frame)."""
-    try:
-        if "vo_seconds" not in json.loads(Path(run, "summary.json").read_text()):
-            return None
-        lines = Path(run, "stats.csv").read_text().splitlines()
-    except (OSError, ValueError):
-        return None
-    column = lines[0].split(",").index("time_ms")
-    times = [float(line.split(",")[column]) for line in lines[1:] if line]
-    return sum(times) / len(times) if times else None
 
 
 def grouped_evaluations(index, key):
