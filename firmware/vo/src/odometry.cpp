@@ -95,13 +95,14 @@ Vec3 world_point(const Keyframe& kf, const Point& p, const Camera& cam) {
 // Pixel flow of the latest keyframe's points to the current frame.
 struct KeyframeFlow {
   double translation_rms = 0;  // of the translation alone
-  double translation_p75 = 0;  // the translation's flow three quarters of the points stay below
+  double translation_p75 = 0;  // three quarters of the points stay below it (quantile rule only)
   double full_rms = 0;         // of the whole motion
 };
 KeyframeFlow keyframe_flow(State& s) {
   const Keyframe& kf = s.kf[s.order[s.kf_count - 1]];
   const Se3 M = s.motion.T_cw * kf.T_cw.inverse();
   const Scaled k = camera_at(s.cfg.camera, 0);
+  const bool quantile = s.cfg.keyframe_parallax == KeyframeParallax::quantile;
   float* squared = s.scratch.data();  // at least ten floats a keyframe point (lay_out)
   double st = 0, srt = 0;
   std::uint32_t points = 0;
@@ -113,13 +114,14 @@ KeyframeFlow keyframe_flow(State& s) {
     if (Xt.z() <= 1e-6 || Xrt.z() <= 1e-6) continue;
     const double dut = k.fx * (Xt.x() / Xt.z() - n.x()), dvt = k.fy * (Xt.y() / Xt.z() - n.y());
     const double dur = k.fx * (Xrt.x() / Xrt.z() - n.x()), dvr = k.fy * (Xrt.y() / Xrt.z() - n.y());
-    squared[points] = static_cast<float>(dut * dut + dvt * dvt);
+    if (quantile) squared[points] = static_cast<float>(dut * dut + dvt * dvt);
     st += dut * dut + dvt * dvt, srt += dur * dur + dvr * dvr, ++points;
   }
   KeyframeFlow flow;
   if (points == 0) return flow;
   flow.translation_rms = std::sqrt(st / points);
   flow.full_rms = std::sqrt(srt / points);
+  if (!quantile) return flow;
   float* const q75 = squared + points * 3 / 4;
   std::nth_element(squared, q75, squared + points);
   flow.translation_p75 = std::sqrt(double{*q75});
