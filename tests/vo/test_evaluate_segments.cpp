@@ -4,13 +4,16 @@
 // trajectory cannot.
 
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <iterator>
 
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
 #include "bolo/odometry/evaluate.hpp"
+#include "bolo/odometry/stats_csv.hpp"
 #include "bolo/odometry/trajectory_plot.hpp"
 #include "bolo/odometry/tum.hpp"
 #include "../test_support.hpp"
@@ -49,14 +52,13 @@ void write_run(const std::filesystem::path& run, const std::filesystem::path& tr
                std::initializer_list<Row> rows, MapOf map_of) {
   std::filesystem::create_directories(run);
   std::ofstream truth(truth_file), est(run / "trajectory.tum"), stats(run / "stats.csv");
-  stats << "index,t_s,state,tracked_points,keyframe,residual_rms,tau_h_s,tau_c_s,time_ms\n";
+  stats << odo::stats_csv_header();
   for (int i = 0; i < frames; ++i) truth << odo::tum_line({i / kFps, truth_pose(i)}) << '\n';
   for (const Row& r : rows)
     for (int i = r.first; i <= r.last; ++i) {
       const bool posed = std::string(r.state) == "tracking";
-      char line[160];
-      std::snprintf(line, sizeof line, "%d,%.9f,%s,%d,0,1.0,0.01,0.01,1.0\n", i, i / kFps, r.state, posed ? 200 : 0);
-      stats << line;
+      stats << odo::stats_csv_line({static_cast<std::uint64_t>(i), i / kFps, r.state, posed ? 200u : 0u, false, 1.0, 0.01,
+                                    0.01, 1.0});
       if (posed) est << odo::tum_line({i / kFps, map_of(i)}) << '\n';
     }
   std::ofstream(run / "points.ply") << "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
@@ -155,6 +157,34 @@ TEST_CASE("evaluate refuses a pose without a stats row", "[vo][evaluate][refusal
     CHECK(message.find("trajectory.tum: pose at t = 0.5") != std::string::npos);
     CHECK(message.find("has no row in stats.csv") != std::string::npos);
   }
+}
+
+TEST_CASE("evaluate refuses a stats.csv that is not bolo odometry's, naming the file and line", "[vo][evaluate][refusal]") {
+  test::TempDir tmp;
+  const auto map_of = [](int frame) { return truth_pose(frame); };
+  write_run(tmp / "run", tmp / "run" / "poses.tum", 60, {{0, 5, "initialising"}, {6, 59, "tracking"}}, map_of);
+  const std::filesystem::path stats = tmp / "run" / "stats.csv";
+  std::ifstream in(stats);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  in.close();
+  const std::size_t row_3 = text.find('\n', text.find('\n', text.find('\n') + 1) + 1) + 1;
+  const auto refusal = [&](const std::string& written) {
+    std::ofstream(stats) << written;
+    odo::EvaluateOptions options;
+    options.run = tmp / "run";
+    try {
+      (void)odo::evaluate_run(options);
+    } catch (const odo::Error& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK(refusal("frame,t\n" + text.substr(text.find('\n') + 1)) == stats.string() + ": line 1: unexpected header (not a stats.csv of `bolo odometry`)");
+  CHECK(refusal(text.substr(0, row_3) + "2,0.03,tracking,200\n" + text.substr(text.find('\n', row_3) + 1)) ==
+        stats.string() + ": line 4: expected 9 columns");
+  CHECK(refusal(text.substr(0, row_3) + "2,0.03,tracking,many,0,1,0.01,0.01,1\n" + text.substr(text.find('\n', row_3) + 1)) ==
+        stats.string() + ": line 4: not a number");
+  CHECK(refusal(text) == "accepted");
 }
 
 TEST_CASE("the trajectory plot draws each tracking segment aligned on its own", "[vo][evaluate][plot]") {

@@ -18,6 +18,7 @@
 #include "../cli/cli_test_support.hpp"
 #include "../hal/flirone_frames.hpp"
 #include "bolo/odometry/run_odometry.hpp"
+#include "bolo/odometry/stats_csv.hpp"
 #include "bolo/odometry/tum.hpp"
 #include "bolo/recording/recording.hpp"
 #include "bolo/vo/config.hpp"
@@ -183,17 +184,9 @@ namespace {
 
 // The median number of frames between consecutive keyframes of a run (stats.csv's keyframe column).
 int median_keyframe_spacing(const fs::path& run) {
-  std::ifstream stats(run / "stats.csv");
-  std::string line;
-  std::getline(stats, line);
   std::vector<int> keyframe_frames;
-  while (std::getline(stats, line)) {
-    std::vector<std::string> cells;
-    std::stringstream row(line);
-    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    REQUIRE(cells.size() >= 5);
-    if (cells[4] == "1") keyframe_frames.push_back(std::stoi(cells[0]));
-  }
+  for (const odo::StatsRow& row : odo::read_stats_csv(run / "stats.csv"))
+    if (row.keyframe) keyframe_frames.push_back(static_cast<int>(row.index));
   REQUIRE(keyframe_frames.size() >= 10);
   std::vector<int> spacing;
   for (std::size_t k = 1; k < keyframe_frames.size(); ++k) spacing.push_back(keyframe_frames[k] - keyframe_frames[k - 1]);
@@ -488,14 +481,10 @@ TEST_CASE("repeated frames are skipped and break the carry-over chain", "[vo][cl
     CHECK(summary_of(run)["duplicates"].get<int>() == 15);  // frames 9, 19, ..., 149
     CHECK(e["duplicates"].get<int>() == 15);
     // stats.csv marks exactly those frames, and none of them has a pose.
-    std::ifstream stats(run / "stats.csv");
-    std::string line;
-    std::getline(stats, line);
     int marked = 0;
-    while (std::getline(stats, line)) {
-      const int index = std::stoi(line.substr(0, line.find(',')));
-      const bool duplicate = line.find(",duplicate,") != std::string::npos;
-      CHECK(duplicate == (index % 10 == 9));
+    for (const odo::StatsRow& row : odo::read_stats_csv(run / "stats.csv")) {
+      const bool duplicate = row.state == "duplicate";
+      CHECK(duplicate == (row.index % 10 == 9));
       marked += duplicate;
     }
     CHECK(marked == 15);

@@ -9,6 +9,7 @@
 
 #include "bolo/odometry/align.hpp"
 #include "bolo/odometry/ply.hpp"
+#include "bolo/odometry/stats_csv.hpp"
 #include "bolo/odometry/tum.hpp"
 
 namespace bolo::odo {
@@ -26,35 +27,6 @@ nlohmann::json read_json(const fs::path& file) {
   }
 }
 
-struct StatsRow {
-  double t = 0;
-  std::string state;
-  std::size_t tracked = 0;
-  bool keyframe = false;
-  double tau_h = 0, tau_c = 0, ms = 0;
-};
-
-std::vector<StatsRow> read_stats(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw Error(file.string() + ": cannot open");
-  std::string line;
-  std::getline(in, line);
-  if (line.rfind("index,t_s,state,tracked_points,keyframe", 0) != 0) throw Error(file.string() + ": unexpected header");
-  std::vector<StatsRow> rows;
-  for (std::size_t n = 2; std::getline(in, line); ++n) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
-    if (f.size() != 9) throw Error(file.string() + ": line " + std::to_string(n) + ": expected 9 columns");
-    try {
-      rows.push_back({std::stod(f[1]), f[2], std::stoul(f[3]), f[4] == "1", std::stod(f[6]), std::stod(f[7]), std::stod(f[8])});
-    } catch (const std::exception&) {
-      throw Error(file.string() + ": line " + std::to_string(n) + ": not a number");
-    }
-  }
-  return rows;
-}
-
 // Each matched pose's segment, through the stats row of its time (nearest within half a period).
 std::vector<std::size_t> segment_of_matches(const std::vector<StampedPose>& est, const Association& a,
                                             const std::vector<StatsRow>& stats, double period, const fs::path& trajectory) {
@@ -65,8 +37,8 @@ std::vector<std::size_t> segment_of_matches(const std::vector<StampedPose>& est,
   std::size_t row = 0;
   for (const std::size_t e : a.estimate) {
     const double t = est[e].t;
-    while (row + 1 < stats.size() && std::fabs(stats[row + 1].t - t) <= std::fabs(stats[row].t - t)) ++row;
-    if (stats.empty() || std::fabs(stats[row].t - t) > 0.5 * period)
+    while (row + 1 < stats.size() && std::fabs(stats[row + 1].t_s - t) <= std::fabs(stats[row].t_s - t)) ++row;
+    if (stats.empty() || std::fabs(stats[row].t_s - t) > 0.5 * period)
       throw Error(trajectory.string() + ": pose at t = " + std::to_string(t) + " s has no row in stats.csv");
     out.push_back(row_segment[row]);
   }
@@ -94,14 +66,14 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
   const fs::path trajectory = options.run / options.trajectory;
   if (!fs::exists(trajectory)) throw Error(trajectory.string() + ": missing (written by `bolo odometry`)");
   const std::vector<StampedPose> est = read_tum(trajectory);
-  const std::vector<StatsRow> stats = read_stats(options.run / "stats.csv");
+  const std::vector<StatsRow> stats = read_stats_csv(options.run / "stats.csv");
   e.frames = stats.size();
   for (const StatsRow& r : stats) {
-    e.tracked_points_total += r.tracked;
+    e.tracked_points_total += r.tracked_points;
     e.keyframes += r.keyframe;
     e.lost += r.state == "lost";
     e.duplicates += r.state == "duplicate";
-    e.vo_ms_per_frame += r.ms;
+    e.vo_ms_per_frame += r.time_ms;
   }
   if (!stats.empty()) e.vo_ms_per_frame /= static_cast<double>(stats.size());
   e.posed = est.size();
@@ -224,9 +196,9 @@ Evaluation evaluate_run(const EvaluateOptions& options) {
   double t_start = NAN;
   for (const StatsRow& r : stats)
     if (r.state == "tracking") {
-      if (std::isnan(t_start)) t_start = r.t;
-      if (r.t >= t_start + 2.0) {
-        e.tau_c_at_2s = r.tau_c;
+      if (std::isnan(t_start)) t_start = r.t_s;
+      if (r.t_s >= t_start + 2.0) {
+        e.tau_c_at_2s = r.tau_c_s;
         break;
       }
     }

@@ -25,6 +25,7 @@
 #include "bolo/odometry/pinhole_remap.hpp"
 #include "bolo/odometry/plot.hpp"
 #include "bolo/odometry/ply.hpp"
+#include "bolo/odometry/stats_csv.hpp"
 #include "bolo/odometry/trajectory_plot.hpp"
 #include "bolo/recording/frame_row_header.hpp"
 #include "bolo/recording/recording.hpp"
@@ -264,7 +265,7 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
   std::vector<std::string> states;      // every frame's VO state
   std::vector<vo::WorldPoint> points;
   std::ostringstream stats;
-  stats << "index,t_s,state,tracked_points,keyframe,residual_rms,tau_h_s,tau_c_s,time_ms\n";
+  stats << stats_csv_header();
   summary.arena_bytes = arena.size();
   summary.undistorted = !remap.identity();
   summary.focal_scale = remap.focal_scale();
@@ -382,11 +383,8 @@ OdometrySummary run(const OdometryOptions& options, const std::function<void(Inp
       ++summary.centre_held;
     }
     held_before = r.centre_held;
-    char line[256];
-    std::snprintf(line, sizeof line, "%llu,%.9f,%s,%u,%d,%.4f,%.6f,%.6f,%.3f\n",
-                  static_cast<unsigned long long>(j), *row.t_s, vo::to_string(r.state), r.tracked_points,
-                  r.keyframe ? 1 : 0, static_cast<double>(r.residual_rms), r.tau.h, r.tau.c, ms);
-    stats << line;
+    stats << stats_csv_line({j, *row.t_s, vo::to_string(r.state), r.tracked_points, r.keyframe,
+                             static_cast<double>(r.residual_rms), r.tau.h, r.tau.c, ms});
     if (options.progress) options.progress(i + 1, frames);
     std::swap(raw, previous_raw);  // the next frame is read into the older buffer
   }
