@@ -36,20 +36,19 @@ SUBSTEPS="${SUBSTEPS:-}"
 [ -x "$bolo" ] || { echo "dso-side-by-side: $bolo is not an executable" >&2; exit 2; }
 [ -x "$dso" ] || { echo "dso-side-by-side: $dso is not an executable (scripts/study/dso-build.sh)" >&2; exit 2; }
 frames=$((SECONDS_LONG * FPS))
+# shellcheck source=scripts/study/sequence-name.sh
+. "$here/scripts/study/sequence-name.sh"
+study_render_options "$LAG" "$SUBSTEPS"
 mkdir -p "$work"
 index="$work/index-dso.txt"
 : > "$index"
 TIMEFORMAT='%R %U %S'
 for traj in $TRAJECTORIES; do
   for seed in $SEEDS; do
-    # The present renders keep their names; another pixel lag or sub-step count is in the name.
-    render=(--lag "$LAG") tag=""
-    [ "$LAG" = exposure-readout ] || tag="$tag-$LAG"
-    [ -z "$SUBSTEPS" ] || { render+=(--substeps "$SUBSTEPS"); tag="$tag-k$SUBSTEPS"; }
-    seq="$work/seq-$traj-$SIZE-${FPS}hz-tau$TAU-ss$SUPERSAMPLE$tag-s$seed"
+    seq=$(study_sequence "$work" "$traj" "$SIZE" "$FPS" "$TAU" "$SUPERSAMPLE" "$LAG" "$SUBSTEPS" "$seed")
     if [ ! -d "$seq" ]; then
       "$bolo" simulate "$seq" --scene street --trajectory "$traj" --fps "$FPS" --frames "$frames" --size "$SIZE" \
-        --tau "$TAU" --noise "$NOISE" --seed "$seed" --supersample "$SUPERSAMPLE" "${render[@]}" > /dev/null
+        --tau "$TAU" --noise "$NOISE" --seed "$seed" --supersample "$SUPERSAMPLE" "${study_render[@]}" > /dev/null
     fi
     for mode in $MODES; do
       run="$seq-vo-$mode"

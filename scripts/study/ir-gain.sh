@@ -23,6 +23,8 @@ NOISE="${NOISE:-3}"
 SUPERSAMPLE="${SUPERSAMPLE:-3}"
 SECONDS_LONG="${SECONDS_LONG:-4}"
 MODES="${MODES:-none ir ir-loop}"
+# shellcheck source=scripts/study/sequence-name.sh
+. "$here/scripts/study/sequence-name.sh"
 mkdir -p "$work"
 index="$work/index-ir-gain.txt"
 jobs_file="$work/jobs-ir-gain.txt"
@@ -31,7 +33,7 @@ jobs_file="$work/jobs-ir-gain.txt"
 for cell in $CELLS; do
   IFS=: read -r traj fps tau <<< "$cell"
   for seed in $SEEDS; do
-    seq="$work/seq-$traj-$SIZE-${fps}hz-tau$tau-ss$SUPERSAMPLE-s$seed"
+    seq=$(study_sequence "$work" "$traj" "$SIZE" "$fps" "$tau" "$SUPERSAMPLE" exposure-readout "" "$seed")
     if [ ! -d "$seq" ]; then
       "$bolo" simulate "$seq" --scene street --trajectory "$traj" --fps "$fps" --frames $(( SECONDS_LONG * fps )) \
         --size "$SIZE" --tau "$tau" --noise "$NOISE" --seed "$seed" --supersample "$SUPERSAMPLE" > /dev/null

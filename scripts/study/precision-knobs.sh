@@ -28,9 +28,9 @@ SIZE="${SIZE:-320x256}"
 SUPERSAMPLE="${SUPERSAMPLE:-3}"
 LAG="${LAG:-exposure-readout}"
 SUBSTEPS="${SUBSTEPS:-}"
-render=(--lag "$LAG") tag=""
-[ "$LAG" = exposure-readout ] || tag="$tag-$LAG"
-[ -z "$SUBSTEPS" ] || { render+=(--substeps "$SUBSTEPS"); tag="$tag-k$SUBSTEPS"; }
+# shellcheck source=scripts/study/sequence-name.sh
+. "$here/scripts/study/sequence-name.sh"
+study_render_options "$LAG" "$SUBSTEPS"
 tau_low=$(awk -v t="$TAU" 'BEGIN { printf "%.6f", 0.92 * t }')
 tau_high=$(awk -v t="$TAU" 'BEGIN { printf "%.6f", 1.08 * t }')
 # NAME|MODE|bolo odometry options (one setting changed from the defaults each).
@@ -54,16 +54,19 @@ variants=(
   "$ir, 1 000 points, marginalisation prior|$ir|--points-per-keyframe 1000 --marginalisation-prior"
   "$ir, keyframe parallax quantile|$ir|--keyframe-parallax quantile"
   "none, keyframe parallax quantile|none|--keyframe-parallax quantile"
+  "$ir, keyframe parallax quantile, tau held at the truth|$ir|--keyframe-parallax quantile --fixed-tau --tau-init $TAU"
+  "$ir, keyframe parallax quantile, marginalisation prior|$ir|--keyframe-parallax quantile --marginalisation-prior"
+  "none, keyframe parallax quantile, marginalisation prior|none|--keyframe-parallax quantile --marginalisation-prior"
 )
 KNOBS="${KNOBS:-${!variants[*]}}"
 mkdir -p "$work"
 index="$work/index-knobs.txt"
 : > "$index"
 for seed in $SEEDS; do
-  seq="$work/seq-$TRAJECTORY-$SIZE-60hz-tau$TAU-ss$SUPERSAMPLE$tag-s$seed"
+  seq=$(study_sequence "$work" "$TRAJECTORY" "$SIZE" 60 "$TAU" "$SUPERSAMPLE" "$LAG" "$SUBSTEPS" "$seed")
   [ -d "$seq" ] || "$bolo" simulate "$seq" --scene street --trajectory "$TRAJECTORY" --fps 60 \
     --frames $(( SECONDS_LONG * 60 )) --size "$SIZE" --tau "$TAU" --noise 3 --seed "$seed" \
-    --supersample "$SUPERSAMPLE" "${render[@]}" > /dev/null
+    --supersample "$SUPERSAMPLE" "${study_render[@]}" > /dev/null
   for i in $KNOBS; do
     IFS='|' read -r name mode options <<< "${variants[$i]}"
     run="$seq-knob$i${IR_MODE#ir}"
