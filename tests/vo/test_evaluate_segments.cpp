@@ -179,7 +179,7 @@ TEST_CASE("evaluate refuses a stats.csv that is not bolo odometry's, naming the 
     }
     return std::string("accepted");
   };
-  CHECK(refusal("frame,t\n" + text.substr(text.find('\n') + 1)) == stats.string() + ": line 1: unexpected header (not a stats.csv of `bolo odometry`)");
+  CHECK(refusal("frame,t\n" + text.substr(text.find('\n') + 1)) == stats.string() + ": line 1: unexpected header (not the stats.csv of bolo odometry)");
   CHECK(refusal(text.substr(0, row_3) + "2,0.03,tracking,200\n" + text.substr(text.find('\n', row_3) + 1)) ==
         stats.string() + ": line 4: expected 9 columns");
   CHECK(refusal(text.substr(0, row_3) + "2,0.03,tracking,many,0,1,0.01,0.01,1\n" + text.substr(text.find('\n', row_3) + 1)) ==

@@ -23,7 +23,7 @@ std::vector<StatsRow> read_stats_csv(const std::filesystem::path& file) {
   if (!in) throw Error(file.string() + ": cannot open");
   std::string line;
   std::getline(in, line);
-  if (line + '\n' != stats_csv_header()) throw Error(file.string() + ": line 1: unexpected header (not a stats.csv of `bolo odometry`)");
+  if (line + '\n' != stats_csv_header()) throw Error(file.string() + ": line 1: unexpected header (not the stats.csv of bolo odometry)");
   std::vector<StatsRow> rows;
   for (std::size_t n = 2; std::getline(in, line); ++n) {
     std::vector<std::string> f;
