@@ -16,17 +16,17 @@ from study_runs import evaluation
 
 index, out_md, note = Path(sys.argv[1]), Path(sys.argv[2]), sys.argv[3]
 rows = OrderedDict()  # name -> [(seed, evaluation or None)]
-times = {}  # name -> [the VO's ms a frame, or None]
 for line in index.read_text().splitlines():
     if line.strip():
         seed, name, run = line.split("|")
-        e = evaluation(run)
-        rows.setdefault(name, []).append((seed, e))
-        # bolo evaluate's VO time a frame; a DSO run's stats.csv holds its whole process's wall time.
-        times.setdefault(name, []).append(e["vo_ms_per_frame"] if e and not name.startswith("DSO") else None)
+        rows.setdefault(name, []).append((seed, evaluation(run)))
 
 
-has_dso = any(name.startswith("DSO") for name in rows)
+def is_dso(name):
+    return name.startswith("DSO")
+
+
+has_dso = any(is_dso(name) for name in rows)
 
 
 def median(runs, key):
@@ -46,7 +46,8 @@ lines = [
 ]
 for name, runs in rows.items():
     by_seed = ", ".join(f"{seed}: {e['ate_rmse_m']:.3f}" if e else f"{seed}: –" for seed, e in runs)
-    ms = [t for t in times[name] if t is not None]
+    # bolo evaluate's VO time a frame; a DSO run's stats.csv holds its whole process's wall time.
+    ms = [] if is_dso(name) else [e["vo_ms_per_frame"] for _, e in runs if e]
     ms_cell = f"{statistics.median(ms):.2f}" if ms else "–"
     lines.append(f"| {name} | {median(runs, 'ate_rmse_m'):.4f} | {median(runs, 'rpe_trans_rmse_m'):.4f} | "
                  f"{median(runs, 'rpe_rot_rmse_deg'):.3f} | {ms_cell} | {by_seed} |")

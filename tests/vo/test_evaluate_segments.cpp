@@ -167,7 +167,12 @@ TEST_CASE("evaluate refuses a stats.csv that is not bolo odometry's, naming the 
   std::ifstream in(stats);
   const std::string text((std::istreambuf_iterator<char>(in)), {});
   in.close();
-  const std::size_t row_3 = text.find('\n', text.find('\n', text.find('\n') + 1) + 1) + 1;
+  // The file with its line `number` (from 1) replaced by `line`.
+  const auto with_line = [&](int number, const std::string& line) {
+    std::size_t start = 0;
+    for (int n = 1; n < number; ++n) start = text.find('\n', start) + 1;
+    return text.substr(0, start) + line + "\n" + text.substr(text.find('\n', start) + 1);
+  };
   const auto refusal = [&](const std::string& written) {
     std::ofstream(stats) << written;
     odo::EvaluateOptions options;
@@ -179,11 +184,9 @@ TEST_CASE("evaluate refuses a stats.csv that is not bolo odometry's, naming the 
     }
     return std::string("accepted");
   };
-  CHECK(refusal("frame,t\n" + text.substr(text.find('\n') + 1)) == stats.string() + ": line 1: unexpected header (not the stats.csv of bolo odometry)");
-  CHECK(refusal(text.substr(0, row_3) + "2,0.03,tracking,200\n" + text.substr(text.find('\n', row_3) + 1)) ==
-        stats.string() + ": line 4: expected 9 columns");
-  CHECK(refusal(text.substr(0, row_3) + "2,0.03,tracking,many,0,1,0.01,0.01,1\n" + text.substr(text.find('\n', row_3) + 1)) ==
-        stats.string() + ": line 4: not a number");
+  CHECK(refusal(with_line(1, "frame,t")) == stats.string() + ": line 1: unexpected header (not the stats.csv of bolo odometry)");
+  CHECK(refusal(with_line(4, "2,0.03,tracking,200")) == stats.string() + ": line 4: expected 9 columns");
+  CHECK(refusal(with_line(4, "2,0.03,tracking,many,0,1,0.01,0.01,1")) == stats.string() + ": line 4: not a number");
   CHECK(refusal(text) == "accepted");
 }
 

@@ -29,6 +29,7 @@ constexpr std::uint32_t kLostFramesBeforeRestart = 8;
 constexpr double kMinKeyframeSpacingS = 3.0 / 30.0;
 // The translation's parallax that makes a keyframe, as a share of (width + height) in pixels.
 constexpr double kKeyframeTranslationFlow = 0.03;
+constexpr double kKeyframeFullFlow = 0.08;  // ... and the whole motion's (a turn), the same share
 constexpr double kMaxStepFlow = 0.06;  // median translation flow per frame, share of width + height
 constexpr float kRetrackRatio = 1.5f;  // the constant-velocity guess stands if its rms is within this of the last frame's
 constexpr std::uint32_t kIntensityMeasureFrames = 30;  // the intensity scale stays 1 if unmeasured by then
@@ -735,7 +736,7 @@ bool keyframe_if_due(State& s, const TrackResult& best, double frame_dt_s) {
   const bool parallax = c.keyframe_parallax == KeyframeParallax::quantile
                             ? flow.translation_p75 > threshold || flow.translation_rms > 2 * threshold
                             : flow.translation_rms > threshold;
-  const bool want = parallax || flow.full_rms > 0.08 * size || thinning || brightness;
+  const bool want = parallax || flow.full_rms > kKeyframeFullFlow * size || thinning || brightness;
   const bool starving = best.inliers < 40;
   // Spaced by 3 frames, or by the time 3 frames take at 30 Hz: at 9 Hz 3 frames are a third of a
   // second, over which a car has driven 3 m and the tracked points have left the keyframe.
