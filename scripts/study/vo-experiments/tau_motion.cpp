@@ -3,7 +3,7 @@
 //   TAU, START (s); K sub-steps; TE_FRAC, TR_FRAC; WEIGHT exp|box; MODE both|camera|scene|between|constblur;
 //   BLUR_SCALE (camera path within the exposure scaled about its middle); POSE_DT (s added to the
 //   frame time for the truth pose and depth, "eff" = the exposure's weighted mean time);
-//   NOISE (counts); TRAJ drive|handheld|side|forward|yaw (SPEED m/s, RATE rad/s for the synthetic
+//   NOISE (counts); SIZE (WxH, default 160x120); TRAJ drive|handheld|side|forward|yaw (SPEED m/s, RATE rad/s for the synthetic
 //   constant-velocity ones); SS rays per axis; FRAMES; T0 (s); BLUR (px, fixed horizontal box);
 //   IDEPTH_NOISE (relative), ROT_NOISE (rad per frame) on the truth geometry; GAUSS (px, sigma of a
 //   Gaussian low-pass on every frame, so that nothing above the interpolators' reach is left);
@@ -130,7 +130,10 @@ int main() {
   const int frames = static_cast<int>(env_num("FRAMES", 120));
 
   const bool synthetic = traj == "side" || traj == "forward" || traj == "yaw";
-  test::RenderedSequence seq{"street", synthetic ? "drive" : traj.c_str(), 160, 120, ss};
+  const std::string size = env_str("SIZE", "160x120");
+  const auto width = static_cast<std::uint32_t>(std::atoi(size.c_str()));
+  const auto height = static_cast<std::uint32_t>(std::atoi(size.c_str() + size.find('x') + 1));
+  test::RenderedSequence seq{"street", synthetic ? "drive" : traj.c_str(), width, height, ss};
   if (synthetic) {
     // Constant-velocity motions from the drive's pose at t = 1 s: every scene point's image velocity
     // is constant in time for "side" (lateral translation), not for "forward" (zoom) or "yaw".

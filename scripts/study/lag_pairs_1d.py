@@ -1,0 +1,106 @@
+#!/usr/bin/env python3
+"""The carry-over pair fit of firmware/vo/src/tau_estimator.cpp against a one-dimensional
+generator that shares no code with bolo.
+
+A line camera looks at a band-limited random texture. Each pixel is a first-order lag of the
+radiance it sees, either sampled once a period (the paper's model: y_i = a y_(i-1) + (1 - a) u_i)
+or integrated over the period in SUBSTEPS steps while the camera moves (a continuous lag).
+Points with known positions give the estimator's pairs
+
+    A = y_i(p_i) - y_(i-1)(p_(i-1)),   B = y_(i-1)(p_i) - y_(i-2)(p_(i-1)),   alpha = sum AB / sum BB
+
+read either exactly (each pixel value computed at the point's position) or by Keys' cubic
+from the integer pixels. The points' positions are taken at the read time, or at the mean time
+of the period weighted by the pixel's response (the time a tracker fitting the corrected frames
+places the pose at). Prints tau from the fit, the true tau, and the signal's share
+B^2 / (A - alpha B)^2 at the true alpha.
+"""
+import argparse
+
+import numpy as np
+
+
+def keys(t):
+    t = np.abs(t)
+    return np.where(t < 1, (1.5 * t - 2.5) * t * t + 1, np.where(t < 2, ((-0.5 * t + 2.5) * t - 4) * t + 2, 0))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--motion", choices=["shake", "zoom"], default="shake",
+                    help="shake: sideways with a changing speed; zoom: towards a frontal plane")
+    ap.add_argument("--substeps", type=int, default=8, help="1: the sampled lag; more: a continuous lag")
+    ap.add_argument("--positions", choices=["read", "response"], default="response",
+                    help="the points' positions at the read time or at the response-weighted mean time")
+    ap.add_argument("--sampling", choices=["exact", "cubic"], default="exact")
+    ap.add_argument("--cutoff", type=float, default=0.1, help="texture's Gaussian cut, cycles per pixel")
+    ap.add_argument("--speed", type=float, default=60.0, help="shake: px/s of drift; zoom: m/s towards 30 m")
+    ap.add_argument("--tau", type=float, default=0.010, help="seconds")
+    ap.add_argument("--fps", type=float, default=60.0)
+    ap.add_argument("--seed", type=int, default=3)
+    a = ap.parse_args()
+
+    rng = np.random.default_rng(a.seed)
+    T, tau, K = 1 / a.fps, a.tau, a.substeps
+    f, z0, step = 300.0, 30.0, 0.0005
+    xs = np.arange(-60, 60, step)
+    spectrum = rng.normal(size=xs.size) + 1j * rng.normal(size=xs.size)
+    spectrum *= np.exp(-(np.fft.fftfreq(xs.size, d=step) / (a.cutoff * f / z0)) ** 2)
+    texture = np.real(np.fft.ifft(spectrum))
+    texture *= 100 / texture.std()
+
+    if a.motion == "zoom":
+        def to_scene(x, t): return x * (z0 - a.speed * t) / f
+        def to_image(X, t): return f * X / (z0 - a.speed * t)
+    else:
+        def shift(t): return (a.speed * t + 3 * np.sin(2 * np.pi * 1.3 * t) + 2 * np.sin(2 * np.pi * 0.7 * t + 1)) * z0 / f
+        def to_scene(x, t): return x * z0 / f + shift(t)
+        def to_image(X, t): return (X - shift(t)) * f / z0
+
+    alpha = np.exp(-T / tau)
+    keep = np.exp(-T / (K * tau))
+
+    def frame(j, x, history=10):
+        """Frame j's values at pixel positions x (alpha^history of the start is left)."""
+        v = np.zeros_like(x)
+        for m in range(j - history, j + 1):
+            if K == 1:
+                v = alpha * v + (1 - alpha) * np.interp(to_scene(x, m * T), xs, texture)
+            else:
+                for k in range(K):
+                    v = keep * v + (1 - keep) * np.interp(to_scene(x, m * T - T + (k + 1) * T / K), xs, texture)
+        return v
+
+    pixels = np.arange(-170.0, 171.0)
+    cache = {}
+
+    def sample(j, p):
+        if a.sampling == "exact":
+            return frame(j, p)
+        if j not in cache:
+            cache[j] = frame(j, pixels)
+        idx = p + 170.0
+        x0 = np.floor(idx).astype(int)
+        return sum(keys(idx - (x0 + q)) * cache[j][x0 + q] for q in range(-1, 3))
+
+    ages = np.arange(K) * T / K  # each sub-step's age at the read, and its weight in the frame
+    weight = keep ** np.arange(K)
+    delay = (ages * weight).sum() / weight.sum() if a.positions == "response" else 0.0
+    sab = sbb = see = 0.0
+    for i in range(12, 120):
+        t = i * T - delay
+        X = to_scene(rng.uniform(-150, 150, 400), t)
+        pi, pm = to_image(X, t), to_image(X, t - T)
+        A = sample(i, pi) - sample(i - 1, pm)
+        B = sample(i - 1, pi) - sample(i - 2, pm)
+        sab += (A * B).sum()
+        sbb += (B * B).sum()
+        see += ((A - alpha * B) ** 2).sum()
+    fit = sab / sbb
+    tau_fit = -T / np.log(fit) if 0 < fit < 1 else float("nan")
+    print(f"{a.motion} substeps {K} positions at {a.positions} ({delay * 1e3:.2f} ms before the read) sampling {a.sampling}: "
+          f"tau {tau_fit * 1e3:.2f} ms (true {tau * 1e3:.2f}), B^2 / (A - alpha B)^2 {sbb / see:.1f}")
+
+
+if __name__ == "__main__":
+    main()
