@@ -131,8 +131,11 @@ int main() {
 
   const bool synthetic = traj == "side" || traj == "forward" || traj == "yaw";
   const std::string size = env_str("SIZE", "160x120");
-  const auto width = static_cast<std::uint32_t>(std::atoi(size.c_str()));
-  const auto height = static_cast<std::uint32_t>(std::atoi(size.c_str() + size.find('x') + 1));
+  unsigned width = 0, height = 0;
+  if (std::sscanf(size.c_str(), "%ux%u", &width, &height) != 2 || width < 32 || height < 32) {
+    std::fprintf(stderr, "vo_tau_motion_experiment: SIZE '%s' is not WxH (at least 32x32)\n", size.c_str());
+    return 1;
+  }
   test::RenderedSequence seq{"street", synthetic ? "drive" : traj.c_str(), width, height, ss};
   if (synthetic) {
     // Constant-velocity motions from the drive's pose at t = 1 s: every scene point's image velocity
