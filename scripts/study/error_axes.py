@@ -2,10 +2,11 @@
 """Where a run's ATE lies: each pose's error after the Sim(3) alignment bolo evaluate uses, split
 along the truth's direction of travel at that instant, across it (horizontal) and vertical; and
 the map's scale over consecutive windows (each window aligned on its own, against the whole run's
-scale), which says how much of the along-track error is the scale wandering; and the ATE of the
-poses from 2 s after the first on, aligned on their own (the error the run's start leaves out of
-it: its initialisation and first keyframes). Reads the runs of an
-index written by dso-side-by-side.sh or lag-time.sh (`TRAJ SEED METHOD ... RUN` per line; each
+scale), which says how much of the along-track error is the scale wandering, and its drift (a
+line's slope through the windows); and the ATE of the poses from 2 s after the first on, aligned
+on their own (the error the run's start leaves out of it: its initialisation and first
+keyframes). Reads the runs of an index written by dso-side-by-side.sh, lag-time.sh or
+tau-scale-drift.sh (`TRAJ SEED METHOD ... RUN` per line; each
 run's truth is its sequence's poses.tum) and writes a table of medians per method.
 
   error_axes.py INDEX OUT_MD NOTE [WINDOW_S]"""
