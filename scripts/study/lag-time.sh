@@ -12,6 +12,8 @@
 set -euo pipefail
 [ $# -eq 3 ] || { echo "usage: lag-time.sh BOLO WORK OUT_MD" >&2; exit 2; }
 here="$(cd "$(dirname "$0")/../.." && pwd)"
+# shellcheck source=scripts/study/sequence-name.sh
+. "$here/scripts/study/sequence-name.sh"
 bolo=$(realpath "$1"); work=$(realpath "$2"); out_md=$(realpath -m "$3")
 TAU="${TAU:-0.010}"
 FIXED_MODES="${FIXED_MODES:-ir ir-loop}"
@@ -20,9 +22,7 @@ NOTE="${NOTE:-$(basename "$work")}"
 [ -f "$work/index-dso.txt" ] || { echo "lag-time: $work/index-dso.txt: run dso-side-by-side.sh first" >&2; exit 2; }
 index="$work/index-time.txt"
 cp "$work/index-dso.txt" "$index"
-# One line per sequence: its first bolo run names it.
-awk '$6 ~ /-vo-/ { seq = $6; sub(/-vo-[^/]*$/, "", seq); if (!(seq in seen)) { seen[seq] = 1; print $1, $2, seq } }' \
-  "$work/index-dso.txt" | while read -r traj seed seq; do
+study_index_sequences "$work/index-dso.txt" | while read -r traj seed seq; do
   for mode in $FIXED_MODES; do
     run="$seq-vo-$mode-tau-held"
     if [ "${REDO:-0}" = 1 ] || [ ! -f "$run/summary.json" ]; then

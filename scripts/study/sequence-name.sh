@@ -4,6 +4,7 @@
 #
 #   study_sequence WORK TRAJECTORY SIZE FPS TAU SUPERSAMPLE LAG SUBSTEPS SEED   (prints the path)
 #   study_render_options LAG SUBSTEPS   (sets the array study_render: simulate's lag options)
+#   study_index_sequences INDEX   (prints "TRAJECTORY SEED SEQUENCE" once per sequence of a study index)
 #
 # The present renders (LAG exposure-readout, the simulator's sub-steps) keep the short name;
 # another pixel lag or sub-step count is in the name.
@@ -18,4 +19,9 @@ study_sequence() {
 study_render_options() {
   study_render=(--lag "$1")
   [ -z "$2" ] || study_render+=(--substeps "$2")
+}
+
+# A study index holds a line per run (`TRAJ SEED METHOD ... RUN`); bolo's runs are SEQUENCE-vo-MODE.
+study_index_sequences() {
+  awk '$6 ~ /-vo-/ { seq = $6; sub(/-vo-[^/]*$/, "", seq); if (!(seq in seen)) { seen[seq] = 1; print $1, $2, seq } }' "$1"
 }

@@ -14,6 +14,8 @@
 set -euo pipefail
 [ $# -eq 3 ] || { echo "usage: tau-scale-drift.sh BOLO WORK OUT_MD" >&2; exit 2; }
 here="$(cd "$(dirname "$0")/../.." && pwd)"
+# shellcheck source=scripts/study/sequence-name.sh
+. "$here/scripts/study/sequence-name.sh"
 bolo=$(realpath "$1"); work=$(realpath "$2"); out_md=$(realpath -m "$3")
 TAUS="${TAUS:-0.007 0.013 0.016}"
 MODES="${MODES:-ir ir-loop}"
@@ -42,8 +44,7 @@ else
   [ -f "$base" ] || base="$work/index-dso.txt"
   [ -f "$base" ] || { echo "tau-scale-drift: $work/index-dso.txt: run dso-side-by-side.sh first, or set SEQUENCES" >&2; exit 2; }
   cp "$base" "$index"
-  # One line per sequence: its first bolo run names it.
-  awk '$6 ~ /-vo-/ { seq = $6; sub(/-vo-[^/]*$/, "", seq); if (!(seq in seen)) { seen[seq] = 1; print $1, $2, seq } }' "$base"
+  study_index_sequences "$base"
 fi | while read -r traj seed seq; do
   for mode in $MODES; do
     if [ -n "${SEQUENCES:-}" ]; then
