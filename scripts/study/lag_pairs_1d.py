@@ -12,7 +12,8 @@ Points with known positions give the estimator's pairs
 read either exactly (each pixel value computed at the point's position) or by Keys' cubic
 from the integer pixels. The points' positions are taken at the read time, or at the mean time
 of the period weighted by the pixel's response (the time a tracker fitting the corrected frames
-places the pose at). Prints tau from the fit, the true tau, and the signal's share
+places the pose at). --smear-change takes the change of the smear's spread between the frames
+out of A, from the true texture and velocities. Prints tau from the fit, the true tau, and the signal's share
 B^2 / (A - alpha B)^2 at the true alpha.
 """
 import argparse
@@ -37,6 +38,11 @@ def main():
     ap.add_argument("--speed", type=float, default=60.0, help="shake: px/s of drift; zoom: m/s towards 30 m")
     ap.add_argument("--tau", type=float, default=0.010, help="seconds")
     ap.add_argument("--fps", type=float, default=60.0)
+    ap.add_argument("--footprint", type=int, default=1,
+                    help="point samples across a pixel's width whose mean is its value (1: a point)")
+    ap.add_argument("--smear-change", action="store_true",
+                    help="subtract the smear's second-order change between the two frames from A (an oracle: the "
+                         "true texture and velocities)")
     ap.add_argument("--seed", type=int, default=3)
     a = ap.parse_args()
 
@@ -60,8 +66,15 @@ def main():
     alpha = np.exp(-T / tau)
     keep = np.exp(-T / (K * tau))
 
+    offsets = (np.arange(a.footprint) + 0.5) / a.footprint - 0.5
+
     def frame(j, x, history=10):
         """Frame j's values at pixel positions x (alpha^history of the start is left)."""
+        if a.footprint > 1:
+            return np.mean([point_frame(j, x + o, history) for o in offsets], axis=0)
+        return point_frame(j, x, history)
+
+    def point_frame(j, x, history):
         v = np.zeros_like(x)
         for m in range(j - history, j + 1):
             if K == 1:
@@ -86,6 +99,21 @@ def main():
     ages = np.arange(K) * T / K  # each sub-step's age at the read, and its weight in the frame
     weight = keep ** np.arange(K)
     delay = (ages * weight).sum() / weight.sum() if a.positions == "response" else 0.0
+    spread = (ages ** 2 * weight).sum() / weight.sum() - ((ages * weight).sum() / weight.sum()) ** 2
+
+    def smear_change(X, t):
+        """The smear's second-order change from frame i - 1 to i at scene points X (the first
+        order is gone at the response-weighted time): Var(age) / 2 (v_i^2 u_i'' - v_(i-1)^2 u_(i-1)''), each frame's u'' in its own pixels."""
+        h, dx = 1e-4, 0.01
+
+        def velocity(tt):
+            return (to_image(X, tt + h) - to_image(X, tt - h)) / (2 * h)
+
+        def curvature(tt):  # u'' in image pixels at time tt
+            step = dx * (to_scene(1.0, tt) - to_scene(0.0, tt))
+            return (np.interp(X + step, xs, texture) - 2 * np.interp(X, xs, texture) + np.interp(X - step, xs, texture)) / dx ** 2
+        return 0.5 * spread * (velocity(t) ** 2 * curvature(t) - velocity(t - T) ** 2 * curvature(t - T))
+
     sab = sbb = see = 0.0
     for i in range(12, 120):
         t = i * T - delay
@@ -93,12 +121,15 @@ def main():
         pi, pm = to_image(X, t), to_image(X, t - T)
         A = sample(i, pi) - sample(i - 1, pm)
         B = sample(i - 1, pi) - sample(i - 2, pm)
+        if a.smear_change:
+            A = A - (1 - alpha) * smear_change(X, t)
         sab += (A * B).sum()
         sbb += (B * B).sum()
         see += ((A - alpha * B) ** 2).sum()
     fit = sab / sbb
     tau_fit = -T / np.log(fit) if 0 < fit < 1 else float("nan")
-    print(f"{a.motion} substeps {K} positions at {a.positions} ({delay * 1e3:.2f} ms before the read) sampling {a.sampling}: "
+    print(f"{a.motion} substeps {K} positions at {a.positions} ({delay * 1e3:.2f} ms before the read) sampling {a.sampling}"
+          f"{' footprint %d' % a.footprint if a.footprint > 1 else ''}{' smear change out' if a.smear_change else ''}: "
           f"tau {tau_fit * 1e3:.2f} ms (true {tau * 1e3:.2f}), B^2 / (A - alpha B)^2 {sbb / see:.1f}")
 
 

@@ -26,7 +26,8 @@
 // renders the world as at t = 0 in every frame (moving cars stand still). SMEAR_SRC u|y: the plain fit
 // with the change of the within-period smear at each point subtracted, predicted from frame i's
 // noise-free scene (u) or its estimate from the raw frames (y) and the points' image velocities;
-// SMEAR_SCALE scales the sub-steps' ages.
+// SMEAR_SCALE scales the sub-steps' ages; and the same with each frame's own smear at its own
+// point (frame i - 1's image and velocity for its part), less its unsmeared value.
 //   TAU=0.008 K=4 build/tests/vo/vo_tau_motion_experiment
 
 #include <algorithm>
@@ -366,8 +367,8 @@ int main() {
   const double smear_scale = env_num("SMEAR_SCALE", 1);
   std::vector<double> age(static_cast<std::size_t>(substeps));
   for (int q = 0; q < substeps; ++q) age[static_cast<std::size_t>(q)] = (pose_dt - (q + 0.5) * d) * fps;
-  std::vector<double> scene_est(n);
-  double cab = 0, cdb = 0;
+  std::vector<double> scene_est(n), scene_est_prev(n);
+  double cab = 0, cdb = 0, oab = 0, odb = 0;
   const double idepth_noise = env_num("IDEPTH_NOISE", 0), rot_noise = env_num("ROT_NOISE", 0);
   test::ApproxNormal noise_unit(777);
   bool have_keyframe = false;
@@ -414,8 +415,10 @@ int main() {
       host_images[newest] = {y, y1, u};
       host_times[newest] = t + pose_dt;
     }
-    if (smear_src == "y")
+    if (smear_src == "y") {
+      scene_est_prev.swap(scene_est);
       for (std::size_t i = 0; i < n; ++i) scene_est[i] = (s->current.raw[i] - alpha * s->current.raw_prev[i]) / beta;
+    }
     if (!have_keyframe) continue;
     {
       const double sab0 = s->tau_est.sab, sbb0 = s->tau_est.sbb;
@@ -579,6 +582,16 @@ int main() {
               pred += wk[static_cast<std::size_t>(q)] * (sample(L, xi + vix * o, yi + viy * o) - sample(L, xi + vpx * o, yi + vpy * o));
             }
             cab += (A - beta * pred) * B, cdb += beta * pred * B;
+            // Each frame's own smear at the point (its image's curvature, its velocity), less the
+            // other's: under a zoom the content's scale changes between the frames as well.
+            const std::vector<double>& L1 = smear_src == "u" ? u1 : scene_est_prev;
+            double own = 0;
+            for (int q = 0; q < substeps; ++q) {
+              const double o = smear_scale * age[static_cast<std::size_t>(q)];
+              own += wk[static_cast<std::size_t>(q)] * ((sample(L, xi + vix * o, yi + viy * o) - sample(L, xi, yi)) -
+                                                        (sample(L1, xp + vpx * o, yp + vpy * o) - sample(L1, xp, yp)));
+            }
+            oab += (A - beta * own) * B, odb += beta * own * B;
           }
         }
       }
@@ -657,6 +670,7 @@ int main() {
   if (lag > 0) std::printf("LAG %d (phase tol %.2f, %.0f samples): plain fit: %.2f ms (bias term dalpha %.4f)\n", lag, phase_tol, lag_n, -tr / std::log(lab / lbb) * 1e3, ldb / lbb);
   std::printf("instrument (gradient . velocity change): %.2f ms (dalpha %.4f)\n", -tr / std::log(zab / zbb) * 1e3, zdb / zbb);
   std::printf("smear-change corrected plain %.2f ms (predicted dalpha %.4f of %.4f)\n", -tr / std::log(cab / sbb) * 1e3, cdb / sbb, sdb / sbb);
+  std::printf("each frame's own smear corrected plain %.2f ms (predicted dalpha %.4f)\n", -tr / std::log(oab / sbb) * 1e3, odb / sbb);
   std::printf("cross-smeared plain %.2f ms (dalpha %.4f); ", -tr / std::log(xab / xbb) * 1e3, xdb / xbb);
   std::printf("tau %.1f K %d %s mode %s pose_dt %.2f ms traj %s noise %.1f ss %u: estimator %.2f ms, plain %.2f ms (bias term dalpha %.4f, alpha %.4f)\n",
               tau * 1e3, substeps, weight.c_str(), mode.c_str(), pose_dt * 1e3, traj.c_str(), noise_sigma, ss,
