@@ -20,6 +20,8 @@ import argparse
 
 import numpy as np
 
+from lag_pairs import PairFit, substeps
+
 
 def keys(t):
     t = np.abs(t)
@@ -64,7 +66,7 @@ def main():
         def to_image(X, t): return (X - shift(t)) * f / z0
 
     alpha = np.exp(-T / tau)
-    keep = np.exp(-T / (K * tau))
+    keep, mean_age, spread = substeps(K, T, tau)
 
     offsets = (np.arange(a.footprint) + 0.5) / a.footprint - 0.5
 
@@ -96,11 +98,7 @@ def main():
         x0 = np.floor(idx).astype(int)
         return sum(keys(idx - (x0 + q)) * cache[j][x0 + q] for q in range(-1, 3))
 
-    ages = np.arange(K) * T / K  # each sub-step's age at the read, and its weight in the frame
-    weight = keep ** np.arange(K)
-    delay = (ages * weight).sum() / weight.sum() if a.positions == "response" else 0.0
-    spread = (ages ** 2 * weight).sum() / weight.sum() - ((ages * weight).sum() / weight.sum()) ** 2
-
+    delay = mean_age if a.positions == "response" else 0.0
     def smear_change(X, t):
         """The smear's second-order change from frame i - 1 to i at scene points X (the first
         order is gone at the response-weighted time): Var(age) / 2 (v_i^2 u_i'' - v_(i-1)^2 u_(i-1)''), each frame's u'' in its own pixels."""
@@ -114,7 +112,7 @@ def main():
             return (np.interp(X + step, xs, texture) - 2 * np.interp(X, xs, texture) + np.interp(X - step, xs, texture)) / dx ** 2
         return 0.5 * spread * (velocity(t) ** 2 * curvature(t) - velocity(t - T) ** 2 * curvature(t - T))
 
-    sab = sbb = see = 0.0
+    pairs = PairFit(alpha)
     for i in range(12, 120):
         t = i * T - delay
         X = to_scene(rng.uniform(-150, 150, 400), t)
@@ -123,14 +121,11 @@ def main():
         B = sample(i - 1, pi) - sample(i - 2, pm)
         if a.smear_change:
             A = A - (1 - alpha) * smear_change(X, t)
-        sab += (A * B).sum()
-        sbb += (B * B).sum()
-        see += ((A - alpha * B) ** 2).sum()
-    fit = sab / sbb
-    tau_fit = -T / np.log(fit) if 0 < fit < 1 else float("nan")
+        pairs.add(A, B)
+    tau_fit = pairs.tau(T)
     print(f"{a.motion} substeps {K} positions at {a.positions} ({delay * 1e3:.2f} ms before the read) sampling {a.sampling}"
           f"{' footprint %d' % a.footprint if a.footprint > 1 else ''}{' smear change out' if a.smear_change else ''}: "
-          f"tau {tau_fit * 1e3:.2f} ms (true {tau * 1e3:.2f}), B^2 / (A - alpha B)^2 {sbb / see:.1f}")
+          f"tau {tau_fit * 1e3:.2f} ms (true {tau * 1e3:.2f}), B^2 / (A - alpha B)^2 {pairs.signal_share():.1f}")
 
 
 if __name__ == "__main__":

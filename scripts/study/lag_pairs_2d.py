@@ -20,6 +20,8 @@ import argparse
 
 import numpy as np
 
+from lag_pairs import PairFit, substeps
+
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -67,7 +69,7 @@ def main():
         return f * xc / zc, f * py / zc
 
     alpha = np.exp(-T / tau)
-    keep = np.exp(-T / (K * tau))
+    keep, mean_age, spread = substeps(K, T, tau)
 
     def frame(j, x, y, history=8):
         v = np.zeros_like(x)
@@ -79,10 +81,6 @@ def main():
                     v = keep * v + (1 - keep) * texture(*to_plane(x, y, m * T - T + (k + 1) * T / K))
         return v
 
-    ages = np.arange(K) * T / K  # each sub-step's age at the read, and its weight in the frame
-    weight = keep ** np.arange(K) if K > 1 else np.ones(1)
-    mean_age = (ages * weight).sum() / weight.sum()
-    spread = (ages ** 2 * weight).sum() / weight.sum() - mean_age ** 2
     delay = mean_age if a.positions == "response" else 0.0
 
     def smear(u, w, t):
@@ -101,7 +99,8 @@ def main():
         hxy = (image(e, e) - image(e, -e) - image(-e, e) + image(-e, -e)) / (4 * e * e)
         return 0.5 * spread * (vx * vx * hxx + 2 * vx * vy * hxy + vy * vy * hyy)
 
-    sab = sbb = see = moved = 0.0
+    pairs = PairFit(alpha)
+    moved = 0.0
     for i in range(12, 12 + a.frames):
         t = i * T - delay
         u, w = to_plane(rng.uniform(-120, 120, 300), rng.uniform(-100, 100, 300), t)
@@ -111,15 +110,12 @@ def main():
         B = frame(i - 1, xi, yi) - frame(i - 2, xp, yp)
         if a.smear_change:
             A = A - (1 - alpha) * (smear(u, w, t) - smear(u, w, t - T))
-        sab += (A * B).sum()
-        sbb += (B * B).sum()
-        see += ((A - alpha * B) ** 2).sum()
+        pairs.add(A, B)
         moved += np.hypot(xi - xp, yi - yp).mean()
-    fit = sab / sbb
-    tau_fit = -T / np.log(fit) if 0 < fit < 1 else float("nan")
+    tau_fit = pairs.tau(T)
     print(f"{a.motion} substeps {K} positions at {a.positions} ({delay * 1e3:.2f} ms before the read)"
           f"{' smear change out' if a.smear_change else ''}: {moved / a.frames:.2f} px a frame, "
-          f"tau {tau_fit * 1e3:.2f} ms (true {tau * 1e3:.2f}), B^2 / (A - alpha B)^2 {sbb / see:.1f}")
+          f"tau {tau_fit * 1e3:.2f} ms (true {tau * 1e3:.2f}), B^2 / (A - alpha B)^2 {pairs.signal_share():.1f}")
 
 
 if __name__ == "__main__":
