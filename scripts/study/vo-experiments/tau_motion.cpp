@@ -301,7 +301,7 @@ int main() {
     hy = hb;
   }
   if (m > 0) {
-    const std::vector<float> ref = test::RenderedSequence{"street", "drive", 160, 120, static_cast<unsigned>(m)}.renderer.render(seq.trajectory.pose(t0), t0);
+    const std::vector<float> ref = test::RenderedSequence{"street", "drive", seq.width, seq.height, static_cast<unsigned>(m)}.renderer.render(seq.trajectory.pose(t0), t0);
     const std::vector<float> hr = hseq.renderer.render(seq.trajectory.pose(t0), t0);
     std::vector<double> hd(hr.begin(), hr.end());
     const auto hbx = box_filter(hd);
