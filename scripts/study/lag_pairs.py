@@ -32,3 +32,8 @@ class PairFit:
     def signal_share(self):
         """B^2 / (A - alpha B)^2 at the true alpha: how far the signal stands above the model's error."""
         return self.sbb / self.see
+
+    def report(self, period, tau):
+        """The fit's line: tau read, the truth, the signal's share."""
+        return (f"tau {self.tau(period) * 1e3:.2f} ms (true {tau * 1e3:.2f}), "
+                f"B^2 / (A - alpha B)^2 {self.signal_share():.1f}")

@@ -122,10 +122,9 @@ def main():
         if a.smear_change:
             A = A - (1 - alpha) * smear_change(X, t)
         pairs.add(A, B)
-    tau_fit = pairs.tau(T)
     print(f"{a.motion} substeps {K} positions at {a.positions} ({delay * 1e3:.2f} ms before the read) sampling {a.sampling}"
           f"{' footprint %d' % a.footprint if a.footprint > 1 else ''}{' smear change out' if a.smear_change else ''}: "
-          f"tau {tau_fit * 1e3:.2f} ms (true {tau * 1e3:.2f}), B^2 / (A - alpha B)^2 {pairs.signal_share():.1f}")
+          f"{pairs.report(T, tau)}")
 
 
 if __name__ == "__main__":

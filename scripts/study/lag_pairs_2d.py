@@ -112,10 +112,9 @@ def main():
             A = A - (1 - alpha) * (smear(u, w, t) - smear(u, w, t - T))
         pairs.add(A, B)
         moved += np.hypot(xi - xp, yi - yp).mean()
-    tau_fit = pairs.tau(T)
     print(f"{a.motion} substeps {K} positions at {a.positions} ({delay * 1e3:.2f} ms before the read)"
           f"{' smear change out' if a.smear_change else ''}: {moved / a.frames:.2f} px a frame, "
-          f"tau {tau_fit * 1e3:.2f} ms (true {tau * 1e3:.2f}), B^2 / (A - alpha B)^2 {pairs.signal_share():.1f}")
+          f"{pairs.report(T, tau)}")
 
 
 if __name__ == "__main__":

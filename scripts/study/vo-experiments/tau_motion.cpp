@@ -585,11 +585,10 @@ int main() {
             // Each frame's own smear at the point (its image's curvature, its velocity), less the
             // other's: under a zoom the content's scale changes between the frames as well.
             const std::vector<double>& L1 = smear_src == "u" ? u1 : scene_est_prev;
-            double own = 0;
+            double own = sample(L1, xp, yp) - sample(L, xi, yi);  // the unsmeared values (the weights sum to 1)
             for (int q = 0; q < substeps; ++q) {
               const double o = smear_scale * age[static_cast<std::size_t>(q)];
-              own += wk[static_cast<std::size_t>(q)] * ((sample(L, xi + vix * o, yi + viy * o) - sample(L, xi, yi)) -
-                                                        (sample(L1, xp + vpx * o, yp + vpy * o) - sample(L1, xp, yp)));
+              own += wk[static_cast<std::size_t>(q)] * (sample(L, xi + vix * o, yi + viy * o) - sample(L1, xp + vpx * o, yp + vpy * o));
             }
             oab += (A - beta * own) * B, odb += beta * own * B;
           }
